@@ -1,0 +1,16 @@
+// `rayscout accelerators`: lists the accelerators of this build.
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "rayscout/accelerators.h"
+
+namespace rayscout::cli {
+
+void add_accelerators_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("accelerators", "List the accelerators of this build");
+  cmd->callback([] {
+    for (const auto& a : accelerators()) fmt::print("{:<12} {}\n", a.name, a.description);
+  });
+}
+
+}  // namespace rayscout::cli

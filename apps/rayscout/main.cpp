@@ -1,0 +1,27 @@
+// rayscout: the command-line front end. Parses options, wires modules, prints results.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "rayscout/core/accelerator_options.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rayscout: a ray tracing engine that looks at the rays before tracing them"};
+  app.require_subcommand(1);
+  rayscout::cli::add_accelerators_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const rayscout::InputError& e) {
+    fmt::print(stderr, "rayscout: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "rayscout: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,28 @@
+// The accelerator registry: every ray tracer of rayscout by name, built from a scene.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayscout/core/accelerator.h"
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/scene/scene.h"
+
+namespace rayscout {
+
+/// One registered accelerator.
+struct AcceleratorInfo {
+  std::string name;
+  std::string description;
+};
+
+/// Every accelerator compiled into this build, reference ("brute") first.
+const std::vector<AcceleratorInfo>& accelerators();
+
+/// Builds accelerator `name` over scene.triangles (the scene must outlive it). Throws
+/// InputError for an unknown name or an option the accelerator does not have.
+std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene& scene,
+                                              const AcceleratorOptions& options = {});
+
+}  // namespace rayscout

@@ -1,0 +1,59 @@
+// Accelerator: the one batch interface every ray tracer of rayscout implements.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayscout/core/ray.h"
+#include "rayscout/core/trace_stats.h"
+#include "rayscout/core/triangle.h"
+
+namespace rayscout {
+
+/// What building an accelerator cost.
+struct BuildInfo {
+  double build_ms = 0.0;      ///< wall-clock build time; 0 for methods without a build (DACRT)
+  size_t memory_bytes = 0;    ///< memory of the structure, triangles excluded
+};
+
+/// A ray tracer over a fixed triangle set. Built once, then traces batches of rays; the
+/// batch is the unit of work so that divide-and-conquer tracers see whole ray sets.
+/// Implementations parallelise internally with oneTBB (limit threads with
+/// tbb::global_control) and must give the same result for any thread count.
+class Accelerator {
+ public:
+  virtual ~Accelerator() = default;
+
+  /// Registry name, e.g. "bvh", "dacrt-rs".
+  virtual std::string name() const = 0;
+  /// Closest hit of every ray (ties: smaller triangle id, see is_closer).
+  /// hits is reset to rays.size() entries. stats, when non-null, receives exact counts.
+  virtual void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const = 0;
+  /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0.
+  virtual void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                        TraceStats* stats = nullptr) const = 0;
+  /// Build time and memory.
+  virtual BuildInfo build_info() const = 0;
+  /// Peak scratch memory of the last trace call (DACRT's index arrays); 0 when none.
+  virtual size_t last_trace_memory_bytes() const { return 0; }
+};
+
+/// The reference: tests every ray against every triangle. Single source of truth in tests.
+class BruteForce final : public Accelerator {
+ public:
+  /// Keeps a view of triangles: they must outlive the accelerator.
+  explicit BruteForce(std::span<const Triangle> triangles) : triangles_(triangles) {}
+  std::string name() const override { return "brute"; }
+  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
+  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                TraceStats* stats = nullptr) const override;
+  BuildInfo build_info() const override { return {}; }
+
+ private:
+  std::span<const Triangle> triangles_;
+};
+
+}  // namespace rayscout

@@ -1,0 +1,40 @@
+// AcceleratorOptions: named tunables ("key=value") passed to an accelerator's factory.
+#pragma once
+
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+namespace rayscout {
+
+/// Bad user input that names what was wrong (an option, a file and line, a field).
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Key=value tunables, e.g. "skip=off" or "budget_mib=64". Each accelerator reads the keys
+/// it knows with a default; keys nobody read are reported by check_all_used(), so a
+/// misspelt switch is an error, never silently ignored.
+class AcceleratorOptions {
+ public:
+  AcceleratorOptions() = default;
+  /// Parses "key=value"; throws InputError on a missing '='.
+  void set(const std::string& key_equals_value);
+  void set(const std::string& key, const std::string& value) { values_[key] = value; }
+
+  bool get_bool(const std::string& key, bool fallback) const;
+  long get_int(const std::string& key, long fallback) const;
+  double get_double(const std::string& key, double fallback) const;
+  std::string get_string(const std::string& key, const std::string& fallback) const;
+  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  /// Throws InputError naming every key that no get_* call asked for.
+  void check_all_used(const std::string& accelerator) const;
+
+ private:
+  std::map<std::string, std::string> values_;
+  mutable std::set<std::string> used_;
+};
+
+}  // namespace rayscout

@@ -1,0 +1,16 @@
+// Where the real benchmark scenes live (never inside the project).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace rayscout {
+
+/// The scenes folder: $RAYSCOUT_SCENES, else ../shared/scenes beside the source tree.
+std::filesystem::path scenes_dir();
+
+/// scenes_dir() / relative when that file exists, else nullopt (callers skip with a message).
+std::optional<std::filesystem::path> find_scene_file(const std::string& relative);
+
+}  // namespace rayscout

@@ -1,0 +1,23 @@
+// TraceStats: exact work counters of one trace call.
+#pragma once
+
+#include <cstdint>
+
+namespace rayscout {
+
+/// Exact work counts. Accelerators fill them only when asked (a non-null pointer); the
+/// kernels are instantiated twice so the uncounted path pays nothing.
+struct TraceStats {
+  uint64_t rays = 0;
+  uint64_t traversal_steps = 0;  ///< nodes popped / visited (DACRT: recursion calls)
+  uint64_t ray_box_tests = 0;    ///< ray-box slab tests, one per ray and box
+  uint64_t ray_tri_tests = 0;    ///< ray-triangle tests, one per ray and triangle
+
+  TraceStats& operator+=(const TraceStats& o) {
+    rays += o.rays; traversal_steps += o.traversal_steps;
+    ray_box_tests += o.ray_box_tests; ray_tri_tests += o.ray_tri_tests;
+    return *this;
+  }
+};
+
+}  // namespace rayscout

@@ -1,0 +1,94 @@
+// Triangles and the watertight ray-triangle test every accelerator shares.
+#pragma once
+
+#include <cmath>
+#include <utility>
+
+#include "rayscout/core/bounds3.h"
+#include "rayscout/core/ray.h"
+
+namespace rayscout {
+
+/// A triangle by its three vertices (world space).
+struct Triangle {
+  Vec3 v0, v1, v2;
+
+  Bounds3 bounds() const { Bounds3 b; b.extend(v0); b.extend(v1); b.extend(v2); return b; }
+  Vec3 centroid() const { return (v0 + v1 + v2) * (1.0f / 3.0f); }
+  /// Unnormalised geometric normal (v1 - v0) x (v2 - v0); its length is twice the area.
+  Vec3 normal() const { return cross(v1 - v0, v2 - v0); }
+  float area() const { return 0.5f * length(normal()); }
+};
+
+/// Per-ray constants of the watertight test (Woop, Benthin, Wald, JCGT 2013, sec. 3):
+/// the axis kz of the largest direction component, the shear (sx, sy, sz) and the
+/// reciprocal direction used by the slab test.
+struct RayPrecomp {
+  int kx = 0, ky = 1, kz = 2;
+  float sx = 0, sy = 0, sz = 1;
+  Vec3 inv_dir;
+
+  explicit RayPrecomp(const Vec3& dir) {
+    kz = max_axis(abs(dir));
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
+    if (dir[kz] < 0.0f) std::swap(kx, ky);  // keep the winding, so det's sign is meaningful
+    sx = dir[kx] / dir[kz];
+    sy = dir[ky] / dir[kz];
+    sz = 1.0f / dir[kz];
+    inv_dir = Vec3(1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z);
+  }
+};
+
+/// Watertight ray-triangle test (Woop et al. 2013, fig. 4), no back-face culling.
+/// Returns true and fills t, u, v when the ray hits at tmin <= t <= tmax. Edges and
+/// vertices shared by two triangles are hit by at least one of them; an edge function that
+/// is exactly zero is recomputed in double, as the paper recommends.
+inline bool intersect_triangle(const Vec3& org, const RayPrecomp& rp, const Triangle& tri,
+                               float tmin, float tmax, float& t, float& u, float& v) {
+  const Vec3 a = tri.v0 - org, b = tri.v1 - org, c = tri.v2 - org;
+  const float ax = a[rp.kx] - rp.sx * a[rp.kz], ay = a[rp.ky] - rp.sy * a[rp.kz];
+  const float bx = b[rp.kx] - rp.sx * b[rp.kz], by = b[rp.ky] - rp.sy * b[rp.kz];
+  const float cx = c[rp.kx] - rp.sx * c[rp.kz], cy = c[rp.ky] - rp.sy * c[rp.kz];
+  float eu = cx * by - cy * bx;
+  float ev = ax * cy - ay * cx;
+  float ew = bx * ay - by * ax;
+  if (eu == 0.0f || ev == 0.0f || ew == 0.0f) {
+    eu = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+    ev = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+    ew = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+  }
+  if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return false;
+  const float det = eu + ev + ew;
+  if (det == 0.0f) return false;
+  const float az = rp.sz * a[rp.kz], bz = rp.sz * b[rp.kz], cz = rp.sz * c[rp.kz];
+  const float tt = (eu * az + ev * bz + ew * cz) / det;
+  if (!(tt >= tmin && tt <= tmax)) return false;
+  t = tt;
+  u = ev / det;
+  v = ew / det;
+  return true;
+}
+
+/// Robust slab test (Ize, "Robust BVH Ray Traversal", JCGT 2013): the far distance is
+/// scaled up by 1 + 2 gamma(3) so that rounding never culls a box the ray touches. A zero
+/// direction component gives infinite reciprocals; the NaN of 0 * inf is ignored by the
+/// operand order of min/max, which keeps the test conservative. Returns the entry distance
+/// in tnear_out.
+inline bool intersect_box(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
+                          float tmax, float& tnear_out) {
+  constexpr float kRobust = 1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
+  float tnear = tmin, tfar = tmax;
+  for (int axis = 0; axis < 3; ++axis) {
+    float t0 = (box.lo[axis] - org[axis]) * inv_dir[axis];
+    float t1 = (box.hi[axis] - org[axis]) * inv_dir[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    t1 *= kRobust;
+    tnear = t0 > tnear ? t0 : tnear;  // NaN t0 keeps tnear
+    tfar = t1 < tfar ? t1 : tfar;     // NaN t1 keeps tfar
+  }
+  tnear_out = tnear;
+  return tnear <= tfar;
+}
+
+}  // namespace rayscout

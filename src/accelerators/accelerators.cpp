@@ -1,0 +1,48 @@
+// The accelerator registry: the one place that knows every accelerator module.
+#include "rayscout/accelerators.h"
+
+#include <functional>
+
+namespace rayscout {
+namespace {
+
+using Factory = std::function<std::unique_ptr<Accelerator>(const Scene&, const AcceleratorOptions&)>;
+
+struct Entry {
+  AcceleratorInfo info;
+  Factory make;
+};
+
+const std::vector<Entry>& registry() {
+  static const std::vector<Entry> entries = {
+      {{"brute", "every ray against every triangle (reference)"},
+       [](const Scene& s, const AcceleratorOptions&) { return std::make_unique<BruteForce>(s.triangles); }},
+  };
+  return entries;
+}
+
+}  // namespace
+
+const std::vector<AcceleratorInfo>& accelerators() {
+  static const std::vector<AcceleratorInfo> infos = [] {
+    std::vector<AcceleratorInfo> v;
+    for (const auto& e : registry()) v.push_back(e.info);
+    return v;
+  }();
+  return infos;
+}
+
+std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene& scene,
+                                              const AcceleratorOptions& options) {
+  for (const auto& e : registry()) {
+    if (e.info.name != name) continue;
+    auto accel = e.make(scene, options);
+    options.check_all_used(name);
+    return accel;
+  }
+  std::string known;
+  for (const auto& e : registry()) known += (known.empty() ? "" : ", ") + e.info.name;
+  throw InputError("unknown accelerator '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace rayscout

@@ -1,0 +1,65 @@
+// AcceleratorOptions: parsing and typed access.
+#include "rayscout/core/accelerator_options.h"
+
+#include <charconv>
+#include <string>
+
+namespace rayscout {
+namespace {
+
+template <typename T>
+T parse_number(const std::string& key, const std::string& text) {
+  T value{};
+  const char* end = text.data() + text.size();
+  auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end)
+    throw InputError("option '" + key + "': '" + text + "' is not a number");
+  return value;
+}
+
+}  // namespace
+
+void AcceleratorOptions::set(const std::string& key_equals_value) {
+  auto eq = key_equals_value.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("option '" + key_equals_value + "': expected key=value");
+  values_[key_equals_value.substr(0, eq)] = key_equals_value.substr(eq + 1);
+}
+
+bool AcceleratorOptions::get_bool(const std::string& key, bool fallback) const {
+  auto it = values_.find(key);
+  used_.insert(key);
+  if (it == values_.end()) return fallback;
+  const std::string& v = it->second;
+  if (v == "1" || v == "on" || v == "true" || v == "yes") return true;
+  if (v == "0" || v == "off" || v == "false" || v == "no") return false;
+  throw InputError("option '" + key + "': '" + v + "' is not on/off");
+}
+
+long AcceleratorOptions::get_int(const std::string& key, long fallback) const {
+  auto it = values_.find(key);
+  used_.insert(key);
+  return it == values_.end() ? fallback : parse_number<long>(key, it->second);
+}
+
+double AcceleratorOptions::get_double(const std::string& key, double fallback) const {
+  auto it = values_.find(key);
+  used_.insert(key);
+  return it == values_.end() ? fallback : parse_number<double>(key, it->second);
+}
+
+std::string AcceleratorOptions::get_string(const std::string& key, const std::string& fallback) const {
+  auto it = values_.find(key);
+  used_.insert(key);
+  return it == values_.end() ? fallback : it->second;
+}
+
+void AcceleratorOptions::check_all_used(const std::string& accelerator) const {
+  std::string unknown;
+  for (const auto& [key, value] : values_)
+    if (!used_.count(key)) unknown += (unknown.empty() ? "" : ", ") + key;
+  if (!unknown.empty())
+    throw InputError("accelerator '" + accelerator + "' has no option(s): " + unknown);
+}
+
+}  // namespace rayscout

@@ -1,0 +1,49 @@
+// Generated test scenes and ray sets with the nasty cases every accelerator must survive.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rayscout/core/ray.h"
+#include "rayscout/core/triangle.h"
+#include "rayscout/scene/scene.h"
+
+namespace rayscout::testing {
+
+/// A named triangle set for parameterised tests.
+struct TestMesh {
+  std::string name;
+  std::vector<Triangle> triangles;
+};
+
+/// n random triangles of random size inside the unit cube.
+std::vector<Triangle> random_soup(size_t n, uint32_t seed);
+/// Long thin triangles (aspect ratio ~1e4) in random orientations.
+std::vector<Triangle> slivers(size_t n, uint32_t seed);
+/// Coplanar overlapping triangles on z = 0.5, each duplicated once (exact ties).
+std::vector<Triangle> coplanar_duplicates(size_t n, uint32_t seed);
+/// A regular grid of n x n quads (2 triangles each) on z = 0 spanning [0,1]^2: shared edges and vertices.
+std::vector<Triangle> grid(int n);
+/// n triangles in random planes all sharing the same centroid (0.5, 0.5, 0.5).
+std::vector<Triangle> equal_centroids(size_t n, uint32_t seed);
+/// A closed, watertight sphere (subdivided icosahedron) of radius r at c.
+std::vector<Triangle> sphere(const Vec3& c, float r, int subdivisions);
+/// Every mesh above, of modest size.
+std::vector<TestMesh> nasty_meshes();
+
+/// Random rays from points in [-0.5, 1.5]^3 with random directions.
+RayBatch random_rays(size_t n, uint32_t seed);
+/// Rays along +-x, +-y, +-z (zero direction components) through the unit cube.
+RayBatch axis_parallel_rays(size_t n, uint32_t seed);
+/// Rays aimed exactly at vertices and edge midpoints of the given triangles.
+RayBatch rays_at_edges_and_vertices(const std::vector<Triangle>& tris, size_t n, uint32_t seed);
+/// Rays starting on the surface of triangles (tmin = 0), pointing anywhere.
+RayBatch rays_from_surfaces(const std::vector<Triangle>& tris, size_t n, uint32_t seed);
+/// All ray sets above for a mesh, concatenated.
+RayBatch nasty_rays(const std::vector<Triangle>& tris, uint32_t seed);
+
+/// A Scene wrapping bare triangles (one diffuse material, default camera framing them).
+Scene scene_from_triangles(std::vector<Triangle> triangles);
+
+}  // namespace rayscout::testing
