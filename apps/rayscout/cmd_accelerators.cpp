@@ -5,12 +5,14 @@
 #include "rayscout/accelerators.h"
 
 namespace rayscout::cli {
+namespace {
 
-void add_accelerators_command(CLI::App& app) {
+CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("accelerators", "List the accelerators of this build");
   cmd->callback([] {
     for (const auto& a : accelerators()) fmt::print("{:<12} {}\n", a.name, a.description);
   });
-}
+}};
 
+}  // namespace
 }  // namespace rayscout::cli

@@ -8,10 +8,17 @@
 #include "commands.h"
 #include "rayscout/core/accelerator_options.h"
 
+namespace rayscout::cli {
+std::vector<AddCommand>& command_registry() {
+  static std::vector<AddCommand> commands;
+  return commands;
+}
+}  // namespace rayscout::cli
+
 int main(int argc, char** argv) {
   CLI::App app{"rayscout: a ray tracing engine that looks at the rays before tracing them"};
   app.require_subcommand(1);
-  rayscout::cli::add_accelerators_command(app);
+  for (const auto& add : rayscout::cli::command_registry()) add(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
