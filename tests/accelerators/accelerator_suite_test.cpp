@@ -13,6 +13,7 @@ using testing::TestMesh;
 struct SuiteParam {
   std::string accel;
   TestMesh mesh;
+  friend void PrintTo(const SuiteParam& p, std::ostream* os) { *os << p.accel << " on " << p.mesh.name; }
 };
 
 std::vector<SuiteParam> all_params() {
