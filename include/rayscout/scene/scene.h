@@ -42,8 +42,10 @@ struct PointLight {
 };
 
 /// Everything a renderer needs. Triangle ids are indices into `triangles`, in load order:
-/// meshes in the order the scene file lists them, faces in file order (a polygon fan-
-/// triangulated in place), then built-in shapes; dropped degenerate faces take no id.
+/// the scene file's "meshes" entries (files and shapes) in list order, then its area
+/// lights in list order; within a mesh, faces in file order (a polygon fan-triangulated in
+/// place: v0 v1 v2, v0 v2 v3, ...). Dropped degenerate faces take no id.
+/// See docs/scene-format.md.
 struct Scene {
   std::vector<Triangle> triangles;
   std::vector<uint32_t> material_ids;      ///< per triangle, index into materials

@@ -1,0 +1,24 @@
+// Transform: an affine 3D transform (a 4x4 matrix whose last row is 0 0 0 1).
+#pragma once
+
+#include "rayscout/core/vec3.h"
+
+namespace rayscout {
+
+/// Affine transform p' = M p, kept in double so composed transforms round once.
+struct Transform {
+  double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+
+  static Transform translate(const Vec3& t);
+  static Transform scale(const Vec3& s);
+  /// Rotation by deg degrees about axis (need not be unit length), right-handed.
+  static Transform rotate(const Vec3& axis, double deg);
+
+  /// This transform applied after `inner`: (*this * inner)(p) = this(inner(p)).
+  Transform operator*(const Transform& inner) const;
+  Vec3 apply_point(const Vec3& p) const;
+  Vec3 apply_vector(const Vec3& v) const;
+  bool is_identity() const;
+};
+
+}  // namespace rayscout

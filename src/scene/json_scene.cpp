@@ -1,0 +1,434 @@
+// JSON scene files: meshes and shapes with transforms, materials, camera and lights.
+#include "json_scene.h"
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rayscout/core/scenes_dir.h"
+#include "rayscout/scene/load_scene.h"
+#include "rayscout/scene/mesh.h"
+#include "rayscout/scene/shapes.h"
+#include "rayscout/scene/transform.h"
+#include "scene_builder.h"
+#include "text_parse.h"
+
+namespace rayscout::detail {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Typed access to JSON values; every error names the file and the field path.
+class Fields {
+ public:
+  explicit Fields(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& msg) const {
+    throw InputError(file_ + ": " + (field.empty() ? std::string("(root)") : field) + ": " + msg);
+  }
+  const std::string& file() const { return file_; }
+
+  // Unknown keys are errors, so typos are caught; "comment" is allowed everywhere.
+  void check_keys(const Json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
+    expect_object(obj, field);
+    for (const auto& [key, value] : obj.items()) {
+      if (key == "comment") continue;
+      bool ok = false;
+      for (const char* a : allowed) ok = ok || key == a;
+      if (!ok) {
+        std::string list;
+        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+        fail(join(field, key), "unknown key (expected one of: " + list + ")");
+      }
+    }
+  }
+  void expect_object(const Json& j, const std::string& field) const {
+    if (!j.is_object()) fail(field, std::string("expected an object, found ") + j.type_name());
+  }
+  float number(const Json& j, const std::string& field) const {
+    if (!j.is_number()) fail(field, std::string("expected a number, found ") + j.type_name());
+    const double d = j.get<double>();
+    if (!std::isfinite(float(d))) fail(field, "number is not finite in single precision");
+    return float(d);
+  }
+  float positive(const Json& j, const std::string& field) const {
+    const float v = number(j, field);
+    if (!(v > 0)) fail(field, "expected a positive number");
+    return v;
+  }
+  float non_negative(const Json& j, const std::string& field) const {
+    const float v = number(j, field);
+    if (v < 0) fail(field, "expected a number >= 0");
+    return v;
+  }
+  std::string string(const Json& j, const std::string& field) const {
+    if (!j.is_string()) fail(field, std::string("expected a string, found ") + j.type_name());
+    return j.get<std::string>();
+  }
+  Vec3 vec3(const Json& j, const std::string& field) const {
+    if (!j.is_array() || j.size() != 3) fail(field, "expected an array of 3 numbers [x, y, z]");
+    return {number(j[0], field + "[0]"), number(j[1], field + "[1]"), number(j[2], field + "[2]")};
+  }
+  Vec3 direction(const Json& j, const std::string& field) const {
+    const Vec3 v = vec3(j, field);
+    if (v.x == 0 && v.y == 0 && v.z == 0) fail(field, "direction must not be zero");
+    return v;
+  }
+  // A colour: [r, g, b] or one number for grey; components >= 0.
+  Vec3 color(const Json& j, const std::string& field) const {
+    const Vec3 c = j.is_number() ? Vec3(number(j, field)) : vec3(j, field);
+    if (c.x < 0 || c.y < 0 || c.z < 0) fail(field, "colour components must be >= 0");
+    return c;
+  }
+  static std::string join(const std::string& field, const std::string& key) {
+    return field.empty() ? key : field + "." + key;
+  }
+  static std::string index(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
+
+ private:
+  std::string file_;
+};
+
+// Applies the fields of a material object to m (omitted fields keep their value).
+void apply_material(const Fields& f, const Json& j, const std::string& field, Material& m, bool allow_name) {
+  if (allow_name) f.check_keys(j, field, {"name", "type", "diffuse", "specular", "exponent", "emission"});
+  else f.check_keys(j, field, {"type", "diffuse", "specular", "exponent", "emission"});
+  if (j.contains("type")) {
+    const std::string t = f.string(j["type"], Fields::join(field, "type"));
+    if (t == "diffuse") m.type = Material::Type::Diffuse;
+    else if (t == "mirror") m.type = Material::Type::Mirror;
+    else if (t == "glossy") m.type = Material::Type::Glossy;
+    else f.fail(Fields::join(field, "type"), "expected \"diffuse\", \"mirror\" or \"glossy\", found \"" + t + "\"");
+  }
+  if (j.contains("diffuse")) m.diffuse = f.color(j["diffuse"], Fields::join(field, "diffuse"));
+  if (j.contains("specular")) m.specular = f.color(j["specular"], Fields::join(field, "specular"));
+  if (j.contains("exponent")) m.exponent = f.non_negative(j["exponent"], Fields::join(field, "exponent"));
+  if (j.contains("emission")) m.emission = f.color(j["emission"], Fields::join(field, "emission"));
+  // A mirror or glossy material without any specular colour would be black; give it one.
+  const bool no_specular = m.specular.x == 0 && m.specular.y == 0 && m.specular.z == 0;
+  if (m.type == Material::Type::Mirror && no_specular) m.specular = Vec3(1.0f);
+  if (m.type == Material::Type::Glossy && no_specular) m.specular = Vec3(0.5f);
+  if (m.type == Material::Type::Glossy && m.exponent == 0 && !j.contains("exponent")) m.exponent = 50.0f;
+}
+
+Transform parse_single_transform(const Fields& f, const Json& j, const std::string& field) {
+  f.check_keys(j, field, {"translate", "scale", "rotate", "matrix"});
+  if (j.contains("matrix")) {
+    if (j.contains("translate") || j.contains("scale") || j.contains("rotate"))
+      f.fail(field, "\"matrix\" cannot be combined with translate/scale/rotate");
+    const Json& m = j["matrix"];
+    const std::string mf = Fields::join(field, "matrix");
+    std::vector<double> v;
+    if (m.is_array() && m.size() == 16) {
+      for (size_t i = 0; i < 16; ++i) v.push_back(f.number(m[i], Fields::index(mf, i)));
+    } else if (m.is_array() && m.size() == 4) {
+      for (size_t r = 0; r < 4; ++r) {
+        if (!m[r].is_array() || m[r].size() != 4) f.fail(Fields::index(mf, r), "expected a row of 4 numbers");
+        for (size_t c = 0; c < 4; ++c) v.push_back(f.number(m[r][c], Fields::index(Fields::index(mf, r), c)));
+      }
+    } else {
+      f.fail(mf, "expected 16 numbers or 4 rows of 4 numbers (row-major)");
+    }
+    if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1)
+      f.fail(mf, "last row must be 0 0 0 1 (affine transforms only)");
+    Transform t;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) t.m[r][c] = v[size_t(r * 4 + c)];
+    return t;
+  }
+  Transform s, r, t;
+  if (j.contains("scale")) {
+    const std::string sf = Fields::join(field, "scale");
+    const Vec3 sc = j["scale"].is_number() ? Vec3(f.number(j["scale"], sf)) : f.vec3(j["scale"], sf);
+    if (sc.x == 0 || sc.y == 0 || sc.z == 0) f.fail(sf, "scale must not be zero (it flattens the mesh)");
+    s = Transform::scale(sc);
+  }
+  if (j.contains("rotate")) {
+    const Json& rj = j["rotate"];
+    const std::string rf = Fields::join(field, "rotate");
+    auto one = [&](const Json& x, const std::string& xf) {
+      f.check_keys(x, xf, {"axis", "deg"});
+      if (!x.contains("axis")) f.fail(Fields::join(xf, "axis"), "missing (rotation axis [x, y, z])");
+      if (!x.contains("deg")) f.fail(Fields::join(xf, "deg"), "missing (rotation angle in degrees)");
+      return Transform::rotate(f.direction(x["axis"], Fields::join(xf, "axis")), f.number(x["deg"], Fields::join(xf, "deg")));
+    };
+    if (rj.is_array()) {
+      for (size_t i = 0; i < rj.size(); ++i) r = one(rj[i], Fields::index(rf, i)) * r;
+    } else {
+      r = one(rj, rf);
+    }
+  }
+  if (j.contains("translate")) t = Transform::translate(f.vec3(j["translate"], Fields::join(field, "translate")));
+  return t * r * s;
+}
+
+// An object (scale, then rotate, then translate) or an array of them applied first to last.
+Transform parse_transform(const Fields& f, const Json& j, const std::string& field) {
+  if (j.is_array()) {
+    Transform x;
+    for (size_t i = 0; i < j.size(); ++i) x = parse_single_transform(f, j[i], Fields::index(field, i)) * x;
+    return x;
+  }
+  return parse_single_transform(f, j, field);
+}
+
+// One mesh to place: geometry, transform and an optional material that replaces its own.
+struct Placement {
+  std::shared_ptr<const Mesh> mesh;
+  Transform transform;
+  std::optional<Json> material;  // name or inline object
+  std::string field;             // e.g. meshes[3]
+  std::string source;            // for warnings: mesh file or shape
+};
+
+class JsonSceneLoader {
+ public:
+  explicit JsonSceneLoader(const std::filesystem::path& path) : path_(path), f_(display_name(path)) {}
+
+  Scene load() {
+    const std::string text = read_file(path_);
+    Json root;
+    try {
+      root = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+      std::string what = e.what();
+      if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+      throw InputError(f_.file() + ": invalid JSON: " + what);
+    }
+    f_.check_keys(root, "", {"meshes", "camera", "lights", "materials"});
+
+    std::vector<Placement> placements;
+    if (root.contains("meshes")) {
+      const Json& meshes = root["meshes"];
+      if (!meshes.is_array()) f_.fail("meshes", std::string("expected an array, found ") + meshes.type_name());
+      for (size_t i = 0; i < meshes.size(); ++i) placements.push_back(parse_mesh(meshes[i], Fields::index("meshes", i)));
+    }
+    Scene scene;
+    detail::SceneBuilder builder(scene);
+    // Area lights are placed after all meshes (their triangles come last).
+    if (root.contains("lights")) {
+      const Json& lights = root["lights"];
+      if (!lights.is_array()) f_.fail("lights", std::string("expected an array, found ") + lights.type_name());
+      for (size_t i = 0; i < lights.size(); ++i) parse_light(lights[i], Fields::index("lights", i), scene, placements);
+    }
+
+    // Materials: the meshes' own (first definition of a name wins), then the overrides.
+    std::vector<std::vector<uint32_t>> maps(placements.size());
+    for (size_t i = 0; i < placements.size(); ++i)
+      if (!placements[i].material) maps[i] = builder.intern_all(*placements[i].mesh);
+    if (root.contains("materials")) {
+      const Json& mats = root["materials"];
+      f_.expect_object(mats, "materials");
+      for (const auto& [name, value] : mats.items()) {
+        const std::string field = Fields::join("materials", name);
+        Material m;
+        if (auto existing = builder.find(name)) m = builder.material(*existing);
+        m.name = name;
+        apply_material(f_, value, field, m, false);
+        builder.define(m);
+      }
+    }
+    std::set<std::string> inline_names;
+    for (size_t i = 0; i < placements.size(); ++i) {
+      auto& pl = placements[i];
+      if (!pl.material) continue;
+      const std::string field = Fields::join(pl.field, "material");
+      uint32_t index;
+      if (pl.material->is_string()) {
+        const std::string name = pl.material->get<std::string>();
+        auto found = builder.find(name);
+        if (!found) f_.fail(field, "unknown material \"" + name + "\" (define it under \"materials\")");
+        index = *found;
+      } else if (pl.material->is_object()) {
+        Material m;
+        m.name = field;
+        if (pl.material->contains("name")) m.name = f_.string((*pl.material)["name"], Fields::join(field, "name"));
+        apply_material(f_, *pl.material, field, m, true);
+        if (builder.find(m.name) || !inline_names.insert(m.name).second)
+          f_.fail(Fields::join(field, "name"), "material \"" + m.name + "\" is already defined");
+        index = builder.define(m);
+      } else {
+        f_.fail(field, std::string("expected a material name or object, found ") + pl.material->type_name());
+      }
+      maps[i].assign(pl.mesh->materials.size(), index);
+    }
+
+    for (size_t i = 0; i < placements.size(); ++i) {
+      const auto& pl = placements[i];
+      for (const auto& w : pl.mesh->warnings) add_warning_once(scene, w);
+      builder.add(*pl.mesh, pl.transform, maps[i], f_.file() + ": " + pl.field + " (" + pl.source + ")");
+    }
+    builder.finish(f_.file());
+
+    const Bounds3 bounds = scene.bounds();
+    scene.camera = framing_camera(bounds);
+    if (root.contains("camera")) parse_camera(root["camera"], scene.camera);
+    if (scene.point_lights.empty() && scene.emissive_triangles.empty()) {
+      scene.point_lights.push_back(framing_light(bounds, scene.camera));
+      scene.warnings.push_back(f_.file() + ": no lights; added a point light near the camera");
+    }
+    return scene;
+  }
+
+ private:
+  static void add_warning_once(Scene& scene, const std::string& w) {
+    for (const auto& x : scene.warnings)
+      if (x == w) return;
+    scene.warnings.push_back(w);
+  }
+
+  std::filesystem::path resolve_path(const std::string& file) const {
+    constexpr std::string_view prefix = "$RAYSCOUT_SCENES/";
+    if (file.rfind(prefix, 0) == 0) return scenes_dir() / file.substr(prefix.size());
+    std::filesystem::path p(file);
+    if (p.is_relative()) p = path_.parent_path() / p;
+    return p.lexically_normal();
+  }
+
+  // The same file listed several times is read once per load.
+  std::shared_ptr<const Mesh> mesh_file(const Json& j, const std::string& field, std::string& source) {
+    const std::filesystem::path p = resolve_path(f_.string(j, field));
+    source = display_name(p);
+    std::error_code ec;
+    std::string key = std::filesystem::weakly_canonical(p, ec).string();
+    if (ec) key = p.string();
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    std::shared_ptr<const Mesh> mesh;
+    try {
+      mesh = std::make_shared<const Mesh>(read_mesh(p));
+    } catch (const InputError& e) {
+      throw InputError(f_.file() + ": " + field + ": " + e.what());
+    }
+    cache_.emplace(key, mesh);
+    return mesh;
+  }
+
+  // A quad from corner + edge1 + edge2, or center + normal + size [+ up].
+  std::shared_ptr<const Mesh> quad(const Json& j, const std::string& field) {
+    if (j.contains("corner") || j.contains("edge1") || j.contains("edge2")) {
+      for (const char* k : {"corner", "edge1", "edge2"})
+        if (!j.contains(k)) f_.fail(Fields::join(field, k), "missing (a quad needs corner, edge1 and edge2)");
+      return std::make_shared<const Mesh>(make_quad(f_.vec3(j["corner"], Fields::join(field, "corner")),
+                                                    f_.vec3(j["edge1"], Fields::join(field, "edge1")),
+                                                    f_.vec3(j["edge2"], Fields::join(field, "edge2"))));
+    }
+    for (const char* k : {"center", "normal", "size"})
+      if (!j.contains(k))
+        f_.fail(Fields::join(field, k), "missing (a quad needs corner/edge1/edge2 or center/normal/size)");
+    const std::string sf = Fields::join(field, "size");
+    float w, h;
+    if (j["size"].is_number()) {
+      w = h = f_.positive(j["size"], sf);
+    } else {
+      if (!j["size"].is_array() || j["size"].size() != 2) f_.fail(sf, "expected a number or [width, height]");
+      w = f_.positive(j["size"][0], sf + "[0]");
+      h = f_.positive(j["size"][1], sf + "[1]");
+    }
+    const Vec3 up = j.contains("up") ? f_.direction(j["up"], Fields::join(field, "up")) : Vec3(0, 1, 0);
+    return std::make_shared<const Mesh>(make_quad_centered(f_.vec3(j["center"], Fields::join(field, "center")),
+                                                           f_.direction(j["normal"], Fields::join(field, "normal")), w,
+                                                           h, up));
+  }
+
+  std::shared_ptr<const Mesh> shape(const Json& j, const std::string& field, std::string& source) {
+    const std::string kind = f_.string(j["shape"], Fields::join(field, "shape"));
+    source = "shape " + kind;
+    if (kind == "quad") return quad(j, field);
+    if (kind == "box") {
+      for (const char* k : {"min", "max"})
+        if (!j.contains(k)) f_.fail(Fields::join(field, k), "missing (a box needs min and max)");
+      const Vec3 lo = f_.vec3(j["min"], Fields::join(field, "min"));
+      const Vec3 hi = f_.vec3(j["max"], Fields::join(field, "max"));
+      if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) f_.fail(Fields::join(field, "max"), "must exceed min on every axis");
+      return std::make_shared<const Mesh>(make_box(lo, hi));
+    }
+    f_.fail(Fields::join(field, "shape"), "expected \"quad\" or \"box\", found \"" + kind + "\"");
+  }
+
+  Placement parse_mesh(const Json& j, const std::string& field) {
+    f_.expect_object(j, field);
+    Placement pl;
+    pl.field = field;
+    if (j.contains("file") == j.contains("shape")) f_.fail(field, "needs exactly one of \"file\" or \"shape\"");
+    if (j.contains("file")) {
+      f_.check_keys(j, field, {"file", "material", "transform"});
+      pl.mesh = mesh_file(j["file"], Fields::join(field, "file"), pl.source);
+    } else {
+      f_.check_keys(j, field, {"shape", "material", "transform", "corner", "edge1", "edge2", "center", "normal",
+                               "size", "up", "min", "max"});
+      pl.mesh = shape(j, field, pl.source);
+    }
+    if (j.contains("transform")) pl.transform = parse_transform(f_, j["transform"], Fields::join(field, "transform"));
+    if (j.contains("material")) pl.material = j["material"];
+    return pl;
+  }
+
+  void parse_light(const Json& j, const std::string& field, Scene& scene, std::vector<Placement>& placements) {
+    f_.expect_object(j, field);
+    if (!j.contains("type")) f_.fail(Fields::join(field, "type"), "missing (\"point\" or \"area\")");
+    const std::string type = f_.string(j["type"], Fields::join(field, "type"));
+    if (type == "point") {
+      f_.check_keys(j, field, {"type", "position", "intensity"});
+      if (!j.contains("position")) f_.fail(Fields::join(field, "position"), "missing");
+      PointLight l;
+      l.position = f_.vec3(j["position"], Fields::join(field, "position"));
+      if (j.contains("intensity")) l.intensity = f_.color(j["intensity"], Fields::join(field, "intensity"));
+      scene.point_lights.push_back(l);
+      return;
+    }
+    if (type != "area") f_.fail(Fields::join(field, "type"), "expected \"point\" or \"area\", found \"" + type + "\"");
+    f_.check_keys(j, field, {"type", "emission", "file", "shape", "transform", "corner", "edge1", "edge2", "center",
+                             "normal", "size", "up", "min", "max"});
+    if (!j.contains("emission")) f_.fail(Fields::join(field, "emission"), "missing (emitted radiance [r, g, b])");
+    Placement pl;
+    pl.field = field;
+    if (j.contains("file")) {
+      if (j.contains("shape")) f_.fail(field, "needs \"file\" or a shape, not both");
+      pl.mesh = mesh_file(j["file"], Fields::join(field, "file"), pl.source);
+    } else if (j.contains("shape")) {
+      pl.mesh = shape(j, field, pl.source);
+    } else {
+      pl.source = "quad";
+      pl.mesh = quad(j, field);
+    }
+    if (j.contains("transform")) pl.transform = parse_transform(f_, j["transform"], Fields::join(field, "transform"));
+    const Vec3 e = f_.color(j["emission"], Fields::join(field, "emission"));
+    if (e.x <= 0 && e.y <= 0 && e.z <= 0) f_.fail(Fields::join(field, "emission"), "an area light must emit (> 0)");
+    pl.material = Json{{"diffuse", Json::array({0, 0, 0})}, {"emission", Json::array({e.x, e.y, e.z})}};
+    placements.push_back(std::move(pl));
+  }
+
+  void parse_camera(const Json& j, Camera& c) {
+    f_.check_keys(j, "camera", {"eye", "look_at", "up", "fov_deg", "lens_radius", "focus_distance"});
+    if (j.contains("eye")) c.eye = f_.vec3(j["eye"], "camera.eye");
+    if (j.contains("look_at")) c.look_at = f_.vec3(j["look_at"], "camera.look_at");
+    if (j.contains("up")) c.up = f_.direction(j["up"], "camera.up");
+    if (j.contains("fov_deg")) {
+      c.fov_deg = f_.number(j["fov_deg"], "camera.fov_deg");
+      if (!(c.fov_deg > 0 && c.fov_deg < 180)) f_.fail("camera.fov_deg", "expected a number in (0, 180)");
+    }
+    if (j.contains("lens_radius")) c.lens_radius = f_.non_negative(j["lens_radius"], "camera.lens_radius");
+    if (j.contains("focus_distance")) c.focus_distance = f_.positive(j["focus_distance"], "camera.focus_distance");
+    else c.focus_distance = length(c.look_at - c.eye);
+    const Vec3 view = c.look_at - c.eye;
+    if (view.x == 0 && view.y == 0 && view.z == 0) f_.fail("camera.look_at", "must differ from camera.eye");
+    const Vec3 side = cross(view, c.up);
+    if (length(side) <= 1e-6f * length(view) * length(c.up)) f_.fail("camera.up", "is parallel to the view direction");
+  }
+
+  std::filesystem::path path_;
+  Fields f_;
+  std::map<std::string, std::shared_ptr<const Mesh>> cache_;
+};
+
+}  // namespace
+
+Scene load_json_scene(const std::filesystem::path& path) { return JsonSceneLoader(path).load(); }
+
+}  // namespace rayscout::detail

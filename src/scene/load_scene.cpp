@@ -1,0 +1,36 @@
+// load_scene / resolve_scene: dispatch between JSON scene files, bare meshes and the built-in scene.
+#include "rayscout/scene/load_scene.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "json_scene.h"
+#include "rayscout/scene/mesh.h"
+#include "scene_builder.h"
+#include "text_parse.h"
+
+namespace rayscout {
+
+Scene load_scene(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".json") return detail::load_json_scene(path);
+
+  Mesh mesh = read_mesh(path);
+  Scene scene;
+  detail::SceneBuilder builder(scene);
+  scene.warnings = std::move(mesh.warnings);
+  builder.add(mesh, Transform{}, builder.intern_all(mesh), detail::display_name(path));
+  builder.finish(detail::display_name(path));
+  const Bounds3 b = scene.bounds();
+  scene.camera = framing_camera(b);
+  scene.point_lights.push_back(framing_light(b, scene.camera));
+  return scene;
+}
+
+Scene resolve_scene(const std::string& arg) {
+  if (arg.empty() || arg == "cornell") return default_scene();
+  return load_scene(arg);
+}
+
+}  // namespace rayscout

@@ -1,0 +1,21 @@
+// read_mesh: picks the reader by file extension.
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "rayscout/scene/mesh.h"
+#include "text_parse.h"
+
+namespace rayscout {
+
+Mesh read_mesh(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".obj") return read_obj(path);
+  if (ext == ".ply") return read_ply(path);
+  if (ext == ".gltf" || ext == ".glb") return read_assimp(path);
+  throw InputError(detail::display_name(path) + ": unknown mesh format '" + ext +
+                   "' (expected .obj, .ply, .gltf, .glb or a .json scene)");
+}
+
+}  // namespace rayscout

@@ -1,0 +1,76 @@
+// SceneBuilder: assembles meshes into a Scene.
+#include "scene_builder.h"
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout::detail {
+
+uint32_t SceneBuilder::intern(const Material& m) {
+  if (auto i = find(m.name)) return *i;
+  return define(m);
+}
+
+uint32_t SceneBuilder::define(const Material& m) {
+  if (auto i = find(m.name)) {
+    scene_.materials[*i] = m;
+    return *i;
+  }
+  const uint32_t i = uint32_t(scene_.materials.size());
+  scene_.materials.push_back(m);
+  by_name_.emplace(m.name, i);
+  return i;
+}
+
+std::optional<uint32_t> SceneBuilder::find(const std::string& name) const {
+  auto it = by_name_.find(name);
+  if (it == by_name_.end()) return std::nullopt;
+  return it->second;
+}
+
+std::vector<uint32_t> SceneBuilder::intern_all(const Mesh& mesh) {
+  std::vector<uint32_t> map;
+  map.reserve(mesh.materials.size());
+  for (const auto& m : mesh.materials) map.push_back(intern(m));
+  return map;
+}
+
+void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<uint32_t>& material_map,
+                       const std::string& source) {
+  const bool identity = xf.is_identity();
+  std::vector<Vec3> moved;
+  if (!identity) {
+    moved.reserve(mesh.positions.size());
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+      moved.push_back(xf.apply_point(mesh.positions[i]));
+      if (!is_finite(moved.back()))
+        throw InputError(source + ": the transform makes vertex " + std::to_string(i) + " non-finite");
+    }
+  }
+  const std::vector<Vec3>& pos = identity ? mesh.positions : moved;
+  scene_.triangles.reserve(scene_.triangles.size() + mesh.faces.size());
+  scene_.material_ids.reserve(scene_.material_ids.size() + mesh.faces.size());
+  size_t dropped = 0;
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& face = mesh.faces[f];
+    Triangle t{pos[face[0]], pos[face[1]], pos[face[2]]};
+    const Vec3 n = t.normal();
+    if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) {
+      ++dropped;
+      continue;
+    }
+    scene_.triangles.push_back(t);
+    scene_.material_ids.push_back(material_map[mesh.face_materials[f]]);
+  }
+  if (dropped)
+    scene_.warnings.push_back(source + ": dropped " + std::to_string(dropped) + " degenerate (zero-area) triangle" +
+                              (dropped == 1 ? "" : "s"));
+}
+
+void SceneBuilder::finish(const std::string& source_name) {
+  if (scene_.triangles.empty()) throw InputError(source_name + ": no triangles (empty scene)");
+  scene_.emissive_triangles.clear();
+  for (uint32_t i = 0; i < scene_.triangles.size(); ++i)
+    if (scene_.material_of(i).emissive()) scene_.emissive_triangles.push_back(i);
+}
+
+}  // namespace rayscout::detail

@@ -1,0 +1,43 @@
+// SceneBuilder: assembles meshes into a Scene (material table, transforms, degenerate drops).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "rayscout/scene/mesh.h"
+#include "rayscout/scene/transform.h"
+
+namespace rayscout::detail {
+
+/// Appends meshes to a scene in call order, so triangle ids are the load order.
+class SceneBuilder {
+ public:
+  explicit SceneBuilder(Scene& scene) : scene_(scene) {}
+
+  /// Index of the material named m.name; adds m when no material has that name yet.
+  uint32_t intern(const Material& m);
+  /// Adds m, or replaces the material of the same name; returns its index.
+  uint32_t define(const Material& m);
+  std::optional<uint32_t> find(const std::string& name) const;
+  Material& material(uint32_t index) { return scene_.materials[index]; }
+
+  /// Scene material indices of the mesh's own materials (interned by name).
+  std::vector<uint32_t> intern_all(const Mesh& mesh);
+
+  /// Appends the mesh's faces through xf. material_map[i] is the scene material of mesh
+  /// material i. Zero-area triangles (after the transform) are dropped and counted under
+  /// `source` in the scene's warnings; a non-finite transformed vertex is an InputError.
+  void add(const Mesh& mesh, const Transform& xf, const std::vector<uint32_t>& material_map,
+           const std::string& source);
+
+  /// Fills emissive_triangles; throws InputError(source_name + ": no triangles") when empty.
+  void finish(const std::string& source_name);
+
+ private:
+  Scene& scene_;
+  std::unordered_map<std::string, uint32_t> by_name_;
+};
+
+}  // namespace rayscout::detail

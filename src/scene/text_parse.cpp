@@ -1,0 +1,34 @@
+// Whole-file reads and located errors for the scene readers.
+#include "text_parse.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+namespace rayscout::detail {
+
+std::string read_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(display_name(path) + ": is a directory, not a file");
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw InputError(display_name(path) + ": cannot open: " + std::strerror(errno));
+  std::string data;
+  if (std::fseek(f.get(), 0, SEEK_END) == 0) {
+    long size = std::ftell(f.get());
+    if (size > 0) data.reserve(size_t(size));
+    std::fseek(f.get(), 0, SEEK_SET);
+  }
+  char buf[1 << 16];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) data.append(buf, n);
+  if (std::ferror(f.get())) throw InputError(display_name(path) + ": read error: " + std::strerror(errno));
+  return data;
+}
+
+void fail_at(const std::filesystem::path& file, size_t line, const std::string& message) {
+  throw InputError(display_name(file) + ":" + std::to_string(line) + ": " + message);
+}
+
+}  // namespace rayscout::detail

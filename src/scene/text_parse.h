@@ -1,0 +1,71 @@
+// Private helpers of the text readers: whole-file reads, tokens, numbers, located errors.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout::detail {
+
+/// The whole file; throws InputError "path: cannot open ..." when it cannot be read.
+std::string read_file(const std::filesystem::path& path);
+
+/// Throws InputError "file:line: message".
+[[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
+
+inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+/// Next whitespace-separated token of [p, end), advancing p; empty at the end.
+inline std::string_view next_token(const char*& p, const char* end) {
+  while (p < end && is_space(*p)) ++p;
+  const char* b = p;
+  while (p < end && !is_space(*p)) ++p;
+  return {b, size_t(p - b)};
+}
+
+/// Rest of the line with surrounding whitespace removed.
+inline std::string_view rest_trimmed(const char* p, const char* end) {
+  while (p < end && is_space(*p)) ++p;
+  while (end > p && is_space(end[-1])) --end;
+  return {p, size_t(end - p)};
+}
+
+/// Parses a whole token as a float (a leading '+' allowed, "nan"/"inf" parse so the caller
+/// can name them). False when the token is not entirely a number or overflows.
+inline bool parse_float(std::string_view tok, float& out) {
+  const char* b = tok.data();
+  const char* e = b + tok.size();
+  if (b < e && *b == '+') ++b;
+  if (b == e) return false;
+  auto [ptr, ec] = std::from_chars(b, e, out);
+  return ec == std::errc() && ptr == e;
+}
+
+/// Parses a whole token as a double, like parse_float.
+inline bool parse_double(std::string_view tok, double& out) {
+  const char* b = tok.data();
+  const char* e = b + tok.size();
+  if (b < e && *b == '+') ++b;
+  if (b == e) return false;
+  auto [ptr, ec] = std::from_chars(b, e, out);
+  return ec == std::errc() && ptr == e;
+}
+
+/// Parses a whole token as an integer (leading '+' allowed).
+inline bool parse_int(std::string_view tok, long long& out) {
+  const char* b = tok.data();
+  const char* e = b + tok.size();
+  if (b < e && *b == '+') ++b;
+  if (b == e) return false;
+  auto [ptr, ec] = std::from_chars(b, e, out);
+  return ec == std::errc() && ptr == e;
+}
+
+/// The file name as shown in messages.
+inline std::string display_name(const std::filesystem::path& p) { return p.string(); }
+
+}  // namespace rayscout::detail
