@@ -3,6 +3,8 @@
 
 #include <functional>
 
+#include "rayscout/bvh/bvh_accelerators.h"
+
 namespace rayscout {
 namespace {
 
@@ -17,6 +19,14 @@ const std::vector<Entry>& registry() {
   static const std::vector<Entry> entries = {
       {{"brute", "every ray against every triangle (reference)"},
        [](const Scene& s, const AcceleratorOptions&) { return std::make_unique<BruteForce>(s.triangles); }},
+      {{"bvh2", "binary binned-SAH BVH, scalar single-ray traversal (options bins, max_leaf_size, traversal_cost, intersection_cost)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<Bvh2Accelerator>(s.triangles, bvh_config_from_options(o));
+       }},
+      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<WideBvhAccelerator>(s.triangles, bvh_config_from_options(o));
+       }},
   };
   return entries;
 }

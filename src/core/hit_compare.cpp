@@ -1,4 +1,4 @@
-// compare_hits: ray-by-ray agreement of two hit batches.
+// compare_hits / compare_occlusion: ray-by-ray agreement of two trace results.
 #include "rayscout/core/hit_compare.h"
 
 #include <algorithm>
@@ -7,7 +7,19 @@
 
 namespace rayscout {
 
+bool is_grazing(const Hit& h, const HitCompareConfig& config) {
+  if (!h.hit()) return false;
+  const float w = 1.0f - h.u - h.v;
+  return std::min({h.u, h.v, w}) <= config.edge_eps || std::fabs(h.t) <= config.rel_tol;
+}
+
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, float rel_tol) {
+  HitCompareConfig config;
+  config.rel_tol = rel_tol;
+  return compare_hits(ref, got, config);
+}
+
+HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareConfig& config) {
   HitDiff d;
   auto note = [&](size_t i, const char* what) {
     if (!d.first.empty()) return;
@@ -16,20 +28,73 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, float rel_tol) {
               " prim=" + std::to_string(got.prim[i]) + ")";
   };
   const size_t n = std::min(ref.size(), got.size());
+  d.rays = n;
   if (ref.size() != got.size()) {
     d.hit_miss = std::max(ref.size(), got.size()) - n;
     d.first = "batch sizes differ: " + std::to_string(ref.size()) + " vs " + std::to_string(got.size());
   }
+  std::vector<float> rel;
   for (size_t i = 0; i < n; ++i) {
-    const bool rh = ref.prim[i] != kInvalidId, gh = got.prim[i] != kInvalidId;
-    if (rh != gh) { ++d.hit_miss; note(i, "hit/miss"); continue; }
-    if (!rh) continue;
-    const bool t_close = std::fabs(got.t[i] - ref.t[i]) <= rel_tol * std::max(1.0f, std::fabs(ref.t[i]));
-    if (ref.prim[i] != got.prim[i]) {
-      if (!t_close) { ++d.other_prim; note(i, "different triangle"); }
-    } else if (!t_close) {
-      ++d.t_mismatch; note(i, "distance");
+    const Hit r = ref[i], g = got[i];
+    if (r.hit() != g.hit()) {
+      // The side that hit found a contact the other missed.
+      if (config.allow_grazing && is_grazing(r.hit() ? r : g, config)) { ++d.grazing; continue; }
+      ++d.hit_miss;
+      note(i, "hit/miss");
+      continue;
     }
+    if (!r.hit()) continue;
+    ++d.both_hit;
+    const float diff = std::fabs(g.t - r.t) / std::max(1.0f, std::fabs(r.t));
+    const bool t_close = diff <= config.rel_tol;
+    if (r.prim != g.prim) {
+      if (t_close) {
+        ++d.ties;
+      } else if (config.allow_grazing && is_grazing(g.t < r.t ? g : r, config)) {
+        ++d.grazing;  // the nearer contact is grazing; the other side passed it by
+        continue;
+      } else {
+        ++d.other_prim;
+        note(i, "different triangle");
+        continue;
+      }
+    } else if (!t_close) {
+      ++d.t_mismatch;
+      note(i, "distance");
+    }
+    rel.push_back(diff);
+  }
+  if (!rel.empty()) {
+    d.max_rel_diff = *std::max_element(rel.begin(), rel.end());
+    const size_t k = std::min(rel.size() - 1, size_t(std::ceil(0.99 * double(rel.size()))) - 1);
+    std::nth_element(rel.begin(), rel.begin() + k, rel.end());
+    d.p99_rel_diff = rel[k];
+  }
+  return d;
+}
+
+OcclusionDiff compare_occlusion(const std::vector<uint8_t>& ref, const std::vector<uint8_t>& got,
+                                const HitCompareConfig& config, const HitBatch* ref_hits,
+                                const HitBatch* got_hits) {
+  OcclusionDiff d;
+  const size_t n = std::min(ref.size(), got.size());
+  d.rays = n;
+  if (ref.size() != got.size()) {
+    d.differ = std::max(ref.size(), got.size()) - n;
+    d.first = "sizes differ: " + std::to_string(ref.size()) + " vs " + std::to_string(got.size());
+  }
+  for (size_t i = 0; i < n; ++i) {
+    d.occluded_ref += ref[i] != 0;
+    d.occluded_got += got[i] != 0;
+    if ((ref[i] != 0) == (got[i] != 0)) continue;
+    const HitBatch* blocker = ref[i] ? ref_hits : got_hits;
+    if (config.allow_grazing && blocker && i < blocker->size() && is_grazing((*blocker)[i], config)) {
+      ++d.grazing;
+      continue;
+    }
+    if (d.differ++ == 0 && d.first.empty())
+      d.first = "ray " + std::to_string(i) + ": ref " + (ref[i] ? "occluded" : "clear") + ", got " +
+                (got[i] ? "occluded" : "clear");
   }
   return d;
 }

@@ -25,6 +25,28 @@ std::vector<SuiteParam> all_params() {
 
 class AcceleratorSuite : public ::testing::TestWithParam<SuiteParam> {};
 
+// How closely an accelerator must agree with brute force.
+struct Tolerance {
+  HitCompareConfig cfg;
+  size_t max_errors = 0;  ///< disagreements allowed beyond ties and grazing contacts
+};
+
+// Bit-identical for our accelerators (one kernel). Embree computes t its own way: within 1e-4
+// relative, ties and grazing contacts allowed. Slivers of aspect 1e4 turn 1e-7 rounding of the
+// hit point into 1e-3 in a barycentric, and Embree's sliver normal (a cross product of nearly
+// parallel edges) is off by ~1e-3, so there up to 1% of the rays may disagree.
+Tolerance tolerance_for(const std::string& accel, const std::string& mesh, size_t rays) {
+  Tolerance tol;
+  tol.cfg.rel_tol = 0.0f;
+  if (accel == "embree") {
+    tol.cfg.rel_tol = 1e-4f;
+    tol.cfg.allow_grazing = true;
+    tol.cfg.edge_eps = 1e-3f;
+    if (mesh == "slivers") tol.max_errors = rays / 100;
+  }
+  return tol;
+}
+
 TEST_P(AcceleratorSuite, ClosestHitsMatchBruteForce) {
   const auto& p = GetParam();
   const Scene scene = testing::scene_from_triangles(p.mesh.triangles);
@@ -32,9 +54,15 @@ TEST_P(AcceleratorSuite, ClosestHitsMatchBruteForce) {
   HitBatch ref, got;
   BruteForce(scene.triangles).intersect(rays, ref);
   make_accelerator(p.accel, scene)->intersect(rays, got);
-  const HitDiff d = compare_hits(ref, got, 0.0f);  // same kernel everywhere: bit-identical t
-  EXPECT_TRUE(d.ok()) << d.hit_miss << " hit/miss, " << d.other_prim << " other triangle, "
-                      << d.t_mismatch << " distance; first: " << d.first;
+  // Same kernel everywhere: bit-identical t. Embree has its own triangle test: t within 1e-4
+  // relative, a different triangle only at a true tie, and hit/miss only at grazing contacts
+  // (rays aimed exactly at boundary edges and vertices, rays leaving the surface they start on).
+  const Tolerance tol = tolerance_for(p.accel, p.mesh.name, rays.size());
+  const HitDiff d = compare_hits(ref, got, tol.cfg);
+  EXPECT_LE(d.grazing, rays.size() / 5) << "grazing disagreements should be rare";
+  EXPECT_LE(d.hit_miss + d.other_prim + d.t_mismatch, tol.max_errors)
+      << d.hit_miss << " hit/miss, " << d.other_prim << " other triangle, " << d.t_mismatch
+      << " distance; first: " << d.first;
   size_t hits = 0;
   for (uint32_t prim : ref.prim) hits += prim != kInvalidId;
   EXPECT_GT(hits, rays.size() / 20) << "the ray set should hit something";
@@ -48,10 +76,15 @@ TEST_P(AcceleratorSuite, OcclusionMatchesBruteForce) {
   BruteForce(scene.triangles).occluded(rays, ref);
   make_accelerator(p.accel, scene)->occluded(rays, got);
   ASSERT_EQ(ref.size(), got.size());
-  size_t differ = 0, first = 0;
-  for (size_t i = 0; i < ref.size(); ++i)
-    if (ref[i] != got[i] && differ++ == 0) first = i;
-  EXPECT_EQ(differ, 0u) << "first differing ray " << first;
+  const Tolerance tol = tolerance_for(p.accel, p.mesh.name, rays.size());
+  HitBatch ref_hits, got_hits;  // closest hits tell whether a disagreement is at a grazing contact
+  if (tol.cfg.allow_grazing) {
+    BruteForce(scene.triangles).intersect(rays, ref_hits);
+    make_accelerator(p.accel, scene)->intersect(rays, got_hits);
+  }
+  const OcclusionDiff d = compare_occlusion(ref, got, tol.cfg, &ref_hits, &got_hits);
+  EXPECT_LE(d.differ, tol.max_errors) << d.first << " (" << d.grazing << " grazing)";
+  EXPECT_LE(d.grazing, rays.size() / 5) << "grazing disagreements should be rare";
 }
 
 TEST_P(AcceleratorSuite, EmptyBatchGivesEmptyResult) {

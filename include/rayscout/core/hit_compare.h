@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -9,17 +10,60 @@
 
 namespace rayscout {
 
+/// How compare_hits judges two hit batches.
+struct HitCompareConfig {
+  /// t agrees when |t - t_ref| <= rel_tol * max(1, |t_ref|). 0 = bit-identical.
+  float rel_tol = 1e-5f;
+  /// Disagreements at a grazing contact (see is_grazing) are counted in HitDiff::grazing
+  /// instead of as errors: a ray exactly through a mesh's boundary edge or vertex, or a ray
+  /// starting on a surface, may or may not hit depending on the last bit of arithmetic.
+  /// Off (default) for our own accelerators, which share one kernel; on for Embree.
+  bool allow_grazing = false;
+  /// A hit is grazing when a barycentric coordinate (u, v or 1-u-v) is <= edge_eps.
+  float edge_eps = 1e-4f;
+};
+
+/// True for a hit on an edge or vertex of its triangle (a barycentric <= edge_eps) or at
+/// t <= rel_tol (a ray leaving the surface it starts on).
+bool is_grazing(const Hit& h, const HitCompareConfig& config);
+
 /// Disagreements between a reference and a candidate hit batch.
 struct HitDiff {
+  size_t rays = 0;          ///< rays compared
+  size_t both_hit = 0;      ///< rays both batches hit
   size_t hit_miss = 0;      ///< one hits, the other misses
   size_t other_prim = 0;    ///< both hit, different triangle and different t
   size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * max(1, t_ref)
+  size_t ties = 0;          ///< different triangle at the same t (within tolerance): not an error
+  size_t grazing = 0;       ///< disagreements at a grazing contact (allow_grazing only): not an error
+  /// Max and 99th percentile of |t - t_ref| / max(1, |t_ref|) over rays that both hit
+  /// (the same triangle or a tie).
+  double max_rel_diff = 0.0, p99_rel_diff = 0.0;
   std::string first;        ///< description of the first disagreement
   bool ok() const { return hit_miss == 0 && other_prim == 0 && t_mismatch == 0; }
 };
 
 /// Compares ray by ray. A different triangle at the same t (within tolerance) is a true tie
-/// and not counted.
+/// and not counted as an error.
+HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareConfig& config);
+/// Same, with config {rel_tol} (no grazing allowance).
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, float rel_tol = 1e-5f);
+
+/// Disagreements between two occlusion results (one byte per ray, 1 = occluded).
+struct OcclusionDiff {
+  size_t rays = 0;
+  size_t occluded_ref = 0, occluded_got = 0;  ///< occluded rays in each
+  size_t differ = 0;    ///< rays where they disagree (grazing ones excluded)
+  size_t grazing = 0;   ///< disagreements explained by a grazing closest hit
+  std::string first;    ///< description of the first disagreement
+  bool ok() const { return differ == 0; }
+};
+
+/// Compares occlusion ray by ray. With the closest hits of the same rays from both sides
+/// (optional) and config.allow_grazing, a disagreement is grazing when the side that says
+/// "occluded" has a grazing closest hit: its only blocker touches an edge or the origin.
+OcclusionDiff compare_occlusion(const std::vector<uint8_t>& ref, const std::vector<uint8_t>& got,
+                                const HitCompareConfig& config = {}, const HitBatch* ref_hits = nullptr,
+                                const HitBatch* got_hits = nullptr);
 
 }  // namespace rayscout

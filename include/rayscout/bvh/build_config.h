@@ -1,0 +1,25 @@
+// BvhBuildConfig: the tunables of the binned SAH builder.
+#pragma once
+
+namespace rayscout {
+
+/// Tunables of the binned SAH builder (Wald, "On fast construction of SAH-based bounding
+/// volume hierarchies", RT 2007). Costs are relative; only their ratio matters.
+struct BvhBuildConfig {
+  /// Bins per axis over the centroid bounds (Wald 2007 sec. 3.1). More bins: better splits,
+  /// slower build; 32 is the usual sweet spot.
+  int bins = 32;
+  /// A node with at most this many triangles becomes a leaf when its SAH leaf cost is not
+  /// higher than the best split's cost; larger nodes are always split. At most 15.
+  int max_leaf_size = 4;
+  /// Cost of visiting one node relative to one ray-triangle test (C_T in the SAH
+  /// C = C_T + C_I (A_L N_L + A_R N_R) / A).
+  float traversal_cost = 1.0f;
+  /// Cost of one ray-triangle test (C_I in the SAH).
+  float intersection_cost = 1.0f;
+  /// Nodes with at least this many triangles bin in parallel and recurse as parallel tasks;
+  /// below it the subtree is built serially (the result does not depend on it).
+  int parallel_threshold = 4096;
+};
+
+}  // namespace rayscout

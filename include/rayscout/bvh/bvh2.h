@@ -1,0 +1,71 @@
+// Bvh2: the binary bounding volume hierarchy, its binned SAH build and single-ray traversal.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayscout/bvh/build_config.h"
+#include "rayscout/core/bounds3.h"
+#include "rayscout/core/ray.h"
+#include "rayscout/core/trace_stats.h"
+#include "rayscout/core/triangle.h"
+
+namespace rayscout {
+
+/// One node of a Bvh2, 32 bytes. Children of an inner node are adjacent (first, first + 1).
+struct Bvh2Node {
+  Bounds3 bounds;   ///< box of every triangle below the node
+  uint32_t first;   ///< inner: index of the left child (right = first + 1); leaf: first index into prim_ids
+  uint16_t count;   ///< 0 = inner node; else number of triangles of the leaf
+  uint8_t axis;     ///< split axis of an inner node: left child first when the ray goes +axis
+  uint8_t pad;
+  bool is_leaf() const { return count != 0; }
+};
+static_assert(sizeof(Bvh2Node) == 32);
+
+/// Binary BVH built with binned SAH (Wald 2007), parallel with oneTBB. The builder sees only
+/// triangle boxes and centroids. Traversal uses core's robust slab test (Ize 2013) and
+/// watertight triangle test, so hits are bit-identical to BruteForce.
+class Bvh2 {
+ public:
+  std::vector<Bvh2Node> nodes;     ///< nodes[0] = root; empty for an empty triangle set
+  std::vector<uint32_t> prim_ids;  ///< leaf ranges index this; values are triangle ids
+
+  /// Builds over tris (not kept). The same input gives the same tree for any thread count.
+  static Bvh2 build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
+
+  /// Closest hit of one ray (tmin <= t <= tmax, ties to the smaller id) against tris, the
+  /// triangles the tree was built over. Traversal starts from the `start` nodes: each is box
+  /// tested and pushed, start[0] is popped first; an empty span means the root. This is the
+  /// entry ray classification (shafts) uses with its candidate lists. With CaptureStats,
+  /// stats (non-null) receives traversal_steps (nodes visited), ray_box_tests, ray_tri_tests;
+  /// it does not count stats->rays.
+  template <bool CaptureStats>
+  Hit intersect(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
+                TraceStats* stats) const;
+  /// Any hit with tmin <= t <= tmax, stops at the first one. Same start and stats as intersect.
+  template <bool CaptureStats>
+  bool occluded(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
+                TraceStats* stats) const;
+
+  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once, children
+  /// inside their parent, no empty leaf, every node reachable exactly once, child indices in
+  /// range. Returns "" when all hold, else a description of the first violation.
+  std::string validate(size_t triangle_count) const;
+  /// Edges on the longest root-to-leaf path (0 for a lone leaf).
+  int depth() const { return depth_; }
+  /// Bytes of nodes and prim_ids.
+  size_t memory_bytes() const {
+    return nodes.capacity() * sizeof(Bvh2Node) + prim_ids.capacity() * sizeof(uint32_t);
+  }
+  /// Recomputes depth() after nodes were edited by hand.
+  void update_depth();
+
+ private:
+  int depth_ = 0;
+};
+
+}  // namespace rayscout

@@ -1,0 +1,53 @@
+// The BVH accelerators: "bvh2" (binary, scalar traversal) and "bvh" (8-wide, SIMD traversal).
+#pragma once
+
+#include <span>
+
+#include "rayscout/bvh/build_config.h"
+#include "rayscout/bvh/bvh2.h"
+#include "rayscout/bvh/wide_bvh.h"
+#include "rayscout/core/accelerator.h"
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout {
+
+/// Reads the build tunables from accelerator options: bins, max_leaf_size, traversal_cost,
+/// intersection_cost (defaults of BvhBuildConfig); throws InputError for values out of range.
+BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options);
+
+/// Registry "bvh2": a binned SAH Bvh2, one ray at a time, rays in parallel (oneTBB).
+class Bvh2Accelerator final : public Accelerator {
+ public:
+  /// Builds over triangles, which must outlive the accelerator.
+  explicit Bvh2Accelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config = {});
+  std::string name() const override { return "bvh2"; }
+  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
+  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                TraceStats* stats = nullptr) const override;
+  BuildInfo build_info() const override { return info_; }
+  const Bvh2& bvh() const { return bvh_; }
+
+ private:
+  std::span<const Triangle> triangles_;
+  Bvh2 bvh_;
+  BuildInfo info_;
+};
+
+/// Registry "bvh": the 8-wide WideBvh with SIMD box tests, rays in parallel (oneTBB).
+class WideBvhAccelerator final : public Accelerator {
+ public:
+  /// Builds over triangles (copied into leaf order; they need not outlive it).
+  explicit WideBvhAccelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config = {});
+  std::string name() const override { return "bvh"; }
+  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
+  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                TraceStats* stats = nullptr) const override;
+  BuildInfo build_info() const override { return info_; }
+  const WideBvh& bvh() const { return bvh_; }
+
+ private:
+  WideBvh bvh_;
+  BuildInfo info_;
+};
+
+}  // namespace rayscout

@@ -1,0 +1,100 @@
+// WideBvh: the 8-wide BVH collapsed from a Bvh2, traversed one ray at a time with SIMD box tests.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayscout/bvh/build_config.h"
+#include "rayscout/bvh/bvh2.h"
+#include "rayscout/core/bounds3.h"
+#include "rayscout/core/ray.h"
+#include "rayscout/core/trace_stats.h"
+#include "rayscout/core/triangle.h"
+
+namespace rayscout {
+
+/// Children per wide node: one AVX2 register of floats (half an AVX-512 one).
+inline constexpr int kWideWidth = 8;
+
+/// A child reference inside a WideBvh. Inner child: the wide node id, an index into
+/// WideBvh::nodes (bit 31 clear). Leaf: bit 31 set, bits 27..30 = triangle count (1..15),
+/// bits 0..26 = first index into WideBvh::prim_ids / leaf_tris.
+struct WideRef {
+  static constexpr uint32_t kLeafBit = 0x80000000u;
+  static constexpr uint32_t kMaxFirst = (1u << 27) - 1;
+  static bool is_leaf(uint32_t ref) { return (ref & kLeafBit) != 0; }
+  static uint32_t leaf(uint32_t first, uint32_t count) { return kLeafBit | (count << 27) | first; }
+  static uint32_t leaf_first(uint32_t ref) { return ref & kMaxFirst; }
+  static uint32_t leaf_count(uint32_t ref) { return (ref >> 27) & 15u; }
+};
+
+/// One wide node, 256 bytes: the boxes of up to 8 children as structure of arrays (one SIMD
+/// register per bound), their references, and how many slots are used (slots >= count are
+/// unused and hold empty boxes).
+struct alignas(64) WideNode {
+  float lo_x[kWideWidth], hi_x[kWideWidth];
+  float lo_y[kWideWidth], hi_y[kWideWidth];
+  float lo_z[kWideWidth], hi_z[kWideWidth];
+  uint32_t child[kWideWidth];  ///< WideRef of each used slot
+  uint32_t count;              ///< used slots, 1..8 (children are packed at the front)
+  uint32_t pad[7];
+
+  Bounds3 child_bounds(int slot) const {
+    return {{lo_x[slot], lo_y[slot], lo_z[slot]}, {hi_x[slot], hi_y[slot], hi_z[slot]}};
+  }
+};
+static_assert(sizeof(WideNode) == 256);
+
+/// 8-wide BVH made by collapsing a binned SAH Bvh2 (each wide node adopts the descendants of
+/// the largest-area children until it has 8, as in Wald et al., "Getting rid of packets",
+/// 2008, and Embree's BVH8). It keeps its own copy of the triangles in leaf order, so
+/// traversal reads leaves contiguously; hits report the original triangle ids and are
+/// bit-identical to BruteForce (core's robust box and watertight triangle tests, same
+/// float operations in the SIMD lanes).
+class WideBvh {
+ public:
+  std::vector<WideNode> nodes;     ///< nodes[0] = root (empty when there are no triangles)
+  std::vector<uint32_t> prim_ids;  ///< leaf order -> original triangle id
+  std::vector<Triangle> leaf_tris; ///< leaf_tris[i] = tris[prim_ids[i]]
+  std::vector<uint32_t> source_node; ///< wide node id -> the Bvh2 node it was collapsed from
+  Bounds3 bounds;                  ///< box of every triangle (the root node's box)
+
+  /// Builds a Bvh2 with config, then collapses it.
+  static WideBvh build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
+  /// Collapses bvh (built over tris) into 8-wide nodes.
+  static WideBvh from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris);
+
+  /// Closest hit of one ray (tmin <= t <= tmax, ties to the smaller id), ordered near-first.
+  /// Traversal starts from `start`, a list of WideRefs (wide node ids, or leaf refs as found in
+  /// WideNode::child); they are entered without testing their own box (a node's children are
+  /// tested when it is visited); start[0] is visited first. Empty span = the root. With
+  /// CaptureStats, stats (non-null) receives traversal_steps (entries visited: wide nodes and
+  /// leaves), ray_box_tests (one per used child slot tested), ray_tri_tests; not stats->rays.
+  template <bool CaptureStats>
+  Hit intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
+  /// Any hit with tmin <= t <= tmax, stops at the first one. Same start and stats as intersect.
+  template <bool CaptureStats>
+  bool occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
+
+  /// Box of a reference (a node: union of its children; a leaf: union of its triangles).
+  Bounds3 ref_bounds(uint32_t ref) const;
+  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once, leaf_tris
+  /// consistent with prim_ids, child boxes containing their subtree, no empty leaf or node,
+  /// every node reachable exactly once. "" when all hold, else the first violation.
+  std::string validate(size_t triangle_count) const;
+  /// Wide nodes on the longest root-to-leaf path (edges; a root with only leaves is 1).
+  int depth() const { return depth_; }
+  /// Bytes of nodes, prim_ids, leaf_tris and source_node.
+  size_t memory_bytes() const {
+    return nodes.capacity() * sizeof(WideNode) + prim_ids.capacity() * sizeof(uint32_t) +
+           leaf_tris.capacity() * sizeof(Triangle) + source_node.capacity() * sizeof(uint32_t);
+  }
+
+ private:
+  int depth_ = 0;
+};
+
+}  // namespace rayscout

@@ -1,0 +1,144 @@
+// Bvh2 single-ray traversal: ordered closest hit and early-exit any hit.
+#include "rayscout/bvh/bvh2.h"
+#include "cull_distance.h"
+#include "traversal_stack.h"
+
+namespace rayscout {
+namespace {
+
+struct Entry {
+  uint32_t node;
+  float dist;  // entry distance of the node's box
+};
+
+}  // namespace
+
+template <bool CaptureStats>
+Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
+                    TraceStats* stats) const {
+  Hit best;
+  if (nodes.empty()) return best;
+  best.t = ray.tmax;
+  const detail::CullInterval cull(nodes[0].bounds, ray);
+  const float box_tmin = cull.near(ray.tmin);
+  float cull_t = cull.far(best.t);
+  const RayPrecomp rp(ray.dir);
+  const uint32_t root = 0;
+  if (start.empty()) start = std::span<const uint32_t>(&root, 1);
+  detail::TraversalStack<Entry> stack(start.size() + size_t(depth_) + 2);
+  uint64_t steps = 0, box_tests = 0, tri_tests = 0;
+  for (size_t k = start.size(); k-- > 0;) {
+    float d;
+    ++box_tests;
+    if (intersect_box(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, cull_t, d)) stack.push({start[k], d});
+  }
+  while (!stack.empty()) {
+    const Entry e = stack.pop();
+    if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
+    ++steps;
+    const Bvh2Node& n = nodes[e.node];
+    if (n.is_leaf()) {
+      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+        const uint32_t p = prim_ids[k];
+        float t, u, v;
+        ++tri_tests;
+        if (intersect_triangle(ray.org, rp, tris[p], ray.tmin, best.t, t, u, v) &&
+            is_closer(t, p, best.t, best.prim))
+          {
+          best = {t, p, u, v};
+          cull_t = cull.far(t);
+        }
+      }
+      continue;
+    }
+    float dl, dr;
+    const bool hl = intersect_box(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, cull_t, dl);
+    const bool hr = intersect_box(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, cull_t, dr);
+    box_tests += 2;
+    if (hl && hr) {
+      if (dr < dl) {
+        stack.push({n.first, dl});
+        stack.push({n.first + 1, dr});
+      } else {
+        stack.push({n.first + 1, dr});
+        stack.push({n.first, dl});
+      }
+    } else if (hl) {
+      stack.push({n.first, dl});
+    } else if (hr) {
+      stack.push({n.first + 1, dr});
+    }
+  }
+  if constexpr (CaptureStats) {
+    stats->traversal_steps += steps;
+    stats->ray_box_tests += box_tests;
+    stats->ray_tri_tests += tri_tests;
+  }
+  if (!best.hit()) best = Hit{};
+  return best;
+}
+
+template <bool CaptureStats>
+bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
+                    TraceStats* stats) const {
+  if (nodes.empty()) return false;
+  const RayPrecomp rp(ray.dir);
+  const detail::CullInterval cull(nodes[0].bounds, ray);
+  const float box_tmin = cull.near(ray.tmin), box_tmax = cull.far(ray.tmax);
+  const uint32_t root = 0;
+  if (start.empty()) start = std::span<const uint32_t>(&root, 1);
+  detail::TraversalStack<uint32_t> stack(start.size() + size_t(depth_) + 2);
+  uint64_t steps = 0, box_tests = 0, tri_tests = 0;
+  bool hit = false;
+  for (size_t k = start.size(); k-- > 0;) {
+    float d;
+    ++box_tests;
+    if (intersect_box(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, box_tmax, d)) stack.push(start[k]);
+  }
+  while (!stack.empty() && !hit) {
+    ++steps;
+    const Bvh2Node& n = nodes[stack.pop()];
+    if (n.is_leaf()) {
+      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+        float t, u, v;
+        ++tri_tests;
+        if (intersect_triangle(ray.org, rp, tris[prim_ids[k]], ray.tmin, ray.tmax, t, u, v)) {
+          hit = true;
+          break;
+        }
+      }
+      continue;
+    }
+    float dl, dr;
+    const bool hl = intersect_box(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, box_tmax, dl);
+    const bool hr = intersect_box(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, box_tmax, dr);
+    box_tests += 2;
+    // Near child on top: an early hit ends the ray sooner.
+    if (hl && hr) {
+      if (dr < dl) {
+        stack.push(n.first);
+        stack.push(n.first + 1);
+      } else {
+        stack.push(n.first + 1);
+        stack.push(n.first);
+      }
+    } else if (hl) {
+      stack.push(n.first);
+    } else if (hr) {
+      stack.push(n.first + 1);
+    }
+  }
+  if constexpr (CaptureStats) {
+    stats->traversal_steps += steps;
+    stats->ray_box_tests += box_tests;
+    stats->ray_tri_tests += tri_tests;
+  }
+  return hit;
+}
+
+template Hit Bvh2::intersect<false>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
+template Hit Bvh2::intersect<true>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
+template bool Bvh2::occluded<false>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
+template bool Bvh2::occluded<true>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
+
+}  // namespace rayscout

@@ -1,0 +1,30 @@
+// CullInterval (private): the conservative [near, far] limits of box tests during traversal.
+#pragma once
+
+#include "rayscout/core/bounds3.h"
+#include "rayscout/core/ray.h"
+
+namespace rayscout::detail {
+
+/// Widens the ray interval a box test is run with. A box's slab distances and a triangle's t
+/// (watertight arithmetic) round differently: a triangle hit at t <= best_t can sit in a box
+/// whose computed entry is a few ulps beyond best_t (coplanar duplicates), and a hit accepted
+/// at t >= tmin ~ 0 (rays leaving a surface) can sit in a box whose computed exit is slightly
+/// negative. Box tests therefore use [tmin - slack, t + slack], with slack = 2^-17 relative
+/// plus 2^-20 of the coordinate magnitude along the ray's dominant axis (about 16 ulps of
+/// every coordinate). Triangle tests keep the exact interval, so results stay identical to
+/// brute force; the cost is a few extra box visits.
+struct CullInterval {
+  float abs_slack;
+
+  CullInterval(const Bounds3& scene, const Ray& ray) {
+    const float coords = max_component(max(abs(scene.lo), abs(scene.hi))) + max_component(abs(ray.org));
+    abs_slack = coords * (1.0f / 1048576.0f) / max_component(abs(ray.dir));
+  }
+  /// Box-test far limit for a current closest distance t.
+  float far(float t) const { return t + t * (1.0f / 131072.0f) + abs_slack; }
+  /// Box-test near limit for the ray's tmin.
+  float near(float tmin) const { return tmin - (tmin < 0 ? -tmin : tmin) * (1.0f / 131072.0f) - abs_slack; }
+};
+
+}  // namespace rayscout::detail

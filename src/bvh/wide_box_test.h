@@ -1,0 +1,79 @@
+// Robust slab test of one ray against the 8 child boxes of a WideNode (private kernel).
+#pragma once
+
+#include <cstdint>
+
+#include "rayscout/bvh/wide_bvh.h"
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+namespace rayscout::detail {
+
+// The far-distance scale of core's intersect_box (Ize 2013): 1 + 2 gamma(3).
+inline constexpr float kRobustScale =
+    1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
+
+/// Per-ray constants of the wide box test, broadcast once per ray.
+struct WideRay {
+#if defined(__AVX2__)
+  __m256 ox, oy, oz, ix, iy, iz, tmin;
+#endif
+  Vec3 org, inv_dir;
+  float t_min;
+  WideRay(const Vec3& o, const Vec3& inv, float tmin_) : org(o), inv_dir(inv), t_min(tmin_) {
+#if defined(__AVX2__)
+    ox = _mm256_set1_ps(o.x); oy = _mm256_set1_ps(o.y); oz = _mm256_set1_ps(o.z);
+    ix = _mm256_set1_ps(inv.x); iy = _mm256_set1_ps(inv.y); iz = _mm256_set1_ps(inv.z);
+    tmin = _mm256_set1_ps(tmin_);
+#endif
+  }
+};
+
+/// Tests the used slots of node against [tmin, tmax]; returns a bit mask of the hit slots and
+/// writes every slot's entry distance to dist. The same float operations in the same order
+/// as core's intersect_box, lane by lane, so the result is identical to the scalar test.
+inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float tmax, float* dist) {
+  const uint32_t used = (1u << node.count) - 1u;
+#if defined(__AVX2__)
+  const __m256 k = _mm256_set1_ps(kRobustScale);
+  __m256 tnear = r.tmin, tfar = _mm256_set1_ps(tmax);
+  auto axis = [&](const float* lo, const float* hi, __m256 o, __m256 inv) {
+    __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(lo), o), inv);
+    __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(hi), o), inv);
+    const __m256 swap = _mm256_cmp_ps(t0, t1, _CMP_GT_OQ);  // if (t0 > t1) swap, NaN: no swap
+    const __m256 a = _mm256_blendv_ps(t0, t1, swap), b = _mm256_blendv_ps(t1, t0, swap);
+    t1 = _mm256_mul_ps(b, k);
+    // max_ps(x, y) = x > y ? x : y and min_ps(x, y) = x < y ? x : y: a NaN first operand
+    // keeps the running value, exactly as the scalar ternaries.
+    tnear = _mm256_max_ps(a, tnear);
+    tfar = _mm256_min_ps(t1, tfar);
+  };
+  axis(node.lo_x, node.hi_x, r.ox, r.ix);
+  axis(node.lo_y, node.hi_y, r.oy, r.iy);
+  axis(node.lo_z, node.hi_z, r.oz, r.iz);
+  _mm256_storeu_ps(dist, tnear);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ))) & used;
+#else
+  uint32_t mask = 0;
+  for (uint32_t c = 0; c < node.count; ++c) {
+    float tnear = r.t_min, tfar = tmax;
+    const float lo[3] = {node.lo_x[c], node.lo_y[c], node.lo_z[c]};
+    const float hi[3] = {node.hi_x[c], node.hi_y[c], node.hi_z[c]};
+    for (int a = 0; a < 3; ++a) {
+      float t0 = (lo[a] - r.org[a]) * r.inv_dir[a];
+      float t1 = (hi[a] - r.org[a]) * r.inv_dir[a];
+      if (t0 > t1) { const float s = t0; t0 = t1; t1 = s; }
+      t1 *= kRobustScale;
+      tnear = t0 > tnear ? t0 : tnear;
+      tfar = t1 < tfar ? t1 : tfar;
+    }
+    dist[c] = tnear;
+    if (tnear <= tfar) mask |= 1u << c;
+  }
+  return mask & used;
+#endif
+}
+
+}  // namespace rayscout::detail

@@ -1,0 +1,138 @@
+// WideBvh single-ray traversal: SIMD test of 8 child boxes, ordered closest hit, any hit.
+#include <bit>
+
+#include "rayscout/bvh/wide_bvh.h"
+#include "cull_distance.h"
+#include "traversal_stack.h"
+#include "wide_box_test.h"
+
+namespace rayscout {
+namespace {
+
+struct Entry {
+  uint32_t ref;
+  float dist;  // entry distance of the ref's box
+};
+
+}  // namespace
+
+template <bool CaptureStats>
+Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+  Hit best;
+  if (nodes.empty()) return best;
+  best.t = ray.tmax;
+  const detail::CullInterval cull(bounds, ray);
+  const float box_tmin = cull.near(ray.tmin);
+  float cull_t = cull.far(best.t);
+  const RayPrecomp rp(ray.dir);
+  const detail::WideRay wr(ray.org, rp.inv_dir, box_tmin);
+  const uint32_t root = 0;
+  if (start.empty()) start = std::span<const uint32_t>(&root, 1);
+  detail::TraversalStack<Entry> stack(start.size() + size_t(depth_) * (kWideWidth - 1) + 2);
+  uint64_t steps = 0, box_tests = 0, tri_tests = 0;
+  for (size_t k = start.size(); k-- > 0;) stack.push({start[k], box_tmin});
+  alignas(32) float dist[kWideWidth];
+  while (!stack.empty()) {
+    Entry e = stack.pop();
+    if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
+    for (;;) {
+      ++steps;
+      if (WideRef::is_leaf(e.ref)) {
+        const uint32_t first = WideRef::leaf_first(e.ref), end = first + WideRef::leaf_count(e.ref);
+        for (uint32_t k = first; k < end; ++k) {
+          float t, u, v;
+          ++tri_tests;
+          if (intersect_triangle(ray.org, rp, leaf_tris[k], ray.tmin, best.t, t, u, v) &&
+              is_closer(t, prim_ids[k], best.t, best.prim))
+            {
+            best = {t, prim_ids[k], u, v};
+            cull_t = cull.far(t);
+          }
+        }
+        break;
+      }
+      const WideNode& node = nodes[e.ref];
+      box_tests += node.count;
+      uint32_t mask = detail::intersect_children(node, wr, cull_t, dist);
+      if (mask == 0) break;
+      if ((mask & (mask - 1)) == 0) {  // one child: no stack traffic
+        const int c = std::countr_zero(mask);
+        e = {node.child[c], dist[c]};
+        continue;
+      }
+      // Several: sort far to near (insertion sort, stable), push all but the nearest.
+      Entry hits[kWideWidth];
+      int n = 0;
+      while (mask) {
+        const int c = std::countr_zero(mask);
+        mask &= mask - 1;
+        Entry h{node.child[c], dist[c]};
+        int j = n++;
+        while (j > 0 && hits[j - 1].dist < h.dist) { hits[j] = hits[j - 1]; --j; }
+        hits[j] = h;
+      }
+      for (int j = 0; j < n - 1; ++j) stack.push(hits[j]);
+      e = hits[n - 1];
+    }
+  }
+  if constexpr (CaptureStats) {
+    stats->traversal_steps += steps;
+    stats->ray_box_tests += box_tests;
+    stats->ray_tri_tests += tri_tests;
+  }
+  if (!best.hit()) best = Hit{};
+  return best;
+}
+
+template <bool CaptureStats>
+bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+  if (nodes.empty()) return false;
+  const RayPrecomp rp(ray.dir);
+  const detail::CullInterval cull(bounds, ray);
+  const float box_tmax = cull.far(ray.tmax);
+  const detail::WideRay wr(ray.org, rp.inv_dir, cull.near(ray.tmin));
+  const uint32_t root = 0;
+  if (start.empty()) start = std::span<const uint32_t>(&root, 1);
+  detail::TraversalStack<uint32_t> stack(start.size() + size_t(depth_) * (kWideWidth - 1) + 2);
+  uint64_t steps = 0, box_tests = 0, tri_tests = 0;
+  for (size_t k = start.size(); k-- > 0;) stack.push(start[k]);
+  alignas(32) float dist[kWideWidth];
+  bool hit = false;
+  while (!stack.empty() && !hit) {
+    const uint32_t ref = stack.pop();
+    ++steps;
+    if (WideRef::is_leaf(ref)) {
+      const uint32_t first = WideRef::leaf_first(ref), end = first + WideRef::leaf_count(ref);
+      for (uint32_t k = first; k < end; ++k) {
+        float t, u, v;
+        ++tri_tests;
+        if (intersect_triangle(ray.org, rp, leaf_tris[k], ray.tmin, ray.tmax, t, u, v)) {
+          hit = true;
+          break;
+        }
+      }
+      continue;
+    }
+    const WideNode& node = nodes[ref];
+    box_tests += node.count;
+    uint32_t mask = detail::intersect_children(node, wr, box_tmax, dist);
+    while (mask) {
+      const int c = 31 - std::countl_zero(mask);  // last slot pushed first: slot 0 on top
+      mask &= ~(1u << c);
+      stack.push(node.child[c]);
+    }
+  }
+  if constexpr (CaptureStats) {
+    stats->traversal_steps += steps;
+    stats->ray_box_tests += box_tests;
+    stats->ray_tri_tests += tri_tests;
+  }
+  return hit;
+}
+
+template Hit WideBvh::intersect<false>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template Hit WideBvh::intersect<true>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template bool WideBvh::occluded<false>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template bool WideBvh::occluded<true>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+
+}  // namespace rayscout

@@ -1,0 +1,193 @@
+// EmbreeAccelerator: builds an Embree 3 scene over our triangles and traces batches with it.
+#include "rayscout/embree/embree_accelerator.h"
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+
+#include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+
+namespace rayscout {
+
+EmbreeConfig EmbreeConfig::from_options(const AcceleratorOptions& options) {
+  EmbreeConfig c;
+  c.robust = options.get_bool("robust", c.robust);
+  const std::string quality = options.get_string("quality", "high");
+  if (quality != "high" && quality != "medium")
+    throw InputError("embree: option quality=" + quality + " (expected high or medium)");
+  c.high_quality = quality == "high";
+  c.packet = int(options.get_int("packet", c.packet));
+  if (c.packet != 1 && c.packet != 16)
+    throw InputError("embree: option packet=" + std::to_string(c.packet) + " (expected 1 or 16)");
+  return c;
+}
+
+struct EmbreeAccelerator::State {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::atomic<int64_t> allocated{0};  // bytes currently held by Embree (memory monitor)
+  std::mutex error_mutex;
+  std::string error;
+
+  ~State() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+  void throw_if_error(const char* what) {
+    std::lock_guard lock(error_mutex);
+    if (device && rtcGetDeviceError(device) != RTC_ERROR_NONE && error.empty()) error = "unknown error";
+    if (!error.empty()) throw std::runtime_error(std::string("embree: ") + what + ": " + error);
+  }
+};
+
+namespace {
+
+RTCIntersectContext make_context() {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  return ctx;
+}
+
+// Embree's ray from ours; tnear/tfar carry tmin/tmax.
+inline void load_ray(const RayBatch& rays, size_t i, RTCRay& r) {
+  r.org_x = rays.ox[i]; r.org_y = rays.oy[i]; r.org_z = rays.oz[i]; r.tnear = rays.tmin[i];
+  r.dir_x = rays.dx[i]; r.dir_y = rays.dy[i]; r.dir_z = rays.dz[i]; r.tfar = rays.tmax[i];
+  r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+}
+
+}  // namespace
+
+EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const EmbreeConfig& config)
+    : state_(std::make_unique<State>()), config_(config) {
+  State& s = *state_;
+  s.device = rtcNewDevice(nullptr);
+  if (!s.device) throw std::runtime_error("embree: rtcNewDevice failed (error " +
+                                          std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  rtcSetDeviceErrorFunction(s.device, [](void* user, RTCError, const char* message) {
+    auto* st = static_cast<State*>(user);
+    std::lock_guard lock(st->error_mutex);
+    if (st->error.empty()) st->error = message ? message : "unknown error";
+  }, &s);
+  rtcSetDeviceMemoryMonitorFunction(s.device, [](void* user, ssize_t bytes, bool /*post*/) {
+    static_cast<State*>(user)->allocated += bytes;
+    return true;
+  }, &s);
+
+  const auto start = std::chrono::steady_clock::now();
+  s.scene = rtcNewScene(s.device);
+  rtcSetSceneFlags(s.scene, config_.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  rtcSetSceneBuildQuality(s.scene, config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  if (!triangles.empty()) {
+    RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(geom, config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+    const size_t n = triangles.size();
+    // Unshared vertices (3 per triangle) so that primID i is our triangle i.
+    auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+    auto* index = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                  RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
+    s.throw_if_error("allocating buffers");
+    static_assert(sizeof(Triangle) == 9 * sizeof(float));
+    std::memcpy(verts, triangles.data(), n * sizeof(Triangle));
+    for (uint32_t i = 0; i < 3 * n; ++i) index[i] = i;
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(s.scene, geom, 0);
+    rtcReleaseGeometry(geom);
+  }
+  const int64_t before_build = s.allocated.load();
+  rtcCommitScene(s.scene);
+  s.throw_if_error("building the scene");
+  info_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  info_.memory_bytes = size_t(std::max<int64_t>(0, s.allocated.load() - before_build));
+}
+
+EmbreeAccelerator::~EmbreeAccelerator() = default;
+
+void EmbreeAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+  hits.reset(rays.size());
+  RTCScene scene = state_->scene;
+  const size_t n = rays.size();
+  if (config_.packet == 16) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + 15) / 16), [&](const auto& range) {
+      RTCIntersectContext ctx = make_context();
+      for (size_t p = range.begin(); p != range.end(); ++p) {
+        alignas(64) RTCRayHit16 rh;
+        alignas(64) int valid[16];
+        const size_t base = p * 16;
+        for (int k = 0; k < 16; ++k) {
+          const size_t i = base + k;
+          valid[k] = i < n ? -1 : 0;
+          const size_t j = i < n ? i : base;  // padding lanes repeat a valid ray
+          rh.ray.org_x[k] = rays.ox[j]; rh.ray.org_y[k] = rays.oy[j]; rh.ray.org_z[k] = rays.oz[j];
+          rh.ray.tnear[k] = rays.tmin[j];
+          rh.ray.dir_x[k] = rays.dx[j]; rh.ray.dir_y[k] = rays.dy[j]; rh.ray.dir_z[k] = rays.dz[j];
+          rh.ray.tfar[k] = rays.tmax[j];
+          rh.ray.time[k] = 0.0f; rh.ray.mask[k] = 0xFFFFFFFFu; rh.ray.id[k] = 0; rh.ray.flags[k] = 0;
+          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+          rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, scene, &ctx, &rh);
+        for (int k = 0; k < 16 && base + k < n; ++k)
+          if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
+            hits.set(base + k, {rh.ray.tfar[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k]});
+      }
+    });
+  } else {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& range) {
+      RTCIntersectContext ctx = make_context();
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        RTCRayHit rh;
+        load_ray(rays, i, rh.ray);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &rh);
+        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+          hits.set(i, {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v});
+      }
+    });
+  }
+  if (stats) stats->rays += n;  // Embree has no work counters
+}
+
+void EmbreeAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+  occluded.assign(rays.size(), 0);
+  RTCScene scene = state_->scene;
+  const size_t n = rays.size();
+  if (config_.packet == 16) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + 15) / 16), [&](const auto& range) {
+      RTCIntersectContext ctx = make_context();
+      for (size_t p = range.begin(); p != range.end(); ++p) {
+        alignas(64) RTCRay16 r;
+        alignas(64) int valid[16];
+        const size_t base = p * 16;
+        for (int k = 0; k < 16; ++k) {
+          const size_t i = base + k;
+          valid[k] = i < n ? -1 : 0;
+          const size_t j = i < n ? i : base;
+          r.org_x[k] = rays.ox[j]; r.org_y[k] = rays.oy[j]; r.org_z[k] = rays.oz[j]; r.tnear[k] = rays.tmin[j];
+          r.dir_x[k] = rays.dx[j]; r.dir_y[k] = rays.dy[j]; r.dir_z[k] = rays.dz[j]; r.tfar[k] = rays.tmax[j];
+          r.time[k] = 0.0f; r.mask[k] = 0xFFFFFFFFu; r.id[k] = 0; r.flags[k] = 0;
+        }
+        rtcOccluded16(valid, scene, &ctx, &r);
+        // Embree marks an occluded ray by setting tfar to -inf.
+        for (int k = 0; k < 16 && base + k < n; ++k) occluded[base + k] = r.tfar[k] == -kInfinity;
+      }
+    });
+  } else {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& range) {
+      RTCIntersectContext ctx = make_context();
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        RTCRay r;
+        load_ray(rays, i, r);
+        rtcOccluded1(scene, &ctx, &r);
+        occluded[i] = r.tfar == -kInfinity;
+      }
+    });
+  }
+  if (stats) stats->rays += n;
+}
+
+}  // namespace rayscout
