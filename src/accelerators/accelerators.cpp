@@ -3,6 +3,8 @@
 
 #include <functional>
 
+#include "rayscout/dacrt/dacrt.h"
+
 #include "rayscout/bvh/bvh_accelerators.h"
 
 namespace rayscout {
@@ -19,6 +21,14 @@ const std::vector<Entry>& registry() {
   static const std::vector<Entry> entries = {
       {{"brute", "every ray against every triangle (reference)"},
        [](const Scene& s, const AcceleratorOptions&) { return std::make_unique<BruteForce>(s.triangles); }},
+      {{"dacrt", "divide-and-conquer ray tracing, Afra 2012 (no stored hierarchy; options in docs/dacrt.md)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<Dacrt>(s.triangles, DacrtConfig::from_options(o, DacrtConfig::afra()), "dacrt");
+       }},
+      {{"dacrt-rs", "ray-sampled DACRT, Nabata et al. 2014 (sampled cost, order, skipping; docs/dacrt.md)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<Dacrt>(s.triangles, DacrtConfig::from_options(o, DacrtConfig::ray_sampled()), "dacrt-rs");
+       }},
       {{"bvh2", "binary binned-SAH BVH, scalar single-ray traversal (options bins, max_leaf_size, traversal_cost, intersection_cost)"},
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<Bvh2Accelerator>(s.triangles, bvh_config_from_options(o));

@@ -1,0 +1,64 @@
+// Dacrt: divide-and-conquer ray tracing without a stored hierarchy (Afra 2012; ray-sampled
+// variant of Nabata, Iwasaki, Dobashi, Nishita, IPSJ Journal 2014, Algorithms 1 and 2).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayscout/core/accelerator.h"
+#include "rayscout/dacrt/dacrt_config.h"
+
+namespace rayscout {
+
+/// Work of the last trace call beyond TraceStats, filled only when stats were requested.
+struct DacrtDetails {
+  uint64_t partition_box_tests = 0;  ///< ray-box tests of ray-set partitioning (fig. 10's count)
+  uint64_t sampling_box_tests = 0;   ///< ray-box tests of the sample rays (Algorithm 2)
+  uint64_t skipped_partitions = 0;   ///< children entered with the unfiltered ray set (eq. 5)
+  uint64_t sampled_nodes = 0;        ///< nodes that drew sample rays
+  uint64_t leaves = 0;               ///< NaiveRT calls
+
+  DacrtDetails& operator+=(const DacrtDetails& o) {
+    partition_box_tests += o.partition_box_tests; sampling_box_tests += o.sampling_box_tests;
+    skipped_partitions += o.skipped_partitions; sampled_nodes += o.sampled_nodes; leaves += o.leaves;
+    return *this;
+  }
+};
+
+/// DACRT over a fixed triangle set. Nothing is built: every trace call recursively splits
+/// (rays, triangles) with index arrays partitioned in place, allocated once per call with a
+/// size that depends only on |R| and |T| (and the task count in parallel mode).
+class Dacrt final : public Accelerator {
+ public:
+  /// Keeps a view of triangles (they must outlive the accelerator). name: registry name.
+  Dacrt(std::span<const Triangle> triangles, const DacrtConfig& config, std::string name = "dacrt");
+
+  std::string name() const override { return name_; }
+  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
+  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                TraceStats* stats = nullptr) const override;
+  BuildInfo build_info() const override { return {}; }
+  /// Scratch bytes of the last trace call: scratch_bytes(|R|, |T|, tasks).
+  size_t last_trace_memory_bytes() const override { return last_memory_; }
+  /// Counts of the last call that passed non-null stats.
+  const DacrtDetails& last_details() const { return last_details_; }
+  const DacrtConfig& config() const { return config_; }
+
+  /// Scratch bytes a call with n_rays and n_triangles allocates, with `tasks` ray ranges.
+  static size_t scratch_bytes(size_t n_rays, size_t n_triangles, size_t tasks);
+
+ private:
+  template <bool kOccluded>
+  void trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occluded, TraceStats* stats) const;
+
+  std::span<const Triangle> triangles_;
+  DacrtConfig config_;
+  std::string name_;
+  mutable size_t last_memory_ = 0;
+  mutable DacrtDetails last_details_;
+};
+
+}  // namespace rayscout

@@ -1,0 +1,87 @@
+// DacrtConfig: every switch and constant of divide-and-conquer ray tracing (Afra 2012 and
+// the ray-sampled method of Nabata et al., IPSJ Journal 2014).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout {
+
+/// How sample rays are drawn from a node's ray set (sec. 4.1, fig. 9).
+enum class DacrtSampling { Stride, Random };
+
+/// Tunables of Dacrt. The defaults give Afra's DACRT; ray_sampled() switches on the three
+/// contributions of the ray-sampling paper. Cost constants are relative (one ray-box test = 1).
+struct DacrtConfig {
+  /// Split cost, eq. (2) with sampled hit ratios alpha (true) or eq. (1) with
+  /// surface-area ratios (false, Afra). Option cost=sampled|sah.
+  bool sampled_cost = false;
+  /// Child order by the sample rays' n_L/n_R votes (true, sec. 4.3) or by the direction of
+  /// one ray along the split axis (false, Afra). Option order=sampled|one-ray.
+  bool sampled_order = false;
+  /// Skip partitioning the rays against a child when alpha > 1 - C_bv / (C_child n_child),
+  /// eq. (5) (sec. 4.4). Option skip=on|off.
+  bool skip_partitioning = false;
+
+  /// Sample rays at a fixed stride through the node's ray array or at random positions.
+  /// Option strategy=stride|random.
+  DacrtSampling strategy = DacrtSampling::Stride;
+  /// N_s, sample rays per node (paper: 100). Option samples=N.
+  int samples = 100;
+  /// When > 0, N_s = max(1, fraction |R|) instead of `samples` (fig. 9: 0.001, 0.01).
+  /// Option fraction=F.
+  double fraction = 0.0;
+  /// Nodes with fewer rays do not sample and behave exactly like Afra's DACRT (paper: 1000).
+  /// Option min_rays=N.
+  size_t min_rays_sampling = 1000;
+  /// Seed of the random strategy (results never depend on it, only the speed). Option seed=N.
+  uint64_t seed = 1;
+
+  /// delta_R: a node with fewer rays tests all pairs (Algorithm 1, line 2). Option delta_r=N.
+  size_t delta_r = 8;
+  /// delta_T: a node with fewer triangles tests all pairs. Option delta_t=N.
+  size_t delta_t = 8;
+  /// K, bins over the widest axis of the centroid bounds (K - 1 split candidates, Wald 2007).
+  /// Option bins=K, 2..256.
+  int bins = 32;
+  /// Split at the midpoint of the widest centroid axis when |R| / |T| <= this (sec. 5:
+  /// "1.5 in the current implementation"). Option midpoint_ratio=X.
+  double midpoint_ratio = 1.5;
+
+  /// C_T of eqs. (1), (2): cost of a ray-BV test in the split cost. Option C_T=X.
+  double c_t = 1.0;
+  /// C_I of eqs. (1), (2): cost of a ray-triangle test in the split cost. Option C_I=X.
+  double c_i = 1.0;
+  /// C_bv of eqs. (3)-(5): cost of one ray-box test when deciding to skip. Option C_bv=X.
+  double c_bv = 1.0;
+  /// C_child for a child that will be a leaf (one ray-triangle test) in eq. (5); an inner
+  /// child uses C_child = C_bv and n_child = 2, i.e. eq. (6) alpha > 0.5. Option C_tri=X.
+  double c_tri = 2.0;
+
+  /// Trace with all cores: the batch is cut into one contiguous ray range per thread
+  /// (tbb::global_control's limit), each solved by its own DACRT as a task. Off = one
+  /// thread, as in the paper. Option parallel=on|off.
+  bool parallel = true;
+
+  /// Afra's DACRT (all three contributions off).
+  static DacrtConfig afra() { return {}; }
+  /// The ray-sampled DACRT of Algorithm 1 (all three contributions on).
+  static DacrtConfig ray_sampled() {
+    DacrtConfig c;
+    c.sampled_cost = c.sampled_order = c.skip_partitioning = true;
+    return c;
+  }
+  /// True when any contribution needs sample rays.
+  bool samples_rays() const { return sampled_cost || sampled_order || skip_partitioning; }
+  /// Sample count N_s for a node of n rays.
+  size_t sample_count(size_t n) const;
+  /// Reads the keys above from options over `defaults`; throws InputError on bad values.
+  static DacrtConfig from_options(const AcceleratorOptions& options, DacrtConfig defaults);
+  /// One line naming every setting, for benchmark logs.
+  std::string describe() const;
+};
+
+}  // namespace rayscout

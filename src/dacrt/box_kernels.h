@@ -1,0 +1,174 @@
+// Ray-box kernels of DACRT: partitioning a ray index range against one box (AVX-512, with a
+// scalar fallback) and testing one ray against many candidate boxes (ray sampling).
+// Both compute exactly core's intersect_box (same float operations and NaN handling).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
+#include "rayscout/core/triangle.h"
+#include "ray_record.h"
+
+// g++ 12 reports a false "__Y may be used uninitialized" inside its own AVX-512 headers.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+namespace rayscout::dacrt {
+
+/// The far-distance scale of intersect_box (Ize 2013), repeated for the SIMD kernel.
+inline constexpr float kRobustScale =
+    1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
+
+/// Relative slack on the current hit distance when filtering. intersect_box keeps a box
+/// entered at t_entry <= t, but a flat box (coplanar triangles) can compute its entry a few
+/// ulps beyond the t its own triangle reports, which would cull an exact tie that the
+/// smaller triangle id must win. Keeping boxes entered up to t (1 + 2^-12) makes filtering
+/// conservative; the hit itself is always decided by intersect_triangle and is_closer.
+inline constexpr float kHitSlack = 1.0f / 4096.0f;
+
+/// A box grown by 2^-18 of its largest coordinate magnitude on every side: the absolute part
+/// of the same rounding (a ray starting on a flat box's plane, t = 0 ties).
+inline Bounds3 padded(const Bounds3& b) {
+  const float m = std::max(max_component(abs(b.lo)), max_component(abs(b.hi)));
+  const Vec3 pad(m * (1.0f / 262144.0f));
+  return {b.lo - pad, b.hi + pad};
+}
+
+/// The tmax used to filter a ray: t + |t| kHitSlack (+inf stays +inf, a retired ray's -inf
+/// becomes NaN, which every box test rejects).
+inline float filter_tmax(float t) { return t + std::fabs(t) * kHitSlack; }
+
+/// intersect_box for one ray record against box with tmax = filter_tmax(current t), so a box
+/// entered at or before the current hit (entry <= t) is kept.
+inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear) {
+  return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, r.tmin, filter_tmax(r.t), tnear);
+}
+
+/// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
+/// others follow (the set is kept whole for the sibling). scratch holds >= n ids.
+inline size_t partition_rays(const RayRecord* rays, uint32_t* rid, size_t n, const Bounds3& box,
+                             uint32_t* scratch) {
+  size_t w = 0, m = 0, i = 0;
+#if defined(__AVX512F__)
+  const __m512 lox = _mm512_set1_ps(box.lo.x), loy = _mm512_set1_ps(box.lo.y), loz = _mm512_set1_ps(box.lo.z);
+  const __m512 hix = _mm512_set1_ps(box.hi.x), hiy = _mm512_set1_ps(box.hi.y), hiz = _mm512_set1_ps(box.hi.z);
+  const __m512 robust = _mm512_set1_ps(kRobustScale), slack = _mm512_set1_ps(kHitSlack);
+  const float* base = reinterpret_cast<const float*>(rays);
+  auto test = [&](__m512i id, __mmask16 valid) -> __mmask16 {
+    const __m512i off = _mm512_slli_epi32(id, 3);
+    const __m512 z = _mm512_setzero_ps();
+    const __m512 ox = _mm512_mask_i32gather_ps(z, valid, off, base + 0, 4);
+    const __m512 oy = _mm512_mask_i32gather_ps(z, valid, off, base + 1, 4);
+    const __m512 oz = _mm512_mask_i32gather_ps(z, valid, off, base + 2, 4);
+    __m512 tnear = _mm512_mask_i32gather_ps(z, valid, off, base + 3, 4);
+    const __m512 ix = _mm512_mask_i32gather_ps(z, valid, off, base + 4, 4);
+    const __m512 iy = _mm512_mask_i32gather_ps(z, valid, off, base + 5, 4);
+    const __m512 iz = _mm512_mask_i32gather_ps(z, valid, off, base + 6, 4);
+    const __m512 t = _mm512_mask_i32gather_ps(z, valid, off, base + 7, 4);
+    __m512 tfar = _mm512_add_ps(t, _mm512_mul_ps(_mm512_abs_ps(t), slack));  // filter_tmax
+    auto slab = [&](__m512 lo, __m512 hi, __m512 o, __m512 inv) {
+      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo, o), inv);
+      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(hi, o), inv);
+      const __mmask16 swap = _mm512_cmp_ps_mask(t0, t1, _CMP_GT_OQ);
+      const __m512 a = _mm512_mask_blend_ps(swap, t0, t1);
+      const __m512 b = _mm512_mul_ps(_mm512_mask_blend_ps(swap, t1, t0), robust);
+      tnear = _mm512_max_ps(a, tnear);  // a > tnear ? a : tnear, as the scalar test
+      tfar = _mm512_min_ps(b, tfar);    // b < tfar ? b : tfar
+    };
+    slab(lox, hix, ox, ix);
+    slab(loy, hiy, oy, iy);
+    slab(loz, hiz, oz, iz);
+    return _mm512_mask_cmp_ps_mask(valid, tnear, tfar, _CMP_LE_OQ);
+  };
+  for (; i + 16 <= n; i += 16) {
+    const __m512i id = _mm512_loadu_si512(rid + i);
+    const __mmask16 hit = test(id, 0xFFFF);
+    // w <= i: the compressed store never overwrites ids not yet loaded.
+    _mm512_mask_compressstoreu_epi32(rid + w, hit, id);
+    _mm512_mask_compressstoreu_epi32(scratch + m, static_cast<__mmask16>(~hit), id);
+    const int h = __builtin_popcount(hit);
+    w += h;
+    m += 16 - h;
+  }
+  if (i < n) {
+    const __mmask16 valid = static_cast<__mmask16>((1u << (n - i)) - 1u);
+    const __m512i id = _mm512_maskz_loadu_epi32(valid, rid + i);
+    const __mmask16 hit = test(id, valid);
+    _mm512_mask_compressstoreu_epi32(rid + w, hit, id);
+    _mm512_mask_compressstoreu_epi32(scratch + m, static_cast<__mmask16>(valid & ~hit), id);
+    const int h = __builtin_popcount(hit);
+    w += h;
+    m += (n - i) - h;
+  }
+#else
+  for (; i < n; ++i) {
+    float tnear;
+    const uint32_t id = rid[i];
+    if (ray_hits_box(rays[id], box, tnear)) rid[w++] = id;
+    else scratch[m++] = id;
+  }
+#endif
+  std::memcpy(rid + w, scratch, m * sizeof(uint32_t));
+  return w;
+}
+
+/// Candidate boxes as structure of arrays, padded to a multiple of 16.
+struct BoxSoa {
+  static constexpr int kMax = 256;
+  alignas(64) float lox[kMax], loy[kMax], loz[kMax], hix[kMax], hiy[kMax], hiz[kMax];
+  int count = 0;  ///< a multiple of 16; unused lanes hold empty boxes
+  /// Sets n boxes' storage to empty and count to n rounded up to 16.
+  void resize(int n) {
+    count = (n + 15) & ~15;
+    for (int i = n; i < count; ++i) set(i, Bounds3{});
+  }
+  void set(int i, const Bounds3& b) {
+    lox[i] = b.lo.x; loy[i] = b.lo.y; loz[i] = b.lo.z; hix[i] = b.hi.x; hiy[i] = b.hi.y; hiz[i] = b.hi.z;
+  }
+};
+
+/// One ray against boxes[0, count): entry[i] = entry distance when hit, NaN otherwise (an
+/// axis-parallel ray may enter at +inf and still count as a conservative hit).
+inline void ray_vs_boxes(const RayRecord& r, const BoxSoa& boxes, float* entry) {
+#if defined(__AVX512F__)
+  const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
+  const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
+  const __m512 robust = _mm512_set1_ps(kRobustScale), nan = _mm512_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  for (int i = 0; i < boxes.count; i += 16) {
+    __m512 tnear = _mm512_set1_ps(r.tmin), tfar = _mm512_set1_ps(filter_tmax(r.t));
+    auto slab = [&](const float* lo, const float* hi, __m512 o, __m512 inv) {
+      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(lo + i), o), inv);
+      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(hi + i), o), inv);
+      const __mmask16 swap = _mm512_cmp_ps_mask(t0, t1, _CMP_GT_OQ);
+      const __m512 a = _mm512_mask_blend_ps(swap, t0, t1);
+      const __m512 b = _mm512_mul_ps(_mm512_mask_blend_ps(swap, t1, t0), robust);
+      tnear = _mm512_max_ps(a, tnear);
+      tfar = _mm512_min_ps(b, tfar);
+    };
+    slab(boxes.lox, boxes.hix, ox, ix);
+    slab(boxes.loy, boxes.hiy, oy, iy);
+    slab(boxes.loz, boxes.hiz, oz, iz);
+    const __mmask16 hit = _mm512_cmp_ps_mask(tnear, tfar, _CMP_LE_OQ);
+    _mm512_store_ps(entry + i, _mm512_mask_blend_ps(hit, nan, tnear));
+  }
+#else
+  for (int i = 0; i < boxes.count; ++i) {
+    Bounds3 b;
+    b.lo = {boxes.lox[i], boxes.loy[i], boxes.loz[i]};
+    b.hi = {boxes.hix[i], boxes.hiy[i], boxes.hiz[i]};
+    float tnear;
+    entry[i] = ray_hits_box(r, b, tnear) ? tnear : std::numeric_limits<float>::quiet_NaN();
+  }
+#endif
+}
+
+}  // namespace rayscout::dacrt
+
+#pragma GCC diagnostic pop

@@ -1,0 +1,70 @@
+// DacrtConfig: option parsing and validation.
+#include "rayscout/dacrt/dacrt_config.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace rayscout {
+namespace {
+
+bool pick(const AcceleratorOptions& o, const std::string& key, const std::string& on, const std::string& off,
+          bool fallback) {
+  const std::string v = o.get_string(key, fallback ? on : off);
+  if (v == on) return true;
+  if (v == off) return false;
+  throw InputError("option '" + key + "': '" + v + "' is neither '" + on + "' nor '" + off + "'");
+}
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InputError("dacrt option " + what);
+}
+
+}  // namespace
+
+size_t DacrtConfig::sample_count(size_t n) const {
+  size_t ns = fraction > 0.0 ? size_t(std::max(1.0, std::round(fraction * double(n)))) : size_t(samples);
+  return std::max<size_t>(1, std::min(ns, n));
+}
+
+DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c) {
+  c.sampled_cost = pick(o, "cost", "sampled", "sah", c.sampled_cost);
+  c.sampled_order = pick(o, "order", "sampled", "one-ray", c.sampled_order);
+  c.skip_partitioning = o.get_bool("skip", c.skip_partitioning);
+  c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
+                   ? DacrtSampling::Random : DacrtSampling::Stride;
+  c.samples = int(o.get_int("samples", c.samples));
+  c.fraction = o.get_double("fraction", c.fraction);
+  c.min_rays_sampling = size_t(std::max(0L, o.get_int("min_rays", long(c.min_rays_sampling))));
+  c.seed = uint64_t(o.get_int("seed", long(c.seed)));
+  c.delta_r = size_t(o.get_int("delta_r", long(c.delta_r)));
+  c.delta_t = size_t(o.get_int("delta_t", long(c.delta_t)));
+  c.bins = int(o.get_int("bins", c.bins));
+  c.midpoint_ratio = o.get_double("midpoint_ratio", c.midpoint_ratio);
+  c.c_t = o.get_double("C_T", c.c_t);
+  c.c_i = o.get_double("C_I", c.c_i);
+  c.c_bv = o.get_double("C_bv", c.c_bv);
+  c.c_tri = o.get_double("C_tri", c.c_tri);
+  c.parallel = o.get_bool("parallel", c.parallel);
+  require(c.samples >= 1, "samples=" + std::to_string(c.samples) + ": must be >= 1");
+  require(c.fraction >= 0.0 && c.fraction <= 1.0, "fraction: must be in [0, 1]");
+  require(c.delta_r >= 1 && c.delta_t >= 2, "delta_r >= 1 and delta_t >= 2 required");
+  require(c.bins >= 2 && c.bins <= 256, "bins=" + std::to_string(c.bins) + ": must be in [2, 256]");
+  require(c.midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
+  require(c.c_t >= 0 && c.c_i > 0 && c.c_bv > 0 && c.c_tri > 0, "C_T >= 0, C_I, C_bv, C_tri > 0 required");
+  return c;
+}
+
+std::string DacrtConfig::describe() const {
+  std::ostringstream s;
+  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << (sampled_order ? "sampled" : "one-ray")
+    << " skip=" << (skip_partitioning ? "on" : "off")
+    << " strategy=" << (strategy == DacrtSampling::Stride ? "stride" : "random");
+  if (fraction > 0) s << " fraction=" << fraction; else s << " samples=" << samples;
+  s << " min_rays=" << min_rays_sampling << " delta_r=" << delta_r << " delta_t=" << delta_t << " bins=" << bins
+    << " midpoint_ratio=" << midpoint_ratio << " C_T=" << c_t << " C_I=" << c_i << " C_bv=" << c_bv
+    << " C_tri=" << c_tri << " parallel=" << (parallel ? "on" : "off");
+  return s.str();
+}
+
+}  // namespace rayscout

@@ -1,0 +1,161 @@
+// DacrtTracer's triangle split: binned SAH (eq. 1) or sampled cost (eq. 2) over K - 1
+// candidates, the midpoint split when |R|/|T| is small, and the ray sampling of Algorithm 2.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "dacrt_tracer.h"
+
+namespace rayscout::dacrt {
+
+template <bool kStats, bool kOccluded>
+bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
+                                           const Bounds3& cb, bool sample, Split& s) {
+  const int axis = s.axis = cb.largest_axis();
+  const float lo = cb.lo[axis], extent = cb.hi[axis] - lo;
+  const Vec3* cent = ctx_.centroids;
+  bool separated = false;
+  if (extent > 0.0f && std::isfinite(extent)) {
+    if (double(nr) <= cfg_.midpoint_ratio * double(nt)) {
+      // Few rays per triangle: a cheap midpoint split (sec. 5), sampling only orders and skips.
+      const float mid = lo + 0.5f * extent;
+      s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return cent[p][axis] < mid; }) - tid);
+      separated = s.n_left > 0 && s.n_left < nt;
+      if (separated) finish_sides(tid, nt, s);
+    } else {
+      const int k = cfg_.bins;
+      const float scale = float(k) / extent;
+      auto bin_of = [&](uint32_t p) { return std::clamp(int((cent[p][axis] - lo) * scale), 0, k - 1); };
+      Bin* bins = bins_;
+      Bin* left = left_;
+      Bin* right = right_;
+      for (int j = 0; j < k; ++j) bins[j] = Bin{};
+      for (size_t i = 0; i < nt; ++i) {
+        const uint32_t p = tid[i];
+        Bin& b = bins[bin_of(p)];
+        b.box.extend(ctx_.tri_boxes[p]);
+        b.cb.extend(cent[p]);
+        ++b.n;
+      }
+      // left[j] = bins 0..j, right[j] = bins j+1..k-1 (candidate j, 0 <= j < k - 1).
+      Bin acc;
+      for (int j = 0; j < k - 1; ++j) {
+        acc.box.extend(bins[j].box); acc.cb.extend(bins[j].cb); acc.n += bins[j].n;
+        left[j] = acc;
+      }
+      acc = Bin{};
+      for (int j = k - 1; j > 0; --j) {
+        acc.box.extend(bins[j].box); acc.cb.extend(bins[j].cb); acc.n += bins[j].n;
+        right[j - 1] = acc;
+      }
+      uint32_t* hits_l = hits_l_; uint32_t* hits_r = hits_r_;
+      uint32_t* votes_l = votes_l_; uint32_t* votes_r = votes_r_;
+      std::fill_n(hits_l, k, 0u); std::fill_n(hits_r, k, 0u);
+      std::fill_n(votes_l, k, 0u); std::fill_n(votes_r, k, 0u);
+      size_t ns = 0;
+      const bool sampled_cost = sample && cfg_.sampled_cost;
+      if (sampled_cost) {
+        // Algorithm 2 for every sample ray and candidate.
+        BoxSoa& lb = lb_;
+        BoxSoa& rb = rb_;
+        for (int j = 0; j < k - 1; ++j) { lb.set(j, left[j].box); rb.set(j, right[j].box); }
+        lb.resize(k - 1); rb.resize(k - 1);
+        float* el = el_;
+        float* er = er_;
+        ns = cfg_.sample_count(nr);
+        for (size_t q = 0; q < ns; ++q) {
+          const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
+          ray_vs_boxes(r, lb, el);
+          ray_vs_boxes(r, rb, er);
+          for (int j = 0; j < k - 1; ++j) {
+            const bool hl = !std::isnan(el[j]), hr = !std::isnan(er[j]);
+            hits_l[j] += hl; hits_r[j] += hr;
+            const float dl = hl ? el[j] : kInfinity, dr = hr ? er[j] : kInfinity;
+            if (dl < dr) ++votes_l[j]; else ++votes_r[j];
+          }
+        }
+        if constexpr (kStats) {
+          const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
+          stats.ray_box_tests += tests;
+          details.sampling_box_tests += tests;
+          ++details.sampled_nodes;
+        }
+      }
+      const float area = merge(left[0].box, right[0].box).surface_area();
+      double best = kInfinity;
+      int jmin = -1;
+      for (int j = 0; j < k - 1; ++j) {
+        if (left[j].n == 0 || right[j].n == 0) continue;
+        double pl, pr;
+        if (sampled_cost) {  // eq. (2)
+          pl = double(hits_l[j]) / double(ns);
+          pr = double(hits_r[j]) / double(ns);
+        } else {  // eq. (1), surface-area ratios
+          pl = area > 0 ? left[j].box.surface_area() / area : 1.0;
+          pr = area > 0 ? right[j].box.surface_area() / area : 1.0;
+        }
+        const double cost = cfg_.c_t + cfg_.c_i * (pl * left[j].n + pr * right[j].n);
+        if (cost <= best) { best = cost; jmin = j; }  // Algorithm 1, line 14: <=
+      }
+      if (jmin >= 0) {
+        s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return bin_of(p) <= jmin; }) - tid);
+        s.box[0] = left[jmin].box; s.cb[0] = left[jmin].cb;
+        s.box[1] = right[jmin].box; s.cb[1] = right[jmin].cb;
+        separated = true;
+        if (sampled_cost) {
+          s.sampled = true;
+          s.alpha[0] = double(hits_l[jmin]) / double(ns);
+          s.alpha[1] = double(hits_r[jmin]) / double(ns);
+          s.votes[0] = votes_l[jmin];
+          s.votes[1] = votes_r[jmin];
+        }
+      }
+    }
+  }
+  if (!separated) {
+    if (nt < 2) return false;
+    // Centroids (nearly) equal on every axis: halve by position, which still shrinks |T|.
+    s.n_left = nt / 2;
+    finish_sides(tid, nt, s);
+  }
+  if (sample && !s.sampled) sample_two(rid, nr, s);
+  return true;
+}
+
+template <bool kStats, bool kOccluded>
+void DacrtTracer<kStats, kOccluded>::finish_sides(const uint32_t* tid, size_t nt, Split& s) const {
+  for (int c = 0; c < 2; ++c) { s.box[c] = Bounds3{}; s.cb[c] = Bounds3{}; }
+  for (size_t i = 0; i < nt; ++i) {
+    const int c = i < s.n_left ? 0 : 1;
+    s.box[c].extend(ctx_.tri_boxes[tid[i]]);
+    s.cb[c].extend(ctx_.centroids[tid[i]]);
+  }
+}
+
+// Algorithm 2 for the two children of an already chosen split.
+template <bool kStats, bool kOccluded>
+void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, Split& s) {
+  const size_t ns = cfg_.sample_count(nr);
+  uint32_t hits[2] = {0, 0};
+  s.votes[0] = s.votes[1] = 0;
+  for (size_t q = 0; q < ns; ++q) {
+    const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
+    float d[2] = {kInfinity, kInfinity};
+    for (int c = 0; c < 2; ++c) {
+      float tnear;
+      if (ray_hits_box(r, s.box[c], tnear)) { ++hits[c]; d[c] = tnear; }
+    }
+    ++s.votes[d[0] < d[1] ? 0 : 1];
+  }
+  s.alpha[0] = double(hits[0]) / double(ns);
+  s.alpha[1] = double(hits[1]) / double(ns);
+  s.sampled = true;
+  if constexpr (kStats) {
+    stats.ray_box_tests += 2 * ns;
+    details.sampling_box_tests += 2 * ns;
+    ++details.sampled_nodes;
+  }
+}
+
+}  // namespace rayscout::dacrt

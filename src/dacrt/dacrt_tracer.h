@@ -1,0 +1,135 @@
+// DacrtTracer: the recursion of Algorithm 1 over one contiguous ray range (one task).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "box_kernels.h"
+#include "leaf_kernels.h"
+#include "rayscout/core/trace_stats.h"
+#include "rayscout/dacrt/dacrt.h"
+#include "ray_record.h"
+
+namespace rayscout::dacrt {
+
+/// Read-only per-call data shared by every task, plus the outputs (disjoint per task).
+struct TraceContext {
+  const DacrtConfig* config;
+  RayRecord* rays;            ///< per ray id
+  const RayPrecomp* pre;      ///< per ray id, watertight-test constants
+  const Triangle* tris;       ///< per triangle id
+  const Vec3* centroids;      ///< per triangle id, centre of its box (binning key)
+  const Bounds3* tri_boxes;   ///< per triangle id
+  HitOut hits;                ///< closest-hit outputs (intersect)
+  uint8_t* occ;               ///< any-hit outputs (occluded)
+};
+
+/// One triangle split: tid[0, n_left) left, the rest right.
+struct Split {
+  size_t n_left = 0;
+  Bounds3 box[2], cb[2];   ///< BV and centroid bounds of left (0) and right (1)
+  int axis = 0;
+  bool sampled = false;    ///< alpha and votes below come from sample rays
+  double alpha[2] = {1, 1};
+  uint32_t votes[2] = {0, 0};  ///< n_L, n_R of Algorithm 2
+};
+
+/// Recursion over one task's rays; kStats counts work, kOccluded traces any-hit rays.
+template <bool kStats, bool kOccluded>
+class DacrtTracer {
+ public:
+  DacrtTracer(const TraceContext& ctx, uint32_t* scratch, uint64_t seed)
+      : ctx_(ctx), cfg_(*ctx.config), scratch_(scratch), rng_(seed | 1) {}
+
+  /// Traces rays rid[0, nr) against triangles tid[0, nt) of the given box and centroid bounds.
+  void run(uint32_t* rid, size_t nr, uint32_t* tid, size_t nt, const Bounds3& box, const Bounds3& cb) {
+    if (nt == 0 || nr == 0) return;
+    const size_t h = partition(rid, nr, box);
+    node(rid, h, tid, nt, cb);
+  }
+
+  TraceStats stats;
+  DacrtDetails details;
+
+ private:
+  size_t partition(uint32_t* rid, size_t nr, const Bounds3& box) {
+    if constexpr (kStats) { stats.ray_box_tests += nr; details.partition_box_tests += nr; }
+    return partition_rays(ctx_.rays, rid, nr, padded(box), scratch_);
+  }
+
+  void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
+    uint64_t tests;
+    if constexpr (kOccluded)
+      tests = leaf_occluded(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.occ);
+    else
+      tests = leaf_intersect(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits);
+    if constexpr (kStats) { stats.ray_tri_tests += tests; ++details.leaves; }
+  }
+
+  // Algorithm 1. rid[0, nr) all hit this node's box (or were passed on unfiltered).
+  void node(uint32_t* rid, size_t nr, uint32_t* tid, size_t nt, const Bounds3& cb) {
+    if constexpr (kStats) ++stats.traversal_steps;
+    if (nr == 0) return;
+    if (nr < cfg_.delta_r || nt < cfg_.delta_t) { leaf(rid, nr, tid, nt); return; }
+    Split s;
+    const bool sample = cfg_.samples_rays() && nr >= cfg_.min_rays_sampling;
+    if (!split(rid, nr, tid, nt, cb, sample, s)) { leaf(rid, nr, tid, nt); return; }
+
+    int first = 0;
+    if (s.sampled && cfg_.sampled_order) {
+      first = s.votes[0] >= s.votes[1] ? 0 : 1;  // Algorithm 1, line 18
+    } else {
+      // Afra: one ray (the first of the set) decides, by its direction along the split axis.
+      const RayRecord& r = ctx_.rays[rid[0]];
+      const float inv = s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz);
+      first = inv >= 0.0f ? 0 : 1;
+    }
+    for (int k = 0; k < 2; ++k) {
+      const int c = k == 0 ? first : 1 - first;
+      uint32_t* ctid = c == 0 ? tid : tid + s.n_left;
+      const size_t cnt = c == 0 ? s.n_left : nt - s.n_left;
+      if (s.sampled && cfg_.skip_partitioning && s.alpha[c] > skip_threshold(cnt)) {
+        if constexpr (kStats) ++details.skipped_partitions;
+        node(rid, nr, ctid, cnt, s.cb[c]);
+      } else {
+        const size_t h = partition(rid, nr, s.box[c]);
+        node(rid, h, ctid, cnt, s.cb[c]);
+      }
+    }
+  }
+
+  // Eq. (5): skip when alpha > 1 - C_bv / (C_child n_child); an inner child gives eq. (6).
+  double skip_threshold(size_t child_tris) const {
+    const bool leaf = child_tris < cfg_.delta_t;
+    const double c_child = leaf ? cfg_.c_tri : cfg_.c_bv;
+    const double n_child = leaf ? double(child_tris) : 2.0;
+    return 1.0 - cfg_.c_bv / (c_child * n_child);
+  }
+
+  // Chooses and performs the triangle split; false when the triangles cannot be separated.
+  __attribute__((noinline)) bool split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
+                                       const Bounds3& cb, bool sample, Split& s);
+  __attribute__((noinline)) void sample_two(const uint32_t* rid, size_t nr, Split& s);
+  size_t sample_index(size_t k, size_t ns, size_t nr) {
+    if (cfg_.strategy == DacrtSampling::Stride) return k * (nr / ns);
+    rng_ ^= rng_ << 13; rng_ ^= rng_ >> 7; rng_ ^= rng_ << 17;  // xorshift64
+    return size_t(rng_ % nr);
+  }
+  void finish_sides(const uint32_t* tid, size_t nt, Split& s) const;
+
+  const TraceContext& ctx_;
+  const DacrtConfig& cfg_;
+  uint32_t* scratch_;
+  uint64_t rng_;
+  // Binning and sampling buffers, reused by every node (no per-node allocation).
+  struct Bin { Bounds3 box, cb; uint32_t n = 0; };
+  Bin bins_[256], left_[256], right_[256];
+  BoxSoa lb_, rb_;
+  alignas(64) float el_[256], er_[256];
+  uint32_t hits_l_[256], hits_r_[256], votes_l_[256], votes_r_[256];
+};
+
+}  // namespace rayscout::dacrt
+
+#include "dacrt_split_impl.h"

@@ -1,0 +1,70 @@
+// Leaf kernels of DACRT (NaiveRT of Algorithm 1): every ray of a node against every triangle,
+// with core's watertight intersect_triangle and the is_closer tie rule.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "rayscout/core/trace_stats.h"
+#include "rayscout/core/triangle.h"
+#include "ray_record.h"
+
+namespace rayscout::dacrt {
+
+/// Where closest hits go: prim, u, v per ray id (t lives in the RayRecord).
+struct HitOut {
+  uint32_t* prim;
+  float* u;
+  float* v;
+};
+
+/// Closest hit of rays rid[0, nr) over triangles tid[0, nt). Returns ray-triangle tests.
+inline uint64_t leaf_intersect(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+                               const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out) {
+  for (size_t i = 0; i < nr; ++i) {
+    const uint32_t r = rid[i];
+    RayRecord& ray = rays[r];
+    const Vec3 org(ray.ox, ray.oy, ray.oz);
+    const RayPrecomp& rp = pre[r];
+    float best_t = ray.t, best_u = 0, best_v = 0;
+    uint32_t best = out.prim[r];
+    const uint32_t before = best;
+    for (size_t j = 0; j < nt; ++j) {
+      const uint32_t p = tid[j];
+      float t, u, v;
+      if (intersect_triangle(org, rp, tris[p], ray.tmin, best_t, t, u, v) && is_closer(t, p, best_t, best)) {
+        best_t = t; best = p; best_u = u; best_v = v;
+      }
+    }
+    if (best != before) {
+      ray.t = best_t; out.prim[r] = best; out.u[r] = best_u; out.v[r] = best_v;
+    }
+  }
+  return uint64_t(nr) * nt;
+}
+
+/// Any hit of rays rid[0, nr) over triangles tid[0, nt); a blocked ray is marked in occ and
+/// retired. Returns ray-triangle tests (a ray stops at its first hit; retired rays cost none).
+inline uint64_t leaf_occluded(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+                              const Triangle* tris, const uint32_t* tid, size_t nt, uint8_t* occ) {
+  uint64_t tests = 0;
+  for (size_t i = 0; i < nr; ++i) {
+    const uint32_t r = rid[i];
+    RayRecord& ray = rays[r];
+    if (occ[r]) continue;
+    const Vec3 org(ray.ox, ray.oy, ray.oz);
+    const RayPrecomp& rp = pre[r];
+    for (size_t j = 0; j < nt; ++j) {
+      float t, u, v;
+      ++tests;
+      if (intersect_triangle(org, rp, tris[tid[j]], ray.tmin, ray.t, t, u, v)) {
+        occ[r] = 1;
+        retire(ray);
+        break;
+      }
+    }
+  }
+  return tests;
+}
+
+}  // namespace rayscout::dacrt
