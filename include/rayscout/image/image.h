@@ -1,0 +1,51 @@
+// Image: a linear-RGB float picture, its file formats (PNG, EXR, PFM) and error metrics.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "rayscout/core/vec3.h"
+
+namespace rayscout {
+
+/// A width x height picture of linear RGB radiance, row-major, top row first.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Vec3> pixels;
+
+  Image() = default;
+  /// A black image of the given size.
+  Image(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h)) {}
+  Vec3& at(int x, int y) { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+  const Vec3& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+
+/// Writes by extension: .png (clamped to [0, 1], sRGB-encoded, 8 bit, via stb), .exr (32-bit
+/// float RGB, OpenEXR), .pfm (32-bit float RGB, little endian). Throws InputError for another
+/// extension or a file that cannot be written.
+void write_image(const Image& image, const std::filesystem::path& path);
+
+/// Reads .exr, .pfm or .png (8-bit sRGB decoded to linear). Throws InputError naming the file.
+Image read_image(const std::filesystem::path& path);
+
+/// Error of image a against reference b, over every pixel and channel.
+struct ImageError {
+  double rmse = 0;     ///< sqrt(mean (a - b)^2)
+  double rel_mse = 0;  ///< mean (a - b)^2 / (b^2 + 0.01), pbrt's relative MSE
+  double psnr = 0;     ///< 10 log10(1 / mse), peak value 1; +inf for identical images
+  double max_abs = 0;  ///< max |a - b|
+};
+
+/// Compares two images of equal size (throws InputError otherwise); b is the reference.
+ImageError compare_images(const Image& a, const Image& b);
+
+/// A false-colour picture of |a - b| (mean over channels), black = 0 through blue, green,
+/// yellow to red = scale; scale <= 0 uses the largest difference.
+Image difference_image(const Image& a, const Image& b, float scale = 0);
+
+/// sRGB encoding of one linear channel value clamped to [0, 1] (IEC 61966-2-1).
+float linear_to_srgb(float linear);
+/// Linear value of one sRGB-encoded channel in [0, 1].
+float srgb_to_linear(float encoded);
+
+}  // namespace rayscout

@@ -1,0 +1,88 @@
+// WavefrontIntegrator: the batch loop every integrator of rayscout shares.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rayscout/render/light_sampler.h"
+#include "rayscout/render/renderer.h"
+#include "rayscout/render/sampler.h"
+#include "rayscout/render/surface.h"
+
+namespace rayscout {
+
+/// One camera sample's path alive in the wavefront.
+struct PathState {
+  uint32_t pixel = 0;      ///< y * width + x
+  uint32_t sample = 0;     ///< camera sample index in the pixel
+  Vec3 throughput{1.0f};
+  bool specular = true;    ///< the last bounce was a mirror (or it is the camera ray): emission counts
+};
+
+/// Per-render constants handed to shading.
+struct ShadeContext {
+  const Scene* scene = nullptr;
+  const RenderConfig* config = nullptr;
+  const LightSampler* lights = nullptr;
+  float epsilon = 0;    ///< ray tmin, see scene_ray_epsilon
+  float ao_radius = 0;  ///< resolved AO radius
+  int bounce = 0;
+
+  PathSampler sampler(const PathState& s) const {
+    return {config->seed, s.pixel, s.sample, uint32_t(bounce)};
+  }
+};
+
+/// What shading one path vertex produces; filled per chunk of paths, merged in chunk order.
+class ShadeOutput {
+ public:
+  /// Radiance reaching the pixel now (emission seen).
+  void add_radiance(uint32_t pixel, const Vec3& value) { radiance_.push_back({pixel, value}); }
+  /// A shadow/AO ray: `contribution` is added to the pixel when nothing occludes it.
+  void add_occlusion_ray(const Ray& ray, uint32_t pixel, const Vec3& contribution) {
+    occlusion_rays_.push_back(ray);
+    occlusion_.push_back({pixel, contribution});
+  }
+  /// The path goes on with this ray in the next bounce.
+  void continue_path(const Ray& ray, const PathState& state) {
+    next_rays_.push_back(ray);
+    next_.push_back(state);
+  }
+
+ private:
+  friend class WavefrontIntegrator;
+  struct Contribution { uint32_t pixel; Vec3 value; };
+  std::vector<Contribution> radiance_, occlusion_;
+  std::vector<Ray> occlusion_rays_, next_rays_;
+  std::vector<PathState> next_;
+};
+
+/// The wavefront loop (issue 3, item 1): camera rays for every pixel sample as one batch;
+/// trace the whole batch; shade every hit (chunks in parallel); trace the batch of occlusion
+/// rays; continue with the batch of next rays. Contributions are added per pixel in a fixed
+/// order (bounce, then path order), so images do not depend on the thread count.
+class WavefrontIntegrator : public Integrator {
+ public:
+  Image render(const Scene& scene, const Accelerator& accel, const RenderConfig& config,
+               RenderStats* stats = nullptr) const override;
+
+ protected:
+  /// BatchInfo::kind of continuation rays ("mirror", "path").
+  virtual const char* continuation_kind() const = 0;
+  /// BatchInfo::kind of occlusion rays ("shadow", "ao").
+  virtual const char* occlusion_kind() const { return "shadow"; }
+  /// Last bounce whose rays are traced (for progress).
+  virtual int max_bounce(const RenderConfig& config) const { return config.max_depth; }
+  /// Shades the (refined) hit of `ray`, a path vertex at ctx.bounce.
+  virtual void shade(const ShadeContext& ctx, const PathState& state, const Ray& ray,
+                     const SurfacePoint& sp, ShadeOutput& out) const = 0;
+  /// A ray that hit nothing (default: black background).
+  virtual void miss(const ShadeContext&, const PathState&, const Ray&, ShadeOutput&) const {}
+};
+
+/// Camera rays of every pixel sample, pixel-major with samples inner; paths gets the matching
+/// states. Shared with make_workload.
+void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
+                          RayBatch& rays, std::vector<PathState>* paths);
+
+}  // namespace rayscout

@@ -1,0 +1,174 @@
+// Image files: PNG through stb, EXR through OpenEXR, PFM by hand.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+
+// stb is third-party code compiled here, privately (static), so its warnings are not ours.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb_image_write.h>
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb_image.h>
+#pragma GCC diagnostic pop
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/image/image.h"
+
+namespace rayscout {
+namespace {
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+void check_size(const Image& image, const std::filesystem::path& path) {
+  if (image.width <= 0 || image.height <= 0 || image.pixels.size() != size_t(image.width) * size_t(image.height))
+    throw InputError(path.string() + ": image has no pixels or a wrong pixel count");
+}
+
+void write_png(const Image& image, const std::filesystem::path& path) {
+  std::vector<uint8_t> bytes(image.pixels.size() * 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      bytes[3 * i + c] = uint8_t(std::lround(255.0f * linear_to_srgb(image.pixels[i][c])));
+  if (!stbi_write_png(path.string().c_str(), image.width, image.height, 3, bytes.data(), image.width * 3))
+    throw InputError(path.string() + ": cannot write PNG");
+}
+
+Image read_png(const std::filesystem::path& path) {
+  int w = 0, h = 0, n = 0;
+  std::unique_ptr<uint8_t, void (*)(void*)> data(stbi_load(path.string().c_str(), &w, &h, &n, 3), stbi_image_free);
+  if (!data) throw InputError(path.string() + ": cannot read PNG (" + stbi_failure_reason() + ")");
+  Image image(w, h);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) image.pixels[i][c] = srgb_to_linear(data.get()[3 * i + c] / 255.0f);
+  return image;
+}
+
+void write_exr(const Image& image, const std::filesystem::path& path) {
+  try {
+    Imf::Header header(image.width, image.height);
+    for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(path.string().c_str(), header);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(const_cast<Vec3*>(image.pixels.data()));
+    const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(image.width);
+    fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, x), xs, ys));
+    fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, y), xs, ys));
+    fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, z), xs, ys));
+    file.setFrameBuffer(fb);
+    file.writePixels(image.height);
+  } catch (const std::exception& e) {
+    throw InputError(path.string() + ": cannot write EXR: " + e.what());
+  }
+}
+
+Image read_exr(const std::filesystem::path& path) {
+  try {
+    Imf::InputFile file(path.string().c_str());
+    const auto dw = file.header().dataWindow();
+    Image image(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
+    char* base = reinterpret_cast<char*>(image.pixels.data());
+    const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(image.width);
+    // OpenEXR addresses slices by absolute pixel coordinates: shift the base to the data window.
+    base -= (ptrdiff_t(dw.min.x) * ptrdiff_t(xs) + ptrdiff_t(dw.min.y) * ptrdiff_t(ys));
+    Imf::FrameBuffer fb;
+    // Channels missing from the file read as 0.
+    fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, x), xs, ys, 1, 1, 0.0));
+    fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, y), xs, ys, 1, 1, 0.0));
+    fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, z), xs, ys, 1, 1, 0.0));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return image;
+  } catch (const std::exception& e) {
+    throw InputError(path.string() + ": cannot read EXR: " + e.what());
+  }
+}
+
+// PFM: "PF\n<w> <h>\n<scale>\n", then float RGB rows bottom to top; a negative scale means
+// little endian.
+void write_pfm(const Image& image, const std::filesystem::path& path) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw InputError(path.string() + ": cannot write PFM");
+  out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+  static_assert(std::endian::native == std::endian::little);
+  for (int y = image.height - 1; y >= 0; --y)
+    out.write(reinterpret_cast<const char*>(&image.at(0, y)), std::streamsize(sizeof(Vec3)) * image.width);
+  if (!out) throw InputError(path.string() + ": write failed");
+}
+
+Image read_pfm(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open");
+  std::string magic;
+  int w = 0, h = 0;
+  double scale = 0;
+  in >> magic >> w >> h >> scale;
+  if (!in || (magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || w > 1 << 16 || h > 1 << 16 || scale == 0)
+    throw InputError(path.string() + ": not a PFM file (bad header)");
+  in.get();  // the single whitespace after the scale
+  const int channels = magic == "PF" ? 3 : 1;
+  std::vector<float> row(size_t(w) * channels);
+  Image image(w, h);
+  for (int y = h - 1; y >= 0; --y) {
+    in.read(reinterpret_cast<char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
+    if (!in) throw InputError(path.string() + ": truncated PFM data");
+    for (float& f : row)
+      if (scale > 0) f = std::bit_cast<float>(__builtin_bswap32(std::bit_cast<uint32_t>(f)));
+    for (int x = 0; x < w; ++x)
+      image.at(x, y) = channels == 3 ? Vec3(row[3 * x], row[3 * x + 1], row[3 * x + 2]) : Vec3(row[x]);
+  }
+  return image;
+}
+
+}  // namespace
+
+float linear_to_srgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);  // NaN falls through clamp unchanged; map it to black
+  if (!(v == v)) return 0.0f;
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_to_linear(float e) {
+  return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
+}
+
+void write_image(const Image& image, const std::filesystem::path& path) {
+  check_size(image, path);
+  const std::string ext = lower_extension(path);
+  if (ext == ".png") return write_png(image, path);
+  if (ext == ".exr") return write_exr(image, path);
+  if (ext == ".pfm") return write_pfm(image, path);
+  throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+}
+
+Image read_image(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path.string() + ": no such file");
+  const std::string ext = lower_extension(path);
+  if (ext == ".png") return read_png(path);
+  if (ext == ".exr") return read_exr(path);
+  if (ext == ".pfm") return read_pfm(path);
+  throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+}
+
+}  // namespace rayscout

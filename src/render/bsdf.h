@@ -1,0 +1,87 @@
+// Material scattering for shading: evaluation and sampling of diffuse, mirror and glossy lobes.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "rayscout/render/surface.h"
+#include "rayscout/scene/scene.h"
+
+namespace rayscout::detail {
+
+inline constexpr float kInvPi = std::numbers::inv_pi_v<float>;
+
+/// Probability of sampling the glossy lobe of a Glossy material (by reflectance).
+inline float glossy_lobe_probability(const Material& m) {
+  const float d = max_component(m.diffuse), s = max_component(m.specular);
+  return d + s > 0 ? s / (d + s) : 0.0f;
+}
+
+/// cos^e of the angle between wi and the mirror direction of wo (0 below it).
+inline float phong_cos_power(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+  const float c = dot(reflect(-wo, n), wi);
+  return c > 0 ? std::pow(c, m.exponent) : 0.0f;
+}
+
+/// BRDF value f(wo, wi) of the non-delta part: Lambert kd / pi, plus for Glossy the
+/// normalised modified Phong lobe ks (e + 2) / (2 pi) cos^e(alpha) (Lafortune & Willems 1994).
+/// wo towards the viewer, wi towards the light, n on wo's side. Mirrors give 0.
+inline Vec3 eval_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+  if (m.type == Material::Type::Mirror) return Vec3{0.0f};
+  Vec3 f = m.diffuse * kInvPi;
+  if (m.type == Material::Type::Glossy)
+    f += m.specular * ((m.exponent + 2.0f) * 0.5f * kInvPi * phong_cos_power(m, n, wo, wi));
+  return f;
+}
+
+/// A sampled scattering direction with weight f cos / pdf.
+struct BsdfSample {
+  Vec3 wi;
+  Vec3 weight{0.0f};
+  bool specular = false;  ///< a mirror (delta) bounce
+  bool valid = false;
+};
+
+/// Samples wi: mirror reflection; cosine hemisphere for Diffuse; for Glossy one lobe chosen
+/// by reflectance, weighted with the one-sample mixture pdf (balance heuristic over lobes).
+inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, float u0, float u1, float u2) {
+  BsdfSample s;
+  if (m.type == Material::Type::Mirror) {
+    s.wi = reflect(-wo, n);
+    s.weight = m.specular;
+    s.specular = s.valid = true;
+    return s;
+  }
+  if (m.type == Material::Type::Diffuse) {
+    s.wi = sample_cosine_hemisphere(n, u1, u2);
+    s.weight = m.diffuse;
+    s.valid = true;
+    return s;
+  }
+  const float ps = glossy_lobe_probability(m);
+  if (u0 < ps) {
+    // Phong lobe around the mirror direction: cos(alpha) = u1^(1 / (e + 1)).
+    const Vec3 r = reflect(-wo, n);
+    const float cos_a = std::pow(u1, 1.0f / (m.exponent + 1.0f));
+    const float sin_a = std::sqrt(std::max(0.0f, 1.0f - cos_a * cos_a));
+    const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+    Vec3 t, b;
+    orthonormal_basis(r, t, b);
+    s.wi = normalize(t * (sin_a * std::cos(phi)) + b * (sin_a * std::sin(phi)) + r * cos_a);
+  } else {
+    s.wi = sample_cosine_hemisphere(n, u1, u2);
+  }
+  const float cos_n = dot(s.wi, n);
+  if (!(cos_n > 0)) return s;
+  const float cos_pow = phong_cos_power(m, n, wo, s.wi);
+  const float pdf_d = cos_n * kInvPi;
+  const float pdf_s = (m.exponent + 1.0f) * 0.5f * kInvPi * cos_pow;
+  const float pdf = (1.0f - ps) * pdf_d + ps * pdf_s;
+  if (!(pdf > 0)) return s;
+  s.weight = eval_bsdf(m, n, wo, s.wi) * (cos_n / pdf);
+  s.valid = true;
+  return s;
+}
+
+}  // namespace rayscout::detail

@@ -1,0 +1,47 @@
+// LightSampler: a power-proportional choice of emissive triangle, then a uniform point on it.
+#include "rayscout/render/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rayscout {
+
+LightSampler::LightSampler(const Scene& scene) : scene_(&scene) {
+  std::vector<uint32_t> candidates = scene.emissive_triangles;
+  if (candidates.empty())  // scenes built by hand may not fill emissive_triangles
+    for (uint32_t i = 0; i < scene.triangles.size(); ++i)
+      if (scene.material_of(i).emissive()) candidates.push_back(i);
+  double total = 0;
+  std::vector<double> weights;
+  for (uint32_t prim : candidates) {
+    const Vec3 e = scene.material_of(prim).emission;
+    const double w = double(scene.triangles[prim].area()) * (double(e.x) + e.y + e.z) / 3.0;
+    if (!(w > 0)) continue;
+    prims_.push_back(prim);
+    weights.push_back(w);
+    total += w;
+  }
+  double running = 0;
+  for (double w : weights) {
+    running += w;
+    cdf_.push_back(float(running / total));
+    pmf_.push_back(float(w / total));
+  }
+  if (!cdf_.empty()) cdf_.back() = 1.0f;
+}
+
+LightSample LightSampler::sample(float u0, float u1, float u2) const {
+  const size_t k = std::min<size_t>(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin()),
+                                    prims_.size() - 1);
+  const Triangle& tri = scene_->triangles[prims_[k]];
+  const float su = std::sqrt(u1);
+  const float b1 = 1.0f - su, b2 = u2 * su;  // uniform barycentrics (Turk 1990)
+  LightSample ls;
+  ls.p = tri.v0 * (1.0f - b1 - b2) + tri.v1 * b1 + tri.v2 * b2;
+  ls.n = normalize(tri.normal());
+  ls.emission = scene_->material_of(prims_[k]).emission;
+  ls.pdf_area = pmf_[k] / tri.area();
+  return ls;
+}
+
+}  // namespace rayscout

@@ -1,0 +1,54 @@
+// Hit refinement, surface points, ray offsets and hemisphere sampling.
+#include "rayscout/render/surface.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "rayscout/core/triangle.h"
+
+namespace rayscout {
+
+Hit refine_hit(const Scene& scene, const Ray& ray, const Hit& hit) {
+  if (!hit.hit()) return hit;
+  const RayPrecomp rp(ray.dir);
+  float t, u, v;
+  // Unbounded interval: only the triangle decides, never the accelerator's rounding of t.
+  if (intersect_triangle(ray.org, rp, scene.triangles[hit.prim], -kInfinity, kInfinity, t, u, v))
+    return {t, hit.prim, u, v};
+  return hit;
+}
+
+SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
+  const Triangle& tri = scene.triangles[hit.prim];
+  SurfacePoint sp;
+  sp.prim = hit.prim;
+  sp.p = tri.v0 * (1.0f - hit.u - hit.v) + tri.v1 * hit.u + tri.v2 * hit.v;
+  sp.n_geometric = normalize(tri.normal());
+  sp.n = dot(sp.n_geometric, ray.dir) > 0 ? -sp.n_geometric : sp.n_geometric;
+  return sp;
+}
+
+float scene_ray_epsilon(const Bounds3& bounds) {
+  if (bounds.empty()) return 1e-5f;
+  const float extent = std::max(length(bounds.diagonal()), max_component(max(abs(bounds.lo), abs(bounds.hi))));
+  return 1e-5f * std::max(extent, 1e-3f);
+}
+
+void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
+  b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+Vec3 sample_cosine_hemisphere(const Vec3& n, float u1, float u2) {
+  const float r = std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  const float x = r * std::cos(phi), y = r * std::sin(phi);
+  const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+  Vec3 t, b;
+  orthonormal_basis(n, t, b);
+  return normalize(t * x + b * y + n * z);
+}
+
+}  // namespace rayscout

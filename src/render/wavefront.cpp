@@ -1,0 +1,156 @@
+// The wavefront loop: whole batches per bounce, shading in fixed-size chunks, ordered accumulation.
+#include "rayscout/render/wavefront.h"
+
+#include <chrono>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/render/camera_rays.h"
+
+namespace rayscout {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Paths per shading task. Fixed (not derived from the thread count) so that the merge order,
+// and with it every floating-point sum, is the same for any number of threads.
+constexpr size_t kShadeChunk = 4096;
+
+void check_config(const RenderConfig& c) {
+  if (c.width <= 0 || c.height <= 0 || c.width > 1 << 15 || c.height > 1 << 15)
+    throw InputError("render: width and height must be in 1..32768");
+  if (c.spp <= 0 || c.spp > 1 << 16) throw InputError("render: spp must be in 1..65536");
+  if (uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.spp) > (uint64_t(1) << 32) - 1)
+    throw InputError("render: width * height * spp must stay below 2^32");
+  if (c.max_depth < 0) throw InputError("render: max_depth must be >= 0");
+  if (c.light_samples < 1 || c.ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");
+}
+
+}  // namespace
+
+void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
+                          RayBatch& rays, std::vector<PathState>* paths) {
+  const CameraRays camera(scene.camera, width, height);
+  const size_t n = size_t(width) * size_t(height) * size_t(spp);
+  rays.resize(n);
+  if (paths) paths->resize(n);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+        for (int s = 0; s < spp; ++s) {
+          const PathSampler sampler{seed, pixel, uint32_t(s), 0};
+          float fx, fy;
+          pixel_sample_position(sampler, x, y, s, spp, fx, fy);
+          const size_t i = size_t(pixel) * size_t(spp) + size_t(s);
+          rays.set(i, camera.generate(fx, fy, sampler.get(kDimLens), sampler.get(kDimLens + 1)));
+          if (paths) (*paths)[i] = PathState{pixel, uint32_t(s), Vec3{1.0f}, true};
+        }
+      }
+  });
+}
+
+Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, const RenderConfig& config,
+                                  RenderStats* stats_out) const {
+  check_config(config);
+  const auto start = Clock::now();
+  RenderStats stats;
+  const LightSampler lights(scene);
+  const Bounds3 bounds = scene.bounds();
+  ShadeContext ctx;
+  ctx.scene = &scene;
+  ctx.config = &config;
+  ctx.lights = &lights;
+  ctx.epsilon = config.ray_epsilon > 0 ? config.ray_epsilon : scene_ray_epsilon(bounds);
+  ctx.ao_radius = config.ao_radius > 0 ? config.ao_radius
+                                       : (bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal()));
+
+  std::vector<Vec3> film(size_t(config.width) * size_t(config.height));
+  RayBatch rays;
+  std::vector<PathState> paths;
+  auto t0 = Clock::now();
+  generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, rays, &paths);
+  stats.raygen_ms = ms_since(t0);
+
+  uint64_t rays_traced = 0;
+  auto trace = [&](const BatchInfo& info, const RayBatch& batch, HitBatch* hits, std::vector<uint8_t>* occluded) {
+    if (config.on_batch) config.on_batch(info, batch);
+    BatchStats bs;
+    bs.info = info;
+    bs.rays = batch.size();
+    TraceStats* counters = config.count ? &bs.counters : nullptr;
+    const auto t = Clock::now();
+    if (hits) accel.intersect(batch, *hits, counters);
+    else accel.occluded(batch, *occluded, counters);
+    bs.trace_ms = ms_since(t);
+    stats.trace_ms += bs.trace_ms;
+    stats.batches.push_back(bs);
+    rays_traced += batch.size();
+    if (config.on_progress)
+      config.on_progress({info.bounce, max_bounce(config), rays_traced, std::chrono::duration<double>(Clock::now() - start).count()});
+  };
+
+  HitBatch hits;
+  std::vector<uint8_t> occluded;
+  for (int bounce = 0; !paths.empty(); ++bounce) {
+    ctx.bounce = bounce;
+    trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, rays, &hits, nullptr);
+
+    t0 = Clock::now();
+    const size_t n = paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
+    std::vector<ShadeOutput> outs(chunks);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+      ShadeOutput& out = outs[c];
+      for (size_t i = c * kShadeChunk, end = std::min(n, i + kShadeChunk); i < end; ++i) {
+        const Ray ray = rays[i];
+        const Hit hit = hits[i];
+        if (!hit.hit()) { miss(ctx, paths[i], ray, out); continue; }
+        const Hit refined = refine_hit(scene, ray, hit);
+        shade(ctx, paths[i], ray, surface_point(scene, ray, refined), out);
+      }
+    });
+    // Merge in chunk order: the fixed order of every per-pixel sum.
+    RayBatch occlusion_rays, next_rays;
+    std::vector<ShadeOutput::Contribution> occlusion;
+    std::vector<PathState> next_paths;
+    size_t n_occ = 0, n_next = 0;
+    for (const ShadeOutput& out : outs) { n_occ += out.occlusion_.size(); n_next += out.next_.size(); }
+    occlusion_rays.reserve(n_occ);
+    occlusion.reserve(n_occ);
+    next_rays.reserve(n_next);
+    next_paths.reserve(n_next);
+    for (ShadeOutput& out : outs) {
+      for (const auto& c : out.radiance_) film[c.pixel] += c.value;
+      for (const Ray& r : out.occlusion_rays_) occlusion_rays.push_back(r);
+      occlusion.insert(occlusion.end(), out.occlusion_.begin(), out.occlusion_.end());
+      for (const Ray& r : out.next_rays_) next_rays.push_back(r);
+      next_paths.insert(next_paths.end(), out.next_.begin(), out.next_.end());
+      out = ShadeOutput();
+    }
+    stats.shading_ms += ms_since(t0);
+
+    if (!occlusion_rays.empty()) {
+      trace({bounce, occlusion_kind(), true}, occlusion_rays, nullptr, &occluded);
+      t0 = Clock::now();
+      for (size_t i = 0; i < occlusion.size(); ++i)
+        if (!occluded[i]) film[occlusion[i].pixel] += occlusion[i].value;
+      stats.shading_ms += ms_since(t0);
+    }
+    rays = std::move(next_rays);
+    paths = std::move(next_paths);
+  }
+
+  Image image(config.width, config.height);
+  const float inv_spp = 1.0f / float(config.spp);
+  for (size_t i = 0; i < film.size(); ++i) image.pixels[i] = film[i] * inv_spp;
+  stats.total_ms = ms_since(start);
+  if (stats_out) *stats_out = std::move(stats);
+  return image;
+}
+
+}  // namespace rayscout

@@ -1,0 +1,95 @@
+// make_workload: the papers' ray sets (primary, shadow, AO, diffuse) as ray batches.
+#include "rayscout/render/workloads.h"
+
+#include <tbb/parallel_for.h>
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/render/light_sampler.h"
+#include "rayscout/render/sampler.h"
+#include "rayscout/render/surface.h"
+#include "rayscout/render/wavefront.h"
+
+namespace rayscout {
+
+Workload parse_workload(const std::string& name) {
+  if (name == "primary") return Workload::Primary;
+  if (name == "shadow") return Workload::Shadow;
+  if (name == "ao") return Workload::Ao;
+  if (name == "diffuse") return Workload::Diffuse;
+  throw InputError("unknown workload '" + name + "' (known: primary, shadow, ao, diffuse)");
+}
+
+std::string workload_name(Workload w) {
+  switch (w) {
+    case Workload::Primary: return "primary";
+    case Workload::Shadow: return "shadow";
+    case Workload::Ao: return "ao";
+    case Workload::Diffuse: return "diffuse";
+  }
+  return "?";
+}
+
+RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload workload, const WorkloadConfig& config) {
+  if (config.width <= 0 || config.height <= 0 || config.spp <= 0)
+    throw InputError("workload: width, height and spp must be positive");
+  if (uint64_t(config.width) * uint64_t(config.height) * uint64_t(config.spp) > (uint64_t(1) << 32) - 1)
+    throw InputError("workload: width * height * spp must stay below 2^32");
+  RayBatch primary;
+  std::vector<PathState> paths;
+  generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, primary, &paths);
+  if (workload == Workload::Primary) return primary;
+
+  HitBatch hits;
+  accel.intersect(primary, hits);
+  const Bounds3 bounds = scene.bounds();
+  const float eps = scene_ray_epsilon(bounds);
+  const float ao_radius = config.ao_radius > 0 ? config.ao_radius
+                                               : (bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal()));
+  const LightSampler lights(scene);
+  const bool to_points = !scene.point_lights.empty();
+  const size_t per_hit = workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));
+
+  // Output slot of each hit: an exclusive prefix count, so rays keep the primary order.
+  const size_t n = primary.size();
+  std::vector<size_t> offset(n + 1, 0);
+  for (size_t i = 0; i < n; ++i) offset[i + 1] = offset[i] + (hits.prim[i] != kInvalidId ? per_hit : 0);
+  RayBatch out;
+  out.resize(offset[n]);
+  // A ray that cannot exist (light behind the point, too close) stays in the set as a
+  // zero-length ray (tmax < tmin): the layout stays fixed and no accelerator reports a hit.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      if (hits.prim[i] == kInvalidId) continue;
+      const Ray ray = primary[i];
+      const SurfacePoint sp = surface_point(scene, ray, refine_hit(scene, ray, hits[i]));
+      const PathSampler sampler{config.seed, paths[i].pixel, paths[i].sample, 0};
+      size_t o = offset[i];
+      switch (workload) {
+        case Workload::Primary: break;
+        case Workload::Ao:
+          out.set(o, {sp.p, eps, sample_cosine_hemisphere(sp.n, sampler.get(kDimLights), sampler.get(kDimLights + 1)), ao_radius});
+          break;
+        case Workload::Diffuse:
+          out.set(o, {sp.p, eps, sample_cosine_hemisphere(sp.n, sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2)), kInfinity});
+          break;
+        case Workload::Shadow:
+          if (to_points) {
+            for (const PointLight& light : scene.point_lights) {
+              const Vec3 d = light.position - sp.p;
+              const float dist = length(d);
+              out.set(o++, dist > 2 * eps ? Ray{sp.p, eps, d / dist, dist - eps} : Ray{sp.p, eps, sp.n, 0.0f});
+            }
+          } else {
+            const LightSample ls = lights.sample(sampler.get(kDimLights), sampler.get(kDimLights + 1), sampler.get(kDimLights + 2));
+            const Vec3 d = ls.p - sp.p;
+            const float dist = length(d);
+            out.set(o, dist > 2 * eps ? Ray{sp.p, eps, d / dist, dist - eps} : Ray{sp.p, eps, sp.n, 0.0f});
+          }
+          break;
+      }
+    }
+  });
+  return out;
+}
+
+}  // namespace rayscout

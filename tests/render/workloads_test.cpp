@@ -1,0 +1,78 @@
+// make_workload: sizes, ordering, determinism and ray validity of the papers' ray sets.
+#include <gtest/gtest.h>
+
+#include "generated_scenes.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/render/workloads.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout {
+namespace {
+
+bool same_batch(const RayBatch& a, const RayBatch& b) {
+  return a.ox == b.ox && a.oy == b.oy && a.oz == b.oz && a.tmin == b.tmin && a.dx == b.dx && a.dy == b.dy &&
+         a.dz == b.dz && a.tmax == b.tmax;
+}
+
+TEST(Workloads, PrimaryCountAndUnitDirections) {
+  const Scene scene = default_scene();
+  const auto accel = make_accelerator("brute", scene);
+  const RayBatch rays = make_workload(scene, *accel, Workload::Primary, {.width = 16, .height = 12, .spp = 3});
+  ASSERT_EQ(rays.size(), 16u * 12u * 3u);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_NEAR(length(rays[i].dir), 1.0f, 1e-5f);
+    EXPECT_EQ(rays[i].org, scene.camera.eye);  // pinhole
+  }
+}
+
+TEST(Workloads, SecondaryRaysStartAtPrimaryHitsAndAreDeterministic) {
+  const Scene scene = default_scene();
+  const auto accel = make_accelerator("brute", scene);
+  const WorkloadConfig cfg{.width = 20, .height = 20, .spp = 2, .seed = 7};
+  const RayBatch primary = make_workload(scene, *accel, Workload::Primary, cfg);
+  HitBatch hits;
+  accel->intersect(primary, hits);
+  size_t n_hits = 0;
+  for (size_t i = 0; i < hits.size(); ++i) n_hits += hits.prim[i] != kInvalidId;
+  ASSERT_GT(n_hits, 0u);
+  for (Workload w : {Workload::Shadow, Workload::Ao, Workload::Diffuse}) {
+    const RayBatch a = make_workload(scene, *accel, w, cfg);
+    const size_t per_hit = w == Workload::Shadow ? std::max<size_t>(1, scene.point_lights.size()) : 1;
+    EXPECT_EQ(a.size(), n_hits * per_hit) << workload_name(w);
+    EXPECT_TRUE(same_batch(a, make_workload(scene, *accel, w, cfg))) << workload_name(w);
+    WorkloadConfig other = cfg;
+    other.seed = 8;
+    EXPECT_FALSE(same_batch(a, make_workload(scene, *accel, w, other))) << workload_name(w);
+    size_t k = 0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+      if (hits.prim[i] == kInvalidId) continue;
+      const Vec3 p = primary[i].org + primary[i].dir * hits.t[i];
+      for (size_t j = 0; j < per_hit; ++j, ++k) EXPECT_LT(length(a[k].org - p), 1e-4f) << workload_name(w);
+      if (w == Workload::Ao) EXPECT_GT(a[k - 1].tmax, 0.0f);
+      if (w == Workload::Diffuse) EXPECT_EQ(a[k - 1].tmax, kInfinity);
+    }
+  }
+}
+
+TEST(Workloads, ShadowRaysEndBeforeThePointLight) {
+  Scene scene = testing::scene_from_triangles(testing::grid(4));
+  scene.point_lights = {{Vec3{0.5f, 0.5f, 2.0f}, Vec3{1.0f}}};
+  const auto accel = make_accelerator("brute", scene);
+  const RayBatch rays = make_workload(scene, *accel, Workload::Shadow, {.width = 8, .height = 8});
+  ASSERT_GT(rays.size(), 0u);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray r = rays[i];
+    EXPECT_NEAR(length(r.org + r.dir * r.tmax - scene.point_lights[0].position), 0.0f, 1e-3f);
+    EXPECT_GT(r.tmin, 0.0f);
+  }
+}
+
+TEST(Workloads, ParseNames) {
+  for (Workload w : {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse})
+    EXPECT_EQ(parse_workload(workload_name(w)), w);
+  EXPECT_THROW(parse_workload("bogus"), InputError);
+}
+
+}  // namespace
+}  // namespace rayscout
