@@ -1,0 +1,104 @@
+// compare_hits / compare_occlusion: ties, grazing contacts, t percentiles, tolerance.
+#include <gtest/gtest.h>
+
+#include "rayscout/core/hit_compare.h"
+
+namespace rayscout {
+namespace {
+
+HitBatch batch(std::initializer_list<Hit> hits) {
+  HitBatch b;
+  b.reset(hits.size());
+  size_t i = 0;
+  for (const Hit& h : hits) b.set(i++, h);
+  return b;
+}
+
+TEST(HitCompare, IdenticalBatchesAgreeBitExactly) {
+  const HitBatch a = batch({{1.0f, 3, 0.2f, 0.3f}, {}, {2.0f, 1, 0.1f, 0.1f}});
+  const HitDiff d = compare_hits(a, a, 0.0f);
+  EXPECT_TRUE(d.ok());
+  EXPECT_EQ(d.rays, 3u);
+  EXPECT_EQ(d.both_hit, 2u);
+  EXPECT_EQ(d.max_rel_diff, 0.0);
+}
+
+TEST(HitCompare, DistanceToleranceIsRelativeAboveOne) {
+  const HitBatch ref = batch({{100.0f, 3, 0.2f, 0.3f}, {0.5f, 4, 0.2f, 0.3f}});
+  const HitBatch got = batch({{100.005f, 3, 0.2f, 0.3f}, {0.50002f, 4, 0.2f, 0.3f}});
+  HitDiff d = compare_hits(ref, got, 1e-4f);
+  EXPECT_TRUE(d.ok());
+  EXPECT_NEAR(d.max_rel_diff, 5e-5, 1e-6);
+  EXPECT_NEAR(d.p99_rel_diff, 5e-5, 1e-6);
+  d = compare_hits(ref, got, 1e-5f);
+  EXPECT_EQ(d.t_mismatch, 2u);
+  EXPECT_FALSE(d.ok());
+}
+
+TEST(HitCompare, TiesAreCountedNotErrors) {
+  const HitBatch ref = batch({{1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
+  const HitBatch got = batch({{1.0f, 9, 0.2f, 0.3f}, {1.5f, 9, 0.2f, 0.3f}});
+  const HitDiff d = compare_hits(ref, got, 1e-4f);
+  EXPECT_EQ(d.ties, 1u);
+  EXPECT_EQ(d.other_prim, 1u);
+  EXPECT_NE(d.first.find("ray 1: different triangle"), std::string::npos) << d.first;
+}
+
+TEST(HitCompare, GrazingContactsOnlyWhenAllowed) {
+  // ray 0: the reference touches an edge (v = 0) the candidate passed by;
+  // ray 1: the candidate hits at the origin (t = 0) of a ray leaving a surface;
+  // ray 2: an interior hit missed: always an error.
+  const HitBatch ref = batch({{1.0f, 3, 0.5f, 0.0f}, {}, {1.0f, 5, 0.3f, 0.3f}});
+  const HitBatch got = batch({{2.0f, 4, 0.3f, 0.3f}, {0.0f, 2, 0.3f, 0.3f}, {}});
+  HitCompareConfig cfg;
+  cfg.rel_tol = 1e-4f;
+  HitDiff d = compare_hits(ref, got, cfg);
+  EXPECT_EQ(d.other_prim, 1u);
+  EXPECT_EQ(d.hit_miss, 2u);
+  cfg.allow_grazing = true;
+  d = compare_hits(ref, got, cfg);
+  EXPECT_EQ(d.grazing, 2u);
+  EXPECT_EQ(d.other_prim, 0u);
+  EXPECT_EQ(d.hit_miss, 1u);
+  EXPECT_NE(d.first.find("ray 2: hit/miss"), std::string::npos) << d.first;
+}
+
+TEST(HitCompare, NinetyNinthPercentile) {
+  HitBatch ref, got;
+  ref.reset(1000);
+  got.reset(1000);
+  for (size_t i = 0; i < 1000; ++i) {
+    ref.set(i, {10.0f, uint32_t(i), 0.3f, 0.3f});
+    got.set(i, {10.0f + (i >= 990 ? 0.01f : 0.0f), uint32_t(i), 0.3f, 0.3f});  // 1 % differ by 1e-3
+  }
+  const HitDiff d = compare_hits(ref, got, 1e-2f);
+  EXPECT_NEAR(d.max_rel_diff, 1e-3, 1e-5);
+  EXPECT_EQ(d.p99_rel_diff, 0.0);  // the 990th smallest of 1000 is still 0
+}
+
+TEST(HitCompare, SizeMismatchIsAnError) {
+  const HitDiff d = compare_hits(batch({{}, {}}), batch({{}}), 1e-4f);
+  EXPECT_FALSE(d.ok());
+  EXPECT_NE(d.first.find("batch sizes differ"), std::string::npos);
+}
+
+TEST(OcclusionCompare, CountsAndGrazing) {
+  const std::vector<uint8_t> ref = {1, 0, 1, 0}, got = {1, 1, 0, 0};
+  OcclusionDiff d = compare_occlusion(ref, got);
+  EXPECT_EQ(d.differ, 2u);
+  EXPECT_EQ(d.occluded_ref, 2u);
+  EXPECT_EQ(d.occluded_got, 2u);
+  EXPECT_NE(d.first.find("ray 1: ref clear, got occluded"), std::string::npos) << d.first;
+  // ray 1: the candidate's blocker is grazing (u = 0); ray 2: the reference's blocker is interior.
+  const HitBatch ref_hits = batch({{1.0f, 1, 0.3f, 0.3f}, {}, {1.0f, 2, 0.3f, 0.3f}, {}});
+  const HitBatch got_hits = batch({{1.0f, 1, 0.3f, 0.3f}, {1.0f, 1, 0.0f, 0.3f}, {}, {}});
+  HitCompareConfig cfg;
+  cfg.allow_grazing = true;
+  d = compare_occlusion(ref, got, cfg, &ref_hits, &got_hits);
+  EXPECT_EQ(d.grazing, 1u);
+  EXPECT_EQ(d.differ, 1u);
+  EXPECT_NE(d.first.find("ray 2"), std::string::npos) << d.first;
+}
+
+}  // namespace
+}  // namespace rayscout
