@@ -12,6 +12,9 @@
 namespace rayscout {
 
 Scene load_scene(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(detail::display_name(path) + ": is a directory, not a scene or mesh file");
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext == ".json") return detail::load_json_scene(path);

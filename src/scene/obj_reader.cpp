@@ -28,8 +28,12 @@ Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& fil
   for (; n < 3; ++n) {
     std::string_view tok = next_token(p, end);
     if (tok.empty()) break;
-    if (!detail::parse_float(tok, c[n]))
+    if (!detail::parse_float(tok, c[n])) {
+      double d;
+      if (detail::parse_double(tok, d))
+        fail_at(file, line, std::string(what) + ": coordinate " + std::string(tok) + " is out of float range");
       fail_at(file, line, std::string(what) + ": '" + std::string(tok) + "' is not a number");
+    }
     if (!std::isfinite(c[n]))
       fail_at(file, line, std::string(what) + ": coordinate " + std::string(tok) + " is not finite");
   }
@@ -39,6 +43,8 @@ Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& fil
   return {c[0], c[1], c[2]};
 }
 
+std::string plural(std::string_view what) { return what == "vertex" ? "vertices" : std::string(what) + "s"; }
+
 // Resolves a 1-based or negative OBJ index. Positive indices may point forward (checked
 // at the end of the file against the final count); negative ones are relative to now.
 long long resolve_index(long long idx, size_t count, const std::filesystem::path& file, size_t line,
@@ -47,7 +53,7 @@ long long resolve_index(long long idx, size_t count, const std::filesystem::path
   if (idx == 0) fail_at(file, line, std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
   if (-idx > static_cast<long long>(count))
     fail_at(file, line, (what == "vertex" ? std::string("face") : std::string(what)) + " index " + std::to_string(idx) +
-                            " out of range (" + std::to_string(count) + " " + std::string(what) + "s so far)");
+                            " out of range (" + std::to_string(count) + " " + plural(what) + " so far)");
   return static_cast<long long>(count) + idx;
 }
 
@@ -243,7 +249,7 @@ Mesh read_obj(const std::filesystem::path& path) {
   auto check_max = [&](const MaxRef& m, size_t count, const char* label, const char* what) {
     if (m.index >= static_cast<long long>(count))
       fail_at(path, m.line, std::string(label) + " index " + std::to_string(m.index + 1) + " out of range (" +
-                                std::to_string(count) + " " + what + (count == 1 ? "" : "s") + ")");
+                                std::to_string(count) + " " + (count == 1 ? std::string(what) : plural(what)) + ")");
   };
   check_max(max_v, mesh.positions.size(), "face", "vertex");
   check_max(max_vt, num_vt, "texcoord", "texcoord");

@@ -213,7 +213,10 @@ Mesh read_ply(const std::filesystem::path& path) {
           if (t.empty()) fail("too few values for " + el.name + " (property " + what + ")");
           if (type == Scalar::Float32) {
             float f;
-            if (!detail::parse_float(t, f)) fail("'" + std::string(t) + "' is not a number");
+            if (!detail::parse_float(t, f)) {
+              double d;
+              fail("'" + std::string(t) + (detail::parse_double(t, d) ? "' is out of float range" : "' is not a number"));
+            }
             return f;
           }
           if (type == Scalar::Float64) {

@@ -1,0 +1,198 @@
+// Every bad-input case gives an InputError naming the file and line, or the JSON field.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "rayscout/scene/load_scene.h"
+#include "rayscout/scene/mesh.h"
+#include "temp_files.h"
+
+namespace rayscout {
+namespace {
+
+using testing::expect_contains;
+using testing::input_error_of;
+using testing::TempDir;
+
+// Loads `text` written as `name` and returns the error message.
+std::string error_loading(const TempDir& dir, const std::string& name, const std::string& text) {
+  const auto p = dir.write(name, text);
+  return input_error_of([&] { load_scene(p); });
+}
+
+const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+TEST(SceneBadInput, MissingFiles) {
+  TempDir dir;
+  for (const char* name : {"nope.obj", "nope.ply", "nope.json", "nope.gltf"}) {
+    const std::string msg = input_error_of([&] { load_scene(dir.path() / name); });
+    expect_contains(msg, {name, "cannot open"});
+  }
+  expect_contains(input_error_of([&] { load_scene(dir.path()); }), {"is a directory"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("mesh.stl", "solid")); }), {"mesh.stl", "unknown mesh format"});
+}
+
+TEST(SceneBadInput, ObjMalformedLines) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "a.obj", "# c\nv 0 0 0\nv 1 abc 2\n"), {"a.obj:3: ", "'abc' is not a number"});
+  expect_contains(error_loading(dir, "b.obj", "v 0 0\n"), {"b.obj:1: ", "expected 3 numbers, found 2"});
+  expect_contains(error_loading(dir, "c.obj", kTriangle + "f 1 2\n"), {"c.obj:4: ", "face with 2 vertices"});
+  expect_contains(error_loading(dir, "d.obj", kTriangle + "f 1 x 3\n"), {"d.obj:4: ", "'x' is not an index"});
+  expect_contains(error_loading(dir, "e.obj", kTriangle + "f 1/1/1/1 2 3\n"), {"e.obj:4: ", "more than 3 parts"});
+  expect_contains(error_loading(dir, "f.obj", kTriangle + "f 0 1 2\n"), {"f.obj:4: ", "index 0 is invalid"});
+  expect_contains(error_loading(dir, "g.obj", kTriangle + "usemtl\n"), {"g.obj:4: ", "usemtl without"});
+}
+
+TEST(SceneBadInput, ObjIndexOutOfRange) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "sponza.obj", kTriangle + "f 1 2 3\n\nf 1 2 99999\nf 1 2 3\n"),
+                  {"sponza.obj:6: face index 99999 out of range (3 vertices)"});
+  expect_contains(error_loading(dir, "neg.obj", kTriangle + "f -1 -2 -4\n"),
+                  {"neg.obj:4: ", "face index -4 out of range (3 vertices so far)"});
+  expect_contains(error_loading(dir, "vt.obj", kTriangle + "vt 0 0\nf 1/1 2/2 3/1\n"),
+                  {"vt.obj:5: ", "texcoord index 2 out of range (1 texcoord)"});
+  expect_contains(error_loading(dir, "vn.obj", kTriangle + "vn 0 0 1\nf 1//1 2//1 3//3\n"),
+                  {"vn.obj:5: ", "normal index 3 out of range (1 normal)"});
+}
+
+TEST(SceneBadInput, ObjNonFiniteCoordinates) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "nan.obj", "v 0 0 0\nv nan 0 0\n"), {"nan.obj:2: ", "nan is not finite"});
+  expect_contains(error_loading(dir, "inf.obj", "v 0 0 0\nv 0 -inf 0\n"), {"inf.obj:2: ", "-inf is not finite"});
+  expect_contains(error_loading(dir, "big.obj", "v 0 0 1e39\n"), {"big.obj:1: ", "1e39 is out of float range"});
+}
+
+TEST(SceneBadInput, EmptyMeshes) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "empty.obj", ""), {"empty.obj", "no faces"});
+  expect_contains(error_loading(dir, "verts.obj", kTriangle), {"verts.obj", "no faces"});
+  // Only zero-area faces: nothing is left after dropping them.
+  expect_contains(error_loading(dir, "flat.obj", kTriangle + "f 1 1 2\n"), {"flat.obj", "no triangles"});
+  expect_contains(error_loading(dir, "empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
+                                                  "property float y\nproperty float z\nend_header\n"),
+                  {"empty.ply", "no faces"});
+}
+
+TEST(SceneBadInput, MtlMalformedLine) {
+  TempDir dir;
+  dir.write("m.mtl", "newmtl a\nKd 0.5 x 0.5\n");
+  expect_contains(error_loading(dir, "m.obj", "mtllib m.mtl\n" + kTriangle + "usemtl a\nf 1 2 3\n"),
+                  {"m.mtl:2: ", "Kd: 'x' is not a number"});
+  dir.write("n.mtl", "Kd 1 1 1\n");
+  expect_contains(error_loading(dir, "n.obj", "mtllib n.mtl\n" + kTriangle + "f 1 2 3\n"),
+                  {"n.mtl:1: ", "before any newmtl"});
+}
+
+const std::string kPlyHeader =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+TEST(SceneBadInput, PlyAscii) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "a.ply", "plx\n"), {"a.ply:1: ", "not a PLY file"});
+  expect_contains(error_loading(dir, "b.ply", "ply\nformat ascii 1.0\nelement vertex x\n"), {"b.ply:3: ", "element"});
+  expect_contains(error_loading(dir, "c.ply", "ply\nformat utf8 1.0\n"), {"c.ply:2: ", "unknown PLY format"});
+  expect_contains(error_loading(dir, "d.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
+                  {"d.ply:13: ", "face index 7 out of range (3 vertices)"});
+  expect_contains(error_loading(dir, "e.ply", kPlyHeader + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
+                  {"e.ply:11: ", "not finite"});
+  expect_contains(error_loading(dir, "f.ply", kPlyHeader + "0 0 0\n1 0\n0 1 0\n3 0 1 2\n"),
+                  {"f.ply:11: ", "too few values"});
+  expect_contains(error_loading(dir, "g.ply", kPlyHeader + "0 0 0\n1 0 0\n"), {"g.ply:12: ", "unexpected end of file"});
+  expect_contains(error_loading(dir, "h.ply", kPlyHeader + "0 0 0\n1 0 0 5\n0 1 0\n3 0 1 2\n"),
+                  {"h.ply:11: ", "more values than the header declares"});
+  expect_contains(error_loading(dir, "i.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2.5\n"),
+                  {"i.ply:13: ", "'2.5' is not an integer"});
+  expect_contains(error_loading(dir, "j.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"),
+                  {"j.ply:3: ", "lacks x, y or z"});
+  expect_contains(error_loading(dir, "k.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"), {"k.ply", "no end_header"});
+}
+
+TEST(SceneBadInput, PlyBinary) {
+  TempDir dir;
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string body;
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) body.append(reinterpret_cast<const char*>(&f), 4);
+  auto face = [](int a, int b, int c) {
+    std::string s(1, char(3));
+    for (int i : {a, b, c}) s.append(reinterpret_cast<const char*>(&i), 4);
+    return s;
+  };
+  const size_t face1_byte = header.size() + body.size() + 13;
+  expect_contains(error_loading(dir, "a.ply", header + body + face(0, 1, 2) + face(0, 1, 3)),
+                  {"a.ply: face 1 (byte " + std::to_string(face1_byte) + "): face index 3 out of range (3 vertices)"});
+  expect_contains(error_loading(dir, "b.ply", header + body + face(0, 1, 2) + face(0, 1, 2).substr(0, 6)),
+                  {"b.ply: face 1", "unexpected end of data"});
+  std::string nan_body = body;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(nan_body.data() + 4, &nan, 4);
+  expect_contains(error_loading(dir, "c.ply", header + nan_body + face(0, 1, 2) + face(0, 1, 2)),
+                  {"c.ply: vertex 0 (byte", "not finite"});
+}
+
+// A JSON scene next to a valid mesh, so errors come from the JSON itself.
+std::string json_error(const TempDir& dir, const std::string& json) {
+  dir.write("tri.obj", kTriangle + "f 1 2 3\n");
+  return error_loading(dir, "scene.json", json);
+}
+
+TEST(SceneBadInput, JsonSyntaxAndTypes) {
+  TempDir dir;
+  expect_contains(json_error(dir, "{\n  \"meshes\": [\n    {\"file\": \"tri.obj\",}\n  ]\n}\n"),
+                  {"scene.json: invalid JSON", "line 3"});
+  expect_contains(json_error(dir, "[1, 2]"), {"scene.json: (root): expected an object"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": "wide"}})"),
+                  {"scene.json: camera.fov_deg: expected a number"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 1]}})"),
+                  {"scene.json: camera.eye: expected an array of 3 numbers"});
+  expect_contains(json_error(dir, R"({"meshes": {"file": "tri.obj"}})"), {"scene.json: meshes: expected an array"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": 3}]})"), {"scene.json: meshes[0].file: expected a string"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": {"rotate": {"axis": [0,1,0], "deg": true}}}]})"),
+                  {"scene.json: meshes[0].transform.rotate.deg: expected a number"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "point", "position": [0,1,0], "intensity": [1,-1,1]}]})"),
+                  {"scene.json: lights[0].intensity: colour components must be >= 0"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": 200}})"),
+                  {"scene.json: camera.fov_deg: expected a number in (0, 180)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0,0,1], "look_at": [0,0,0], "up": [0,0,2]}})"),
+                  {"scene.json: camera.up: is parallel"});
+}
+
+TEST(SceneBadInput, JsonUnknownKeysAndValues) {
+  TempDir dir;
+  expect_contains(json_error(dir, R"({"mesh": []})"), {"scene.json: mesh: unknown key"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fvo_deg": 40}})"),
+                  {"scene.json: camera.fvo_deg: unknown key", "fov_deg"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transfrom": {}}]})"),
+                  {"scene.json: meshes[0].transfrom: unknown key"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "materials": {"m": {"typ": "mirror"}}})"),
+                  {"scene.json: materials.m.typ: unknown key"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "materials": {"m": {"type": "metal"}}})"),
+                  {"scene.json: materials.m.type: expected \"diffuse\", \"mirror\" or \"glossy\""});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": "nosuch"}]})"),
+                  {"scene.json: meshes[0].material: unknown material \"nosuch\""});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "sphere"}]})"), {"scene.json: meshes[0].shape: expected \"quad\" or \"box\""});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "quad", "corner": [0,0,0], "edge1": [1,0,0]}]})"),
+                  {"scene.json: meshes[0].edge2: missing"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "shape": "box"}]})"),
+                  {"scene.json: meshes[0]: needs exactly one of"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "spot"}]})"),
+                  {"scene.json: lights[0].type: expected \"point\" or \"area\""});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": {"matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,1,1]}}]})"),
+                  {"scene.json: meshes[0].transform.matrix: last row must be 0 0 0 1"});
+  expect_contains(json_error(dir, R"({"meshes": []})"), {"scene.json: no triangles"});
+}
+
+TEST(SceneBadInput, JsonMeshFileErrorsNameBothFiles) {
+  TempDir dir;
+  dir.write("tri.obj", kTriangle + "f 1 2 3\n");
+  dir.write("bad.obj", kTriangle + "f 1 2 4\n");
+  expect_contains(error_loading(dir, "s.json", R"({"meshes": [{"file": "bad.obj"}]})"),
+                  {"s.json: meshes[0].file: ", "bad.obj:4: face index 4 out of range (3 vertices)"});
+  expect_contains(error_loading(dir, "t.json", R"({"meshes": [{"file": "tri.obj"}, {"file": "missing.ply"}]})"),
+                  {"t.json: meshes[1].file: ", "missing.ply: cannot open"});
+}
+
+}  // namespace
+}  // namespace rayscout

@@ -1,0 +1,198 @@
+// JSON scene files: meshes, material overrides, shapes, transforms, camera, lights, caching.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "rayscout/scene/load_scene.h"
+#include "temp_files.h"
+
+namespace rayscout {
+namespace {
+
+using testing::TempDir;
+
+void expect_near(const Vec3& a, const Vec3& b, float tol = 1e-6f) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+// Two quads: "floor" (y = 0) and "wall" (z = 0), from an OBJ with an MTL.
+void write_room(const TempDir& dir) {
+  dir.write("room.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl wall\nKd 0.2 0.3 0.4\nKs 0.1 0.1 0.1\nNs 20\n");
+  dir.write("room.obj",
+            "mtllib room.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 0 -1\nv 1 0 -1\nv 1 2 -1\nv -1 2 -1\n"
+            "usemtl floor\nf 1 4 3 2\nusemtl wall\nf 5 6 7 8\n");
+}
+
+TEST(JsonScene, MaterialOverrideMakesTheFloorAMirror) {
+  TempDir dir;
+  write_room(dir);
+  const Scene s = load_scene(dir.write("scene.json", R"({
+    "meshes": [{"file": "room.obj"}],
+    "materials": {"floor": {"type": "mirror", "specular": [0.9, 0.9, 0.9]},
+                  "wall": {"emission": 2}}
+  })"));
+  ASSERT_EQ(s.triangles.size(), 4u);
+  const Material& floor = s.material_of(0);
+  EXPECT_EQ(floor.name, "floor");
+  EXPECT_EQ(floor.type, Material::Type::Mirror);
+  expect_near(floor.specular, Vec3(0.9f));
+  expect_near(floor.diffuse, Vec3(0.5f));  // omitted fields keep the MTL values
+  const Material& wall = s.material_of(2);
+  EXPECT_EQ(wall.type, Material::Type::Glossy);
+  EXPECT_EQ(wall.exponent, 20.0f);
+  expect_near(wall.emission, Vec3(2.0f));
+  EXPECT_EQ(s.emissive_triangles, (std::vector<uint32_t>{2, 3}));
+  EXPECT_EQ(s.materials.size(), 2u);
+}
+
+TEST(JsonScene, MeshMaterialByNameOrInline) {
+  TempDir dir;
+  write_room(dir);
+  const Scene s = load_scene(dir.write("scene.json", R"({
+    "materials": {"gold": {"type": "glossy", "diffuse": [0.3, 0.2, 0.1], "specular": [0.8, 0.6, 0.2], "exponent": 100}},
+    "meshes": [{"file": "room.obj", "material": "gold"},
+               {"file": "room.obj", "material": {"type": "mirror"}},
+               {"file": "room.obj"}]
+  })"));
+  ASSERT_EQ(s.triangles.size(), 12u);
+  for (uint32_t t = 0; t < 4; ++t) EXPECT_EQ(s.material_of(t).name, "gold");
+  EXPECT_EQ(s.material_of(0).exponent, 100.0f);
+  EXPECT_EQ(s.material_of(4).name, "meshes[1].material");
+  EXPECT_EQ(s.material_of(4).type, Material::Type::Mirror);
+  expect_near(s.material_of(4).specular, Vec3(1.0f));  // a mirror without specular gets 1
+  EXPECT_EQ(s.material_of(8).name, "floor");
+  EXPECT_EQ(s.material_of(10).name, "wall");
+}
+
+TEST(JsonScene, ShapesWithExactVertices) {
+  TempDir dir;
+  const Scene s = load_scene(dir.write("shapes.json", R"({
+    "meshes": [
+      {"shape": "quad", "corner": [1, 2, 3], "edge1": [2, 0, 0], "edge2": [0, 0, -4], "material": {"name": "m1"}},
+      {"shape": "quad", "center": [0, 0, 0], "normal": [0, 1, 0], "size": [2, 4], "up": [0, 0, -1]},
+      {"shape": "box", "min": [-1, -2, -3], "max": [1, 2, 3]}
+    ]})"));
+  ASSERT_EQ(s.triangles.size(), 2u + 2u + 12u);
+  const Triangle& q0 = s.triangles[0];
+  expect_near(q0.v0, {1, 2, 3}, 0);
+  expect_near(q0.v1, {3, 2, 3}, 0);
+  expect_near(q0.v2, {3, 2, -1}, 0);
+  expect_near(s.triangles[1].v2, {1, 2, -1}, 0);
+  expect_near(normalize(q0.normal()), {0, 1, 0});  // edge1 x edge2
+  // Centered quad: 2 wide (x), 4 high (along up = -z), facing +y.
+  Bounds3 b1;
+  b1.extend(s.triangles[2].bounds());
+  b1.extend(s.triangles[3].bounds());
+  expect_near(b1.lo, {-1, 0, -2});
+  expect_near(b1.hi, {1, 0, 2});
+  expect_near(normalize(s.triangles[2].normal()), {0, 1, 0});
+  // Box: bounds and outward normals (every normal points away from the centre).
+  Bounds3 box;
+  for (size_t t = 4; t < 16; ++t) {
+    box.extend(s.triangles[t].bounds());
+    EXPECT_GT(dot(s.triangles[t].normal(), s.triangles[t].centroid()), 0.0f) << "triangle " << t;
+  }
+  expect_near(box.lo, {-1, -2, -3}, 0);
+  expect_near(box.hi, {1, 2, 3}, 0);
+}
+
+TEST(JsonScene, Transforms) {
+  TempDir dir;
+  dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("t.json", R"({"meshes": [
+      {"file": "tri.obj", "transform": {"translate": [10, 20, 30]}},
+      {"file": "tri.obj", "transform": {"scale": 2}},
+      {"file": "tri.obj", "transform": {"scale": [1, 2, 3]}},
+      {"file": "tri.obj", "transform": {"rotate": {"axis": [0, 0, 1], "deg": 90}}},
+      {"file": "tri.obj", "transform": {"scale": 2, "rotate": {"axis": [0, 1, 0], "deg": 90}, "translate": [0, 0, 5]}},
+      {"file": "tri.obj", "transform": [{"translate": [1, 0, 0]}, {"scale": 3}]},
+      {"file": "tri.obj", "transform": {"matrix": [[0, 1, 0, 7], [1, 0, 0, 8], [0, 0, 1, 9], [0, 0, 0, 1]]}},
+      {"file": "tri.obj", "transform": {"matrix": [2, 0, 0, 0,  0, 2, 0, 0,  0, 0, 2, 1,  0, 0, 0, 1]}}
+    ]})"));
+  ASSERT_EQ(s.triangles.size(), 8u);
+  auto v0 = [&](size_t t) { return s.triangles[t].v0; };  // image of (1, 0, 0)
+  auto v1 = [&](size_t t) { return s.triangles[t].v1; };  // image of (0, 1, 0)
+  auto v2 = [&](size_t t) { return s.triangles[t].v2; };  // image of (0, 0, 1)
+  expect_near(v0(0), {11, 20, 30});
+  expect_near(v0(1), {2, 0, 0});
+  expect_near(v1(2), {0, 2, 0});
+  expect_near(v2(2), {0, 0, 3});
+  expect_near(v0(3), {0, 1, 0});    // x -> y under +90 deg about z
+  expect_near(v1(3), {-1, 0, 0});
+  expect_near(v0(4), {0, 0, 3});    // scale 2, x -> -z about y, then +5 z
+  expect_near(v2(4), {2, 0, 5});
+  expect_near(v0(5), {6, 0, 0});    // translate first, then scale
+  expect_near(v1(5), {3, 3, 0});
+  expect_near(v0(6), {7, 9, 9});
+  expect_near(v2(7), {0, 0, 3});
+}
+
+TEST(JsonScene, CameraLightsAndIdOrder) {
+  TempDir dir;
+  dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("c.json", R"({
+    "comment": "area lights come after all meshes",
+    "lights": [
+      {"type": "area", "corner": [0, 3, 0], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "emission": [5, 5, 5]},
+      {"type": "point", "position": [1, 2, 3], "intensity": [4, 5, 6]}
+    ],
+    "meshes": [{"file": "tri.obj"}, {"shape": "box", "min": [2, 0, 0], "max": [3, 1, 1]}],
+    "camera": {"eye": [0, 1, 5], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov_deg": 45, "lens_radius": 0.1, "focus_distance": 4}
+  })"));
+  ASSERT_EQ(s.triangles.size(), 1u + 12u + 2u);
+  EXPECT_EQ(s.emissive_triangles, (std::vector<uint32_t>{13, 14}));
+  expect_near(s.triangles[13].v0, {0, 3, 0}, 0);
+  expect_near(s.material_of(13).emission, Vec3(5));
+  expect_near(normalize(s.triangles[13].normal()), {0, -1, 0});  // faces down
+  ASSERT_EQ(s.point_lights.size(), 1u);
+  expect_near(s.point_lights[0].position, {1, 2, 3}, 0);
+  expect_near(s.point_lights[0].intensity, {4, 5, 6}, 0);
+  expect_near(s.camera.eye, {0, 1, 5}, 0);
+  EXPECT_EQ(s.camera.fov_deg, 45.0f);
+  EXPECT_EQ(s.camera.lens_radius, 0.1f);
+  EXPECT_EQ(s.camera.focus_distance, 4.0f);
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(JsonScene, NoLightsGetsAPointLightAndAWarning) {
+  TempDir dir;
+  dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("n.json", R"({"meshes": [{"file": "tri.obj"}]})"));
+  EXPECT_EQ(s.point_lights.size(), 1u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("no lights"), std::string::npos);
+  expect_near(s.camera.look_at, s.bounds().center());
+}
+
+TEST(JsonScene, RepeatedFilesAndScenesDirPrefix) {
+  TempDir scenes, dir;
+  scenes.write("q.ply",
+               "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+  ::setenv("RAYSCOUT_SCENES", scenes.path().c_str(), 1);
+  std::string meshes;
+  for (int i = 0; i < 5; ++i)
+    meshes += std::string(i ? "," : "") + R"({"file": "$RAYSCOUT_SCENES/q.ply", "transform": {"translate": [0, 0, )" +
+              std::to_string(i) + "]}}";
+  const Scene s = load_scene(dir.write("r.json", R"({"meshes": [)" + meshes + "]}"));
+  ::unsetenv("RAYSCOUT_SCENES");
+  ASSERT_EQ(s.triangles.size(), 10u);
+  for (int i = 0; i < 5; ++i) {
+    expect_near(s.triangles[2 * i].v0, {0, 0, float(i)}, 0);
+    expect_near(s.triangles[2 * i + 1].v2, {0, 1, float(i)}, 0);
+  }
+}
+
+TEST(JsonScene, PathsAreRelativeToTheJsonFile) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.path() / "sub" / "meshes");
+  dir.write("sub/meshes/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("sub/s.json", R"({"meshes": [{"file": "meshes/tri.obj"}]})"));
+  EXPECT_EQ(s.triangles.size(), 1u);
+}
+
+}  // namespace
+}  // namespace rayscout

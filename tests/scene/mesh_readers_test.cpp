@@ -1,0 +1,232 @@
+// OBJ, MTL, PLY (ascii and binary) and glTF readers: exact counts, coordinates and order.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "rayscout/scene/load_scene.h"
+#include "rayscout/scene/mesh.h"
+#include "temp_files.h"
+
+namespace rayscout {
+namespace {
+
+using testing::TempDir;
+
+void expect_vec(const Vec3& a, const Vec3& b) {
+  EXPECT_EQ(a.x, b.x);
+  EXPECT_EQ(a.y, b.y);
+  EXPECT_EQ(a.z, b.z);
+}
+
+void expect_triangle(const Triangle& t, const Vec3& a, const Vec3& b, const Vec3& c) {
+  expect_vec(t.v0, a);
+  expect_vec(t.v1, b);
+  expect_vec(t.v2, c);
+}
+
+TEST(ObjReader, ExactCoordinatesAndFanOrder) {
+  TempDir dir;
+  // A quad and a pentagon: fans (0 1 2)(0 2 3) and (0 1 2)(0 2 3)(0 3 4), in file order.
+  const auto p = dir.write("fan.obj",
+                           "# test\r\n"
+                           "v 0.1 0.2 0.3\r\n"
+                           "v 1.5 -2.25 +3e-2\n"
+                           "v 1 1 0 1.0\n"        // w is ignored
+                           "v 0 1 0   0.5 0.5 0.5\n"  // vertex colours are ignored
+                           "vt 0 0\nvn 0 0 1\n"
+                           "g quad\ns off\n"
+                           "f 1/1/1 2/1/1 3//1 4\n"
+                           "v 10 0 0\nv 11 0 0\nv 11 1 0\nv 10.5 2 0\nv 10 1 0\n"
+                           "f -5 -4 -3 -2 -1  # pentagon with relative indices\n");
+  const Scene s = load_scene(p);
+  ASSERT_EQ(s.triangles.size(), 5u);
+  const Vec3 a(0.1f, 0.2f, 0.3f), b(1.5f, -2.25f, 0.03f), c(1, 1, 0), d(0, 1, 0);
+  expect_triangle(s.triangles[0], a, b, c);
+  expect_triangle(s.triangles[1], a, c, d);
+  const Vec3 e(10, 0, 0), f(11, 0, 0), g(11, 1, 0), h(10.5f, 2, 0), i(10, 1, 0);
+  expect_triangle(s.triangles[2], e, f, g);
+  expect_triangle(s.triangles[3], e, g, h);
+  expect_triangle(s.triangles[4], e, h, i);
+  EXPECT_TRUE(s.warnings.empty());
+  // Bare mesh: a framing camera and one point light.
+  EXPECT_EQ(s.point_lights.size(), 1u);
+  expect_vec(s.camera.look_at, s.bounds().center());
+}
+
+TEST(ObjReader, ForwardReferencesAreAllowed) {
+  TempDir dir;
+  const Scene s = load_scene(dir.write("fwd.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_triangle(s.triangles[0], {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+}
+
+TEST(ObjReader, DegenerateTrianglesDroppedAndCounted) {
+  TempDir dir;
+  // Faces: good, repeated index, collinear, good, coincident positions.
+  const auto p = dir.write("deg.obj",
+                           "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 0 0 0\n"
+                           "f 1 2 3\nf 1 1 2\nf 1 2 4\nf 3 2 1\nf 1 5 2\n");
+  const Scene s = load_scene(p);
+  ASSERT_EQ(s.triangles.size(), 2u);
+  expect_triangle(s.triangles[0], {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  expect_triangle(s.triangles[1], {0, 1, 0}, {1, 0, 0}, {0, 0, 0});
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("dropped 3 degenerate (zero-area) triangles"), std::string::npos) << s.warnings[0];
+  // The reader itself keeps every face; only the scene drops them.
+  EXPECT_EQ(read_mesh(p).faces.size(), 5u);
+}
+
+TEST(ObjReader, MtlMaterialMapping) {
+  TempDir dir;
+  dir.write("m.mtl",
+            "newmtl matte\n  Kd 0.5 0.25 0.125 # comment\n  Ks 0 0 0\n  Ns 10\n  illum 2\n\n"
+            "newmtl shiny\nKd 0.1 0.1 0.1\nKs 0.4 0.4 0.4\nNs 200\nillum 2\n"
+            "newmtl chrome\nKd 0 0 0\nKs 0.9 0.9 0.9\nNs 10\nillum 3\n"
+            "newmtl polished\nKs 0.8\nNs 5000\n"
+            "newmtl lamp \nKd 0.7 0.7 0.7\nKe 17 12 4\nmap_Kd textures\\lamp.tga\n");
+  const auto p = dir.write("m.obj",
+                           "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                           "f 1 2 3\nusemtl matte\nf 2 4 3\nusemtl shiny\nf 1 2 3\nusemtl chrome\nf 1 2 3\n"
+                           "usemtl polished\nf 1 2 3\nusemtl lamp\nf 1 2 3\nf 2 4 3\nusemtl matte\nf 1 2 3\n");
+  const Scene s = load_scene(p);
+  ASSERT_EQ(s.triangles.size(), 8u);
+  std::vector<std::string> names;
+  for (uint32_t t = 0; t < 8; ++t) names.push_back(s.material_of(t).name);
+  EXPECT_EQ(names, (std::vector<std::string>{"default", "matte", "shiny", "chrome", "polished", "lamp", "lamp", "matte"}));
+  const Material& matte = s.material_of(1);
+  EXPECT_EQ(matte.type, Material::Type::Diffuse);
+  expect_vec(matte.diffuse, {0.5f, 0.25f, 0.125f});
+  const Material& shiny = s.material_of(2);
+  EXPECT_EQ(shiny.type, Material::Type::Glossy);
+  expect_vec(shiny.specular, Vec3(0.4f));
+  EXPECT_EQ(shiny.exponent, 200.0f);
+  EXPECT_EQ(s.material_of(3).type, Material::Type::Mirror);  // illum 3
+  EXPECT_EQ(s.material_of(4).type, Material::Type::Mirror);  // Ns >= 1000
+  expect_vec(s.material_of(4).specular, Vec3(0.8f));          // one value = grey
+  EXPECT_TRUE(s.material_of(5).emissive());
+  expect_vec(s.material_of(5).emission, {17, 12, 4});
+  EXPECT_EQ(s.emissive_triangles, (std::vector<uint32_t>{5, 6}));
+  EXPECT_FALSE(s.material_of(0).emissive());
+}
+
+TEST(ObjReader, MissingMtlAndUnknownMaterialAreWarnings) {
+  TempDir dir;
+  const Scene s = load_scene(dir.write("w.obj", "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  EXPECT_EQ(s.material_of(0).name, "x");
+  ASSERT_EQ(s.warnings.size(), 2u);
+  EXPECT_NE(s.warnings[0].find("w.obj:1: material library 'nothere.mtl' not found"), std::string::npos);
+  EXPECT_NE(s.warnings[1].find("material 'x' is not defined"), std::string::npos);
+}
+
+// The same mesh (a quad and a triangle, coordinates exact in float) as PLY of each format.
+struct PlyMesh {
+  std::vector<Vec3> v = {{0.5f, -1.25f, 3.0f}, {2.0f, 0.0f, 0.125f}, {1.0f, 1.0f, 1.0f}, {-4.0f, 2.5f, 0.0f}};
+  std::vector<std::vector<int>> faces = {{0, 1, 2, 3}, {3, 2, 0}};
+};
+
+std::string ply_header(const std::string& format, const char* index_type) {
+  return "ply\nformat " + format + " 1.0\ncomment made by a test\nelement vertex 4\nproperty float x\n"
+         "property double y\nproperty float z\nproperty uchar red\nelement face 2\nproperty list uchar " +
+         index_type + " vertex_indices\nproperty int flags\nelement extra 1\nproperty list int float stuff\nend_header\n";
+}
+
+template <typename T>
+void put(std::string& out, T value, bool big) {
+  char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  if (big) std::reverse(b, b + sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+std::string binary_ply(bool big) {
+  PlyMesh m;
+  std::string s = ply_header(big ? "binary_big_endian" : "binary_little_endian", "uint");
+  for (const auto& v : m.v) {
+    put<float>(s, v.x, big);
+    put<double>(s, double(v.y), big);
+    put<float>(s, v.z, big);
+    put<uint8_t>(s, 200, big);
+  }
+  for (const auto& f : m.faces) {
+    put<uint8_t>(s, uint8_t(f.size()), big);
+    for (int i : f) put<uint32_t>(s, uint32_t(i), big);
+    put<int32_t>(s, -7, big);
+  }
+  put<int32_t>(s, 2, big);
+  put<float>(s, 1.0f, big);
+  put<float>(s, 2.0f, big);
+  return s;
+}
+
+void expect_ply_mesh(const Scene& s) {
+  PlyMesh m;
+  ASSERT_EQ(s.triangles.size(), 3u);
+  expect_triangle(s.triangles[0], m.v[0], m.v[1], m.v[2]);
+  expect_triangle(s.triangles[1], m.v[0], m.v[2], m.v[3]);
+  expect_triangle(s.triangles[2], m.v[3], m.v[2], m.v[0]);
+}
+
+TEST(PlyReader, AsciiRoundTrip) {
+  TempDir dir;
+  const std::string text = ply_header("ascii", "int") +
+                           "0.5 -1.25 3 200\n2 0 0.125 200\n1 1 1 200\n-4 2.5 0 200\n"
+                           "4 0 1 2 3 -7\n3 3 2 0 -7\n2 1.0 2.0\n";
+  expect_ply_mesh(load_scene(dir.write("a.ply", text)));
+  // Windows line ends too.
+  std::string crlf;
+  for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  expect_ply_mesh(load_scene(dir.write("crlf.ply", crlf)));
+}
+
+TEST(PlyReader, BinaryLittleAndBigEndianRoundTrip) {
+  TempDir dir;
+  expect_ply_mesh(load_scene(dir.write("le.ply", binary_ply(false))));
+  expect_ply_mesh(load_scene(dir.write("be.ply", binary_ply(true))));
+}
+
+std::string base64(const std::string& in) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    uint32_t n = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8 | uint8_t(in[i + 2]);
+    for (int s = 18; s >= 0; s -= 6) out += k[(n >> s) & 63];
+  }
+  if (i + 1 == in.size()) {
+    uint32_t n = uint32_t(uint8_t(in[i])) << 16;
+    out += k[(n >> 18) & 63]; out += k[(n >> 12) & 63]; out += "==";
+  } else if (i + 2 == in.size()) {
+    uint32_t n = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8;
+    out += k[(n >> 18) & 63]; out += k[(n >> 12) & 63]; out += k[(n >> 6) & 63]; out += '=';
+  }
+  return out;
+}
+
+TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
+  TempDir dir;
+  std::string buf;
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(buf, f, false);
+  for (uint16_t i : {0, 1, 2}) put<uint16_t>(buf, i, false);
+  buf.append(2, '\0');
+  const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0, "translation": [0, 0, 5]}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+    "materials": [{"name": "glow", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]}, "emissiveFactor": [1, 2, 3]}],
+    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" + base64(buf) + R"("}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+                  {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+  const Scene s = load_scene(dir.write("t.gltf", gltf));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_triangle(s.triangles[0], {0, 0, 5}, {1, 0, 5}, {0, 1, 5});
+  EXPECT_EQ(s.material_of(0).name, "glow");
+  expect_vec(s.material_of(0).emission, {1, 2, 3});
+  EXPECT_EQ(s.emissive_triangles.size(), 1u);
+  // A broken glTF names the file.
+  const std::string msg = testing::input_error_of([&] { load_scene(dir.write("bad.gltf", "{\"asset\": 3")); });
+  EXPECT_NE(msg.find("bad.gltf"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace rayscout
