@@ -1,6 +1,7 @@
-// Robust slab test of one ray against the 8 child boxes of a WideNode (private kernel).
+// Robust slab tests (private): one box, and the 8 child boxes of a WideNode with SIMD.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "rayscout/bvh/wide_bvh.h"
@@ -11,9 +12,30 @@
 
 namespace rayscout::detail {
 
-// The far-distance scale of core's intersect_box (Ize 2013): 1 + 2 gamma(3).
+// The far-distance scale of core's intersect_box (Ize 2013): 1 + 2 gamma(3) ...
 inline constexpr float kRobustScale =
     1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
+// ... and its mirror for a negative far distance, which must move towards zero to stay
+// conservative (traversal widens tmin below 0, see CullInterval).
+inline constexpr float kRobustScaleNegative = 2.0f - kRobustScale;
+
+/// Core's intersect_box (Ize 2013) with one change: a negative far distance is scaled by
+/// kRobustScaleNegative instead of kRobustScale, so the test is conservative for negative
+/// distances too. Never culls a box core's test accepts.
+inline bool intersect_box_robust(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
+                                 float tmax, float& tnear_out) {
+  float tnear = tmin, tfar = tmax;
+  for (int axis = 0; axis < 3; ++axis) {
+    float t0 = (box.lo[axis] - org[axis]) * inv_dir[axis];
+    float t1 = (box.hi[axis] - org[axis]) * inv_dir[axis];
+    if (t0 > t1) { const float s = t0; t0 = t1; t1 = s; }
+    t1 *= std::signbit(t1) ? kRobustScaleNegative : kRobustScale;
+    tnear = t0 > tnear ? t0 : tnear;  // NaN t0 keeps tnear
+    tfar = t1 < tfar ? t1 : tfar;     // NaN t1 keeps tfar
+  }
+  tnear_out = tnear;
+  return tnear <= tfar;
+}
 
 /// Per-ray constants of the wide box test, broadcast once per ray.
 struct WideRay {
@@ -33,18 +55,18 @@ struct WideRay {
 
 /// Tests the used slots of node against [tmin, tmax]; returns a bit mask of the hit slots and
 /// writes every slot's entry distance to dist. The same float operations in the same order
-/// as core's intersect_box, lane by lane, so the result is identical to the scalar test.
+/// as intersect_box_robust, lane by lane, so the result is identical to the scalar test.
 inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float tmax, float* dist) {
   const uint32_t used = (1u << node.count) - 1u;
 #if defined(__AVX2__)
-  const __m256 k = _mm256_set1_ps(kRobustScale);
+  const __m256 k = _mm256_set1_ps(kRobustScale), k_neg = _mm256_set1_ps(kRobustScaleNegative);
   __m256 tnear = r.tmin, tfar = _mm256_set1_ps(tmax);
   auto axis = [&](const float* lo, const float* hi, __m256 o, __m256 inv) {
     __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(lo), o), inv);
     __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(hi), o), inv);
     const __m256 swap = _mm256_cmp_ps(t0, t1, _CMP_GT_OQ);  // if (t0 > t1) swap, NaN: no swap
     const __m256 a = _mm256_blendv_ps(t0, t1, swap), b = _mm256_blendv_ps(t1, t0, swap);
-    t1 = _mm256_mul_ps(b, k);
+    t1 = _mm256_mul_ps(b, _mm256_blendv_ps(k, k_neg, b));  // blendv picks by b's sign bit
     // max_ps(x, y) = x > y ? x : y and min_ps(x, y) = x < y ? x : y: a NaN first operand
     // keeps the running value, exactly as the scalar ternaries.
     tnear = _mm256_max_ps(a, tnear);
@@ -58,19 +80,9 @@ inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float
 #else
   uint32_t mask = 0;
   for (uint32_t c = 0; c < node.count; ++c) {
-    float tnear = r.t_min, tfar = tmax;
-    const float lo[3] = {node.lo_x[c], node.lo_y[c], node.lo_z[c]};
-    const float hi[3] = {node.hi_x[c], node.hi_y[c], node.hi_z[c]};
-    for (int a = 0; a < 3; ++a) {
-      float t0 = (lo[a] - r.org[a]) * r.inv_dir[a];
-      float t1 = (hi[a] - r.org[a]) * r.inv_dir[a];
-      if (t0 > t1) { const float s = t0; t0 = t1; t1 = s; }
-      t1 *= kRobustScale;
-      tnear = t0 > tnear ? t0 : tnear;
-      tfar = t1 < tfar ? t1 : tfar;
-    }
+    float tnear;
+    if (intersect_box_robust(r.org, r.inv_dir, node.child_bounds(int(c)), r.t_min, tmax, tnear)) mask |= 1u << c;
     dist[c] = tnear;
-    if (tnear <= tfar) mask |= 1u << c;
   }
   return mask & used;
 #endif

@@ -2,6 +2,7 @@
 #include "rayscout/bvh/bvh2.h"
 #include "cull_distance.h"
 #include "traversal_stack.h"
+#include "box_test.h"
 
 namespace rayscout {
 namespace {
@@ -30,7 +31,7 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
   for (size_t k = start.size(); k-- > 0;) {
     float d;
     ++box_tests;
-    if (intersect_box(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, cull_t, d)) stack.push({start[k], d});
+    if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, cull_t, d)) stack.push({start[k], d});
   }
   while (!stack.empty()) {
     const Entry e = stack.pop();
@@ -52,8 +53,8 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
       continue;
     }
     float dl, dr;
-    const bool hl = intersect_box(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, cull_t, dl);
-    const bool hr = intersect_box(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, cull_t, dr);
+    const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, cull_t, dl);
+    const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, cull_t, dr);
     box_tests += 2;
     if (hl && hr) {
       if (dr < dl) {
@@ -93,7 +94,7 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
   for (size_t k = start.size(); k-- > 0;) {
     float d;
     ++box_tests;
-    if (intersect_box(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, box_tmax, d)) stack.push(start[k]);
+    if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, box_tmax, d)) stack.push(start[k]);
   }
   while (!stack.empty() && !hit) {
     ++steps;
@@ -110,8 +111,8 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
       continue;
     }
     float dl, dr;
-    const bool hl = intersect_box(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, box_tmax, dl);
-    const bool hr = intersect_box(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, box_tmax, dr);
+    const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, box_tmax, dl);
+    const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, box_tmax, dr);
     box_tests += 2;
     // Near child on top: an early hit ends the ray sooner.
     if (hl && hr) {

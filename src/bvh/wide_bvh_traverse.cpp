@@ -4,7 +4,7 @@
 #include "rayscout/bvh/wide_bvh.h"
 #include "cull_distance.h"
 #include "traversal_stack.h"
-#include "wide_box_test.h"
+#include "box_test.h"
 
 namespace rayscout {
 namespace {

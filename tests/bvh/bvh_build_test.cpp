@@ -1,0 +1,185 @@
+// Bvh2 and WideBvh construction: invariants on nasty and real meshes, corruption detection, determinism.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include <tbb/global_control.h>
+
+#include "generated_scenes.h"
+#include "rayscout/bvh/bvh2.h"
+#include "rayscout/bvh/wide_bvh.h"
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/scenes_dir.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout {
+namespace {
+
+bool small_scale() {
+  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
+  return s && std::string(s) == "small";
+}
+
+TEST(BvhBuild, NastyMeshesValidateForEveryLeafSizeAndBinCount) {
+  for (const auto& m : testing::nasty_meshes()) {
+    for (int leaf : {1, 4, 15}) {
+      for (int bins : {2, 32}) {
+        BvhBuildConfig c;
+        c.max_leaf_size = leaf;
+        c.bins = bins;
+        c.parallel_threshold = 64;  // exercise the parallel paths on small meshes
+        const Bvh2 bvh = Bvh2::build(m.triangles, c);
+        EXPECT_EQ(bvh.validate(m.triangles.size()), "") << m.name << " leaf " << leaf << " bins " << bins;
+        const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
+        EXPECT_EQ(wide.validate(m.triangles.size()), "") << m.name << " leaf " << leaf << " bins " << bins;
+        for (const Bvh2Node& n : bvh.nodes) EXPECT_LE(n.count, leaf) << m.name;
+        for (size_t i = 0; i < wide.prim_ids.size(); ++i)
+          ASSERT_EQ(std::memcmp(&wide.leaf_tris[i], &m.triangles[wide.prim_ids[i]], sizeof(Triangle)), 0);
+      }
+    }
+  }
+}
+
+TEST(BvhBuild, EqualCentroidsStillSplitDownToLeafSize) {
+  // The builder bins box centres: 600 copies of one triangle make every centre equal, so
+  // only the median fallback can split them; equal_centroids() shares vertex means only.
+  for (const auto& tris : {std::vector<Triangle>(600, testing::random_soup(1, 3)[0]), testing::equal_centroids(600, 4)}) {
+    const Bvh2 bvh = Bvh2::build(tris);
+    EXPECT_EQ(bvh.validate(tris.size()), "");
+    for (const Bvh2Node& n : bvh.nodes) EXPECT_LE(n.count, 4);
+    EXPECT_GE(bvh.nodes.size(), 2 * (600 / 4) - 1);
+    EXPECT_LE(bvh.depth(), 24);
+  }
+  const Bvh2 same = Bvh2::build(std::vector<Triangle>(600, testing::random_soup(1, 3)[0]));
+  EXPECT_LE(same.depth(), 8);  // median splits: ceil(log2(600 / 4))
+}
+
+TEST(BvhBuild, EmptyAndSingleTriangle) {
+  const Bvh2 empty = Bvh2::build({});
+  EXPECT_TRUE(empty.nodes.empty());
+  EXPECT_EQ(empty.validate(0), "");
+  EXPECT_EQ(WideBvh::build({}).validate(0), "");
+  const std::vector<Triangle> one = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
+  const Bvh2 b = Bvh2::build(one);
+  ASSERT_EQ(b.nodes.size(), 1u);
+  EXPECT_TRUE(b.nodes[0].is_leaf());
+  EXPECT_EQ(b.depth(), 0);
+  const WideBvh w = WideBvh::build(one);
+  EXPECT_EQ(w.validate(1), "");
+  ASSERT_EQ(w.nodes.size(), 1u);
+  EXPECT_EQ(w.nodes[0].count, 1u);
+}
+
+TEST(BvhBuild, BadConfigIsAnInputError) {
+  const auto tris = testing::random_soup(10, 1);
+  BvhBuildConfig c;
+  c.bins = 1;
+  EXPECT_THROW(Bvh2::build(tris, c), InputError);
+  c = {};
+  c.max_leaf_size = 16;
+  EXPECT_THROW(Bvh2::build(tris, c), InputError);
+}
+
+TEST(BvhBuild, SahTreeIsReasonable) {
+  // A uniform soup: SAH keeps the tree near-balanced and leaves near full.
+  const auto tris = testing::random_soup(20000, 5);
+  const Bvh2 bvh = Bvh2::build(tris);
+  EXPECT_LT(bvh.depth(), 40);
+  size_t leaves = 0;
+  for (const Bvh2Node& n : bvh.nodes) leaves += n.is_leaf();
+  EXPECT_EQ(bvh.nodes.size(), 2 * leaves - 1);
+  EXPECT_LT(leaves, tris.size());  // some leaves hold more than one triangle
+  const WideBvh wide = WideBvh::from_bvh2(bvh, tris);
+  EXPECT_LT(wide.nodes.size() * 4, bvh.nodes.size());  // about 7 binary nodes per wide node
+  EXPECT_LE(wide.depth(), bvh.depth() / 2 + 2);
+}
+
+TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
+  const auto tris = testing::random_soup(small_scale() ? 20000 : 100000, 9);
+  BvhBuildConfig c;
+  c.parallel_threshold = 1024;
+  auto build_with = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return Bvh2::build(tris, c);
+  };
+  const Bvh2 a = build_with(1), b = build_with(2);
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Bvh2Node)), 0);
+  EXPECT_EQ(a.prim_ids, b.prim_ids);
+  EXPECT_EQ(a.depth(), b.depth());
+}
+
+TEST(BvhValidate, DetectsCorruptedBinaryTrees) {
+  const auto tris = testing::random_soup(500, 2);
+  const Bvh2 good = Bvh2::build(tris);
+  ASSERT_EQ(good.validate(tris.size()), "");
+  ASSERT_FALSE(good.nodes[0].is_leaf());
+  const uint32_t left = good.nodes[0].first;
+
+  Bvh2 b = good;  // a child sticking out of its parent
+  b.nodes[left].bounds.hi.x += 1.0f;
+  EXPECT_NE(b.validate(tris.size()).find("not inside"), std::string::npos) << b.validate(tris.size());
+
+  b = good;  // a triangle twice, another lost
+  b.prim_ids[1] = b.prim_ids[0];
+  EXPECT_NE(b.validate(tris.size()).find("twice"), std::string::npos) << b.validate(tris.size());
+
+  b = good;  // a cycle back to the root's children
+  for (auto& n : b.nodes)
+    if (!n.is_leaf() && &n != &b.nodes[0]) { n.first = left; break; }
+  EXPECT_NE(b.validate(tris.size()), "");
+
+  b = good;  // an empty-looking leaf turned inner with children out of range
+  for (auto& n : b.nodes)
+    if (n.is_leaf()) { n.count = 0; n.first = uint32_t(b.nodes.size()); break; }
+  EXPECT_NE(b.validate(tris.size()).find("out of range"), std::string::npos) << b.validate(tris.size());
+
+  b = good;  // an unreachable extra node
+  b.nodes.push_back(b.nodes.back());
+  EXPECT_NE(b.validate(tris.size()).find("unreachable"), std::string::npos) << b.validate(tris.size());
+
+  EXPECT_NE(good.validate(tris.size() + 1), "");  // a triangle missing
+}
+
+TEST(BvhValidate, DetectsCorruptedWideTrees) {
+  const auto tris = testing::random_soup(2000, 3);
+  const WideBvh good = WideBvh::build(tris);
+  ASSERT_EQ(good.validate(tris.size()), "");
+  ASSERT_GT(good.nodes.size(), 1u);
+
+  WideBvh w = good;  // a child box too small for its subtree
+  w.nodes[0].hi_x[0] = w.nodes[0].lo_x[0];
+  EXPECT_NE(w.validate(tris.size()).find("inside"), std::string::npos) << w.validate(tris.size());
+
+  w = good;
+  w.prim_ids[0] = w.prim_ids[1];
+  EXPECT_NE(w.validate(tris.size()).find("twice"), std::string::npos) << w.validate(tris.size());
+
+  w = good;  // a triangle moved out of its leaf's box
+  w.leaf_tris[0].v0 = w.leaf_tris[0].v0 + Vec3(10.0f);
+  EXPECT_NE(w.validate(tris.size()).find("outside"), std::string::npos) << w.validate(tris.size());
+
+  w = good;
+  w.nodes[0].count = 0;
+  EXPECT_NE(w.validate(tris.size()), "");
+
+  w = good;
+  w.nodes.emplace_back(w.nodes.back());
+  EXPECT_NE(w.validate(tris.size()).find("unreachable"), std::string::npos) << w.validate(tris.size());
+}
+
+TEST(BvhBuild, RealSceneValidates) {
+  const auto path = find_scene_file("sibenik/sibenik.obj");
+  if (!path) GTEST_SKIP() << "sibenik/sibenik.obj not found under " << scenes_dir() << " (set RAYSCOUT_SCENES)";
+  const Scene scene = load_scene(*path);
+  const WideBvh wide = WideBvh::build(scene.triangles);
+  EXPECT_EQ(wide.validate(scene.triangles.size()), "");
+  const Bvh2 bvh = Bvh2::build(scene.triangles);
+  EXPECT_EQ(bvh.validate(scene.triangles.size()), "");
+  EXPECT_LT(bvh.depth(), 64);
+}
+
+}  // namespace
+}  // namespace rayscout

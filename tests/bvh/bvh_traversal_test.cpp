@@ -1,0 +1,185 @@
+// Bvh2 and WideBvh traversal: brute-force agreement per config, exact counters, start nodes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "generated_scenes.h"
+#include "rayscout/bvh/bvh_accelerators.h"
+#include "rayscout/core/hit_compare.h"
+
+namespace rayscout {
+namespace {
+
+std::vector<Triangle> quad_at(float x0) {  // two triangles spanning [x0, x0+1] x [0, 1] at z = 0
+  return {{{x0, 0, 0}, {x0 + 1, 0, 0}, {x0 + 1, 1, 0}}, {{x0, 0, 0}, {x0 + 1, 1, 0}, {x0, 1, 0}}};
+}
+
+Ray down_at(float x, float y) { return {{x, y, 1.0f}, 0.0f, {0, 0, -1}, kInfinity}; }
+
+TEST(BvhTraversal, MatchesBruteForceForLeafSizesAndBins) {
+  for (const auto& m : testing::nasty_meshes()) {
+    const RayBatch rays = testing::nasty_rays(m.triangles, 21);
+    HitBatch ref;
+    std::vector<uint8_t> ref_occ;
+    BruteForce(m.triangles).intersect(rays, ref);
+    BruteForce(m.triangles).occluded(rays, ref_occ);
+    for (int leaf : {1, 15}) {
+      BvhBuildConfig c;
+      c.max_leaf_size = leaf;
+      c.bins = leaf == 1 ? 8 : 32;
+      const Bvh2 bvh = Bvh2::build(m.triangles, c);
+      const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
+      size_t bad = 0, bad_occ = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit a = bvh.intersect<false>(rays[i], m.triangles, {}, nullptr);
+        const Hit b = wide.intersect<false>(rays[i], {}, nullptr);
+        const Hit r = ref[i];
+        bad += a.prim != r.prim || a.t != r.t || a.u != r.u || a.v != r.v;
+        bad += b.prim != r.prim || b.t != r.t || b.u != r.u || b.v != r.v;
+        bad_occ += bvh.occluded<false>(rays[i], m.triangles, {}, nullptr) != bool(ref_occ[i]);
+        bad_occ += wide.occluded<false>(rays[i], {}, nullptr) != bool(ref_occ[i]);
+      }
+      EXPECT_EQ(bad, 0u) << m.name << " leaf " << leaf;
+      EXPECT_EQ(bad_occ, 0u) << m.name << " leaf " << leaf;
+    }
+  }
+}
+
+TEST(BvhTraversal, CountersAreExactOnAHandCheckedScene) {
+  // Two quads far apart: the root splits them, each quad is one leaf of two triangles.
+  std::vector<Triangle> tris = quad_at(0.0f);
+  for (const auto& t : quad_at(10.0f)) tris.push_back(t);
+  const Bvh2 bvh = Bvh2::build(tris);
+  ASSERT_EQ(bvh.nodes.size(), 3u);
+  TraceStats s;
+  const Hit h = bvh.intersect<true>(down_at(0.75f, 0.25f), tris, {}, &s);
+  EXPECT_EQ(h.prim, 0u);
+  EXPECT_EQ(h.t, 1.0f);
+  EXPECT_EQ(s.traversal_steps, 2u);  // root, left leaf
+  EXPECT_EQ(s.ray_box_tests, 3u);    // root box, both children
+  EXPECT_EQ(s.ray_tri_tests, 2u);    // both triangles of the leaf
+  EXPECT_EQ(s.rays, 0u);
+
+  s = {};
+  EXPECT_FALSE(bvh.occluded<true>(down_at(5.0f, 0.5f), tris, {}, &s));  // between the quads
+  EXPECT_EQ(s.traversal_steps, 1u);
+  EXPECT_EQ(s.ray_box_tests, 3u);
+  EXPECT_EQ(s.ray_tri_tests, 0u);
+
+  const WideBvh wide = WideBvh::from_bvh2(bvh, tris);
+  ASSERT_EQ(wide.nodes.size(), 1u);
+  s = {};
+  EXPECT_EQ(wide.intersect<true>(down_at(10.25f, 0.75f), {}, &s).prim, 3u);
+  EXPECT_EQ(s.traversal_steps, 2u);  // root node, one leaf
+  EXPECT_EQ(s.ray_box_tests, 2u);    // the root's two used slots
+  EXPECT_EQ(s.ray_tri_tests, 2u);
+  s = {};
+  EXPECT_TRUE(wide.occluded<true>(down_at(0.75f, 0.25f), {}, &s));
+  EXPECT_EQ(s.traversal_steps, 2u);
+  EXPECT_EQ(s.ray_box_tests, 2u);
+  EXPECT_EQ(s.ray_tri_tests, 1u);  // early exit after the first triangle
+}
+
+TEST(BvhTraversal, StatsPathGivesTheSameResultsAndSummedCounts) {
+  const auto tris = testing::random_soup(3000, 8);
+  const RayBatch rays = testing::random_rays(4000, 9);
+  const Scene scene = testing::scene_from_triangles(tris);
+  for (int wide : {0, 1}) {
+    std::unique_ptr<Accelerator> accel;
+    if (wide) accel = std::make_unique<WideBvhAccelerator>(scene.triangles);
+    else accel = std::make_unique<Bvh2Accelerator>(scene.triangles);
+    HitBatch plain, counted;
+    TraceStats batch;
+    accel->intersect(rays, plain);
+    accel->intersect(rays, counted, &batch);
+    EXPECT_TRUE(compare_hits(plain, counted, 0.0f).ok());
+    EXPECT_EQ(plain.prim, counted.prim);
+    // The batch counters equal the sum of the single-ray counters.
+    TraceStats sum;
+    const auto* w = dynamic_cast<WideBvhAccelerator*>(accel.get());
+    const auto* b = dynamic_cast<Bvh2Accelerator*>(accel.get());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (w) w->bvh().intersect<true>(rays[i], {}, &sum);
+      else b->bvh().intersect<true>(rays[i], scene.triangles, {}, &sum);
+    }
+    EXPECT_EQ(batch.rays, rays.size());
+    EXPECT_EQ(batch.traversal_steps, sum.traversal_steps) << accel->name();
+    EXPECT_EQ(batch.ray_box_tests, sum.ray_box_tests) << accel->name();
+    EXPECT_EQ(batch.ray_tri_tests, sum.ray_tri_tests) << accel->name();
+    EXPECT_GT(sum.ray_tri_tests, 0u);
+    EXPECT_LT(sum.ray_tri_tests, rays.size() * tris.size() / 20) << "the tree should cull most triangles";
+
+    std::vector<uint8_t> occ_plain, occ_counted;
+    TraceStats occ_stats;
+    accel->occluded(rays, occ_plain);
+    accel->occluded(rays, occ_counted, &occ_stats);
+    EXPECT_EQ(occ_plain, occ_counted);
+    EXPECT_EQ(occ_stats.rays, rays.size());
+    EXPECT_LE(occ_stats.ray_tri_tests, batch.ray_tri_tests) << "any hit stops early";
+    EXPECT_GT(accel->build_info().memory_bytes, 0u);
+  }
+}
+
+TEST(BvhTraversal, StartingFromTheRootsChildrenEqualsStartingFromTheRoot) {
+  const auto tris = testing::random_soup(3000, 4);
+  const RayBatch rays = testing::random_rays(3000, 5);
+  const Bvh2 bvh = Bvh2::build(tris);
+  const WideBvh wide = WideBvh::from_bvh2(bvh, tris);
+  const uint32_t kids[2] = {bvh.nodes[0].first, bvh.nodes[0].first + 1};
+  const std::vector<uint32_t> wide_kids(wide.nodes[0].child, wide.nodes[0].child + wide.nodes[0].count);
+  size_t hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Hit a = bvh.intersect<false>(rays[i], tris, {}, nullptr);
+    const Hit b = bvh.intersect<false>(rays[i], tris, kids, nullptr);
+    const Hit c = wide.intersect<false>(rays[i], wide_kids, nullptr);
+    EXPECT_EQ(a.prim, b.prim);
+    EXPECT_EQ(a.t, b.t);
+    EXPECT_EQ(a.prim, c.prim);
+    EXPECT_EQ(a.t, c.t);
+    EXPECT_EQ(bvh.occluded<false>(rays[i], tris, {}, nullptr), bvh.occluded<false>(rays[i], tris, kids, nullptr));
+    EXPECT_EQ(wide.occluded<false>(rays[i], {}, nullptr), wide.occluded<false>(rays[i], wide_kids, nullptr));
+    hits += a.hit();
+  }
+  EXPECT_GT(hits, rays.size() / 4);
+}
+
+TEST(BvhTraversal, StartingFromNodesThatMissTheGeometryGivesAMiss) {
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 8; ++i)
+    for (const auto& t : quad_at(float(i) * 1.5f)) tris.push_back(t);  // quads at x = 0 .. 11.5
+  for (const auto& t : quad_at(100.0f)) tris.push_back(t);            // one far quad
+  const Bvh2 bvh = Bvh2::build(tris);
+  const WideBvh wide = WideBvh::from_bvh2(bvh, tris);
+  // Nodes and wide refs whose boxes lie left of x = 50: they miss a ray at x = 100.5.
+  std::vector<uint32_t> near_nodes, near_refs;
+  for (uint32_t i = 0; i < bvh.nodes.size(); ++i)
+    if (bvh.nodes[i].bounds.hi.x < 50.0f) near_nodes.push_back(i);
+  for (uint32_t c = 0; c < wide.nodes[0].count; ++c)
+    if (wide.nodes[0].child_bounds(int(c)).hi.x < 50.0f) near_refs.push_back(wide.nodes[0].child[c]);
+  ASSERT_FALSE(near_nodes.empty());
+  ASSERT_FALSE(near_refs.empty());
+  const Ray far_ray = down_at(100.5f, 0.25f), near_ray = down_at(3.25f, 0.75f);
+  EXPECT_TRUE(bvh.intersect<false>(far_ray, tris, {}, nullptr).hit());
+  EXPECT_TRUE(wide.intersect<false>(far_ray, {}, nullptr).hit());
+  EXPECT_FALSE(bvh.intersect<false>(far_ray, tris, near_nodes, nullptr).hit());
+  EXPECT_FALSE(bvh.occluded<false>(far_ray, tris, near_nodes, nullptr));
+  EXPECT_FALSE(wide.intersect<false>(far_ray, near_refs, nullptr).hit());
+  EXPECT_FALSE(wide.occluded<false>(far_ray, near_refs, nullptr));
+  // ...and still find what they do contain.
+  EXPECT_EQ(bvh.intersect<false>(near_ray, tris, near_nodes, nullptr).prim,
+            bvh.intersect<false>(near_ray, tris, {}, nullptr).prim);
+  EXPECT_EQ(wide.intersect<false>(near_ray, near_refs, nullptr).prim, bvh.intersect<false>(near_ray, tris, {}, nullptr).prim);
+  EXPECT_TRUE(wide.intersect<false>(near_ray, near_refs, nullptr).hit());
+}
+
+TEST(BvhTraversal, EmptyTreeMisses) {
+  const Bvh2 bvh = Bvh2::build({});
+  const WideBvh wide = WideBvh::build({});
+  EXPECT_FALSE(bvh.intersect<false>(down_at(0, 0), {}, {}, nullptr).hit());
+  EXPECT_EQ(bvh.intersect<false>(down_at(0, 0), {}, {}, nullptr).t, kInfinity);
+  EXPECT_FALSE(wide.intersect<false>(down_at(0, 0), {}, nullptr).hit());
+  EXPECT_FALSE(wide.occluded<false>(down_at(0, 0), {}, nullptr));
+}
+
+}  // namespace
+}  // namespace rayscout
