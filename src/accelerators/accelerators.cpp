@@ -6,6 +6,7 @@
 #include "rayscout/dacrt/dacrt.h"
 
 #include "rayscout/bvh/bvh_accelerators.h"
+#include "rayscout/shafts/shafts_accelerator.h"
 
 namespace rayscout {
 namespace {
@@ -36,6 +37,16 @@ const std::vector<Entry>& registry() {
       {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2)"},
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<WideBvhAccelerator>(s.triangles, bvh_config_from_options(o));
+       }},
+      {{"shafts", "ray classification, Hendrich et al. 2019: shaft candidate lists seed the binary BVH (options in docs/shafts.md)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, ShaftConfig::from_options(o),
+                                                    bvh_config_from_options(o));
+       }},
+      {{"shafts-wide", "ray classification over the 8-wide BVH, min hit probability 7/8 (options in docs/shafts.md)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o),
+                                                    bvh_config_from_options(o));
        }},
   };
   return entries;

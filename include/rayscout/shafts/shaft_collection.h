@@ -1,0 +1,98 @@
+// ShaftCollection: candidate lists of BVH nodes per shaft, the lookup that seeds traversal.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rayscout/core/ray.h"
+#include "rayscout/core/triangle.h"
+#include "rayscout/shafts/shaft_config.h"
+#include "rayscout/shafts/shaft_grid.h"
+#include "rayscout/shafts/tree_view.h"
+
+namespace rayscout {
+
+/// Build and memory figures of a collection (paper sec. 5 reports the same).
+struct ShaftStats {
+  double build_ms = 0.0;             ///< collection only (all budget iterations), BVH excluded
+  int build_rounds = 0;              ///< builds needed to meet the memory budget
+  std::array<int, 3> res{};          ///< voxels per axis
+  int dir_res = 0;
+  size_t voxels = 0, listed_voxels = 0;  ///< all voxels; voxels with a shaft table
+  size_t shafts = 0, listed_shafts = 0;  ///< all shafts; shafts with a list (incl. empty ones)
+  size_t empty_lists = 0;            ///< shafts proven to reach no geometry (rays return a miss)
+  size_t overflow_retries = 0;       ///< list rebuilds with a raised threshold
+  size_t overflow_fallbacks = 0;     ///< lists that stayed too long: cullNodeSubtree(root)
+  size_t unique_lists = 0;
+  size_t lookup_bytes = 0;           ///< voxel table + shaft entry table
+  size_t list_bytes = 0;             ///< list area after deduplication
+  size_t dedup_saved_bytes = 0;      ///< list bytes deduplication did not store
+  size_t budget_bytes = 0;
+  double mean_list = 0.0;            ///< mean length over non-empty listed shafts
+  int max_list = 0;
+  std::vector<size_t> length_histogram;  ///< [len] = shafts with a list of that length
+  size_t memory_bytes() const { return lookup_bytes + list_bytes; }
+  /// Multi-line human-readable summary.
+  std::string summary() const;
+};
+
+/// What a lookup gives: a candidate list (empty = start at the root) or "nothing reachable".
+struct Candidates {
+  std::span<const uint32_t> list;
+  bool nothing = false;  ///< the shaft provably reaches no geometry: the ray misses
+};
+
+/// The collection (paper sec. 4.1, fig. 4): a per-voxel table (base index into the entry
+/// table, or none), per listed voxel 6 d^2 packed entries (offset << 5 | length; 0 = no
+/// list), and one concatenated area of 4-byte node references. Identical lists share storage.
+class ShaftCollection {
+ public:
+  static constexpr uint32_t kNoVoxel = 0xFFFFFFFFu;
+  static constexpr uint32_t kEmptyList = 0xFFFFFFE0u;  ///< length 0, offset all ones
+
+  /// Traces a ray from the root to its closest hit t (infinity on a miss); must be thread-safe.
+  using TraceFn = std::function<float(const Ray&)>;
+
+  /// Builds over tree (the lists hold tree.ref values) for the scene box `box`. memory of
+  /// the BVH sets the relative budget; sample_rays (may be empty) are the pre-pass rays
+  /// for select=camera. Parallel (oneTBB); same result for any thread count.
+  static ShaftCollection build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
+                               std::span<const Triangle> tris, const TraceFn& trace,
+                               const RayBatch& sample_rays, const ShaftConfig& config);
+  /// Builds for a fixed grid (no budget loop). Used by build() and tests.
+  static ShaftCollection build_grid(const TreeView& tree, const ShaftGrid& grid,
+                                    std::span<const Triangle> tris, const TraceFn& trace,
+                                    const RayBatch& sample_rays, const ShaftConfig& config);
+
+  /// The ray's candidates (Algorithm "traversal", sec. 4.5).
+  Candidates lookup(const Ray& ray) const {
+    ShaftCoord c;
+    if (!grid_.classify(ray, c)) return {};
+    return lookup(c);
+  }
+  Candidates lookup(ShaftCoord c) const {
+    const uint32_t base = voxel_base_[c.voxel];
+    if (base == kNoVoxel) return {};
+    const uint32_t e = entries_[base + c.cell];
+    if (e == kEmptyList) return {{}, true};
+    return {{lists_.data() + (e >> 5), e & 31u}, false};
+  }
+
+  const ShaftGrid& grid() const { return grid_; }
+  const ShaftStats& stats() const { return stats_; }
+  size_t memory_bytes() const { return stats_.memory_bytes(); }
+
+ private:
+  ShaftGrid grid_;
+  std::vector<uint32_t> voxel_base_;
+  std::vector<uint32_t> entries_;
+  std::vector<uint32_t> lists_;
+  ShaftStats stats_;
+};
+
+}  // namespace rayscout

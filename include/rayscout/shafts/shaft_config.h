@@ -1,0 +1,46 @@
+// ShaftConfig: the tunables of a shaft collection (ray classification, Hendrich et al. 2019).
+#pragma once
+
+#include <string>
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout {
+
+/// Tunables of a shaft collection. Defaults follow the authors' reference implementation
+/// (PBRT-v3 fork, branch frustum_shafts) where it has one; see docs/shafts.md.
+struct ShaftConfig {
+  /// Absolute memory budget of the collection in MiB (lookup tables + list area); 0 = use
+  /// budget_rel. The spatial resolution is derived from the budget (paper sec. 4.1).
+  double budget_mib = 0.0;
+  /// Budget relative to the memory of the BVH the lists point into (used when budget_mib = 0).
+  double budget_rel = 1.0;
+  /// Total voxel count; > 0 overrides the budget (sweeps). Voxels are kept near-cubical.
+  long voxels = 0;
+  /// Direction cells per cube-map face edge: 6 d^2 direction cells per voxel.
+  int dir_res = 4;
+  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20).
+  int samples = 20;
+  /// Expand a node when its hit probability is >= this; < 0 = (k-1)/k for a k-ary BVH.
+  double min_prob = -1.0;
+  /// Maximum candidate list length (at most 31: the length is packed into 5 bits).
+  int max_list = 31;
+  /// On overflow the threshold becomes min_prob + (i+1)/20 for i < retries; after that the
+  /// list is the single node cullNodeSubtree(root).
+  int retries = 10;
+  /// Which shafts get lists: "occupied" (every direction of each voxel holding geometry) or
+  /// "camera" (most used shafts of a ray-sampling pre-pass from scene.camera, paper sec. 4.4).
+  std::string select = "occupied";
+  /// "camera": fraction of the pre-pass rays whose shafts get lists.
+  double coverage = 0.95;
+  /// "camera": pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
+  /// plus one diffuse bounce and one shadow ray per point light at each hit.
+  int prepass_width = 96;
+  /// Seed of the sample rays (the result is the same for any thread count).
+  unsigned seed = 1;
+
+  /// Reads the keys above from options (--accel-opt key=value); throws InputError on a bad value.
+  static ShaftConfig from_options(const AcceleratorOptions& options);
+};
+
+}  // namespace rayscout

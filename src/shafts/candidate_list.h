@@ -1,0 +1,103 @@
+// Candidate list of one shaft: Algorithm 1 of Hendrich et al. 2019 generalised to k-ary trees.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "rayscout/core/triangle.h"
+#include "rayscout/shafts/shaft.h"
+#include "rayscout/shafts/tree_view.h"
+
+namespace rayscout::detail {
+
+/// Sample rays of one shaft with their real closest-hit distances (occlusion counts).
+struct ShaftSamples {
+  std::vector<Vec3> org, inv_dir;
+  std::vector<float> hit_t;
+};
+
+/// Builds candidate lists of one shaft for a given threshold; scratch is reused.
+class CandidateListBuilder {
+ public:
+  CandidateListBuilder(const TreeView& tree, const Shaft& shaft, const ShaftSamples& samples)
+      : tree_(tree), shaft_(shaft), samples_(samples) {}
+
+  /// Fraction of sample rays that enter node's box before their hit (getHitProbability).
+  double hit_probability(uint32_t node) const {
+    const size_t n = samples_.hit_t.size();
+    if (n == 0) return 1.0;
+    const Bounds3& b = tree_.bounds[node];
+    size_t hits = 0;
+    for (size_t i = 0; i < n; ++i) {
+      float tn;
+      hits += intersect_box(samples_.org[i], samples_.inv_dir[i], b, 0.0f, samples_.hit_t[i], tn);
+    }
+    return double(hits) / double(n);
+  }
+
+  /// cullNodeSubtree: descends while exactly one child overlaps the shaft; returns that
+  /// descendant, or kNone when no child overlaps (the subtree is unreachable).
+  uint32_t cull_subtree(uint32_t node) const {
+    for (;;) {
+      if (tree_.is_leaf(node)) return node;
+      uint32_t only = kNone;
+      int overlapping = 0;
+      for (uint32_t c : tree_.children(node))
+        if (shaft_.overlaps(tree_.bounds[c])) { only = c; if (++overlapping > 1) return node; }
+      if (overlapping == 0) return kNone;
+      node = only;
+    }
+  }
+
+  /// Algorithm 1 with threshold min_prob. Appends tree refs to out, near first. Returns false
+  /// (out then incomplete) as soon as the list exceeds max_len.
+  bool build(double min_prob, int max_len, std::vector<uint32_t>& out) {
+    out.clear();
+    stack_.clear();
+    stack_.push_back(tree_.root);
+    while (!stack_.empty()) {
+      uint32_t node = stack_.back();
+      stack_.pop_back();
+      if (!shaft_.overlaps(tree_.bounds[node])) continue;
+      if (!tree_.is_leaf(node)) {
+        if (hit_probability(node) >= min_prob) {
+          push_children_far_first(node);
+          continue;
+        }
+        node = cull_subtree(node);
+        if (node == kNone) continue;
+      }
+      out.push_back(tree_.ref[node]);
+      if (int(out.size()) > max_len) return false;
+    }
+    return true;
+  }
+
+  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+
+ private:
+  void push_children_far_first(uint32_t node) {
+    const auto kids = tree_.children(node);
+    const Vec3& dir = shaft_.center_dir();
+    if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
+      const bool left_near = dir[tree_.split_axis[node]] > 0.0f;
+      stack_.push_back(left_near ? kids[1] : kids[0]);
+      stack_.push_back(left_near ? kids[0] : kids[1]);
+      return;
+    }
+    order_.assign(kids.begin(), kids.end());
+    std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+      const float da = dot(tree_.bounds[a].center(), dir), db = dot(tree_.bounds[b].center(), dir);
+      return da > db || (da == db && a > b);  // farthest first on the stack
+    });
+    stack_.insert(stack_.end(), order_.begin(), order_.end());
+  }
+
+  const TreeView& tree_;
+  const Shaft& shaft_;
+  const ShaftSamples& samples_;
+  std::vector<uint32_t> stack_, order_;
+};
+
+}  // namespace rayscout::detail

@@ -1,0 +1,69 @@
+// Ray-sampling pre-pass from the scene camera.
+#include "rayscout/shafts/ray_sampling.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace rayscout {
+namespace {
+
+struct Rng {
+  uint64_t s;
+  float next() {
+    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return float((z ^ (z >> 31)) >> 40) * (1.0f / 16777216.0f);
+  }
+};
+
+Vec3 cosine_direction(const Vec3& n, Rng& rng) {
+  const float r1 = rng.next(), r2 = rng.next();
+  const float phi = 2.0f * std::numbers::pi_v<float> * r1, r = std::sqrt(r2);
+  const Vec3 t = std::fabs(n.x) > 0.5f ? normalize(cross(n, Vec3{0, 1, 0})) : normalize(cross(n, Vec3{1, 0, 0}));
+  const Vec3 b = cross(n, t);
+  return t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0f, 1.0f - r2));
+}
+
+}  // namespace
+
+RayBatch camera_prepass_rays(const Scene& scene, const std::function<Hit(const Ray&)>& trace,
+                             int width, unsigned seed) {
+  RayBatch out;
+  if (scene.triangles.empty() || width < 1) return out;
+  const int height = std::max(1, width * 3 / 4);
+  const Camera& cam = scene.camera;
+  const Vec3 fwd = normalize(cam.look_at - cam.eye);
+  Vec3 right = cross(fwd, cam.up);
+  right = length(right) > 0.0f ? normalize(right) : Vec3{1, 0, 0};
+  const Vec3 up = cross(right, fwd);
+  const float th = std::tan(0.5f * cam.fov_deg * std::numbers::pi_v<float> / 180.0f);
+  const float tw = th * float(width) / float(height);
+  const float eps = 1e-4f * length(scene.bounds().diagonal());
+  Rng rng{uint64_t(seed) * 0x9E3779B97F4A7C15ull + 7};
+  auto spawn_at = [&](const Ray& ray, const Hit& h) {
+    const Vec3 p = ray.org + ray.dir * h.t;
+    Vec3 n = normalize(scene.triangles[h.prim].normal());
+    if (dot(n, ray.dir) > 0.0f) n = -n;
+    Ray d{p, eps, cosine_direction(n, rng), kInfinity};
+    out.push_back(d);
+    for (size_t l = 0; l < std::min<size_t>(4, scene.point_lights.size()); ++l)
+      out.push_back(Ray{p, eps, scene.point_lights[l].position - p, 1.0f - 1e-4f});
+    return d;
+  };
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tw;
+      const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * th;
+      const Ray primary{cam.eye, 0.0f, normalize(fwd + right * sx + up * sy), kInfinity};
+      out.push_back(primary);
+      const Hit h = trace(primary);
+      if (!h.hit()) continue;
+      const Ray d = spawn_at(primary, h);
+      const Hit h2 = trace(d);
+      if (h2.hit()) spawn_at(d, h2);
+    }
+  return out;
+}
+
+}  // namespace rayscout

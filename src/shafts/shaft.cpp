@@ -1,0 +1,79 @@
+// Shaft: separating axes of voxel (+) cone, and sample rays inside the shaft.
+#include "rayscout/shafts/shaft.h"
+
+#include <cmath>
+
+namespace rayscout {
+namespace {
+
+using D3 = std::array<double, 3>;
+
+D3 cross3(const D3& a, const D3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+}  // namespace
+
+Shaft::Shaft(const ShaftGrid& grid, ShaftCoord coord) {
+  voxel_ = grid.voxel_box(coord.voxel);
+  cell_ = grid.cell_range(coord.cell);
+  const Vec3 gd = grid.box().diagonal();
+  const double pad = kPadSpace * std::sqrt(double(gd.x) * gd.x + double(gd.y) * gd.y + double(gd.z) * gd.z);
+  for (int k = 0; k < 3; ++k) {
+    vlo_[k] = double(voxel_.lo[k]) - pad;
+    vhi_[k] = double(voxel_.hi[k]) + pad;
+  }
+  // Cone edges: the four corner directions of the padded cell.
+  const int ua = cell_.axis == 2 ? 0 : cell_.axis + 1, va = ua == 2 ? 0 : ua + 1;
+  const double us[2] = {cell_.u0 - kPadDir, cell_.u1 + kPadDir};
+  const double vs[2] = {cell_.v0 - kPadDir, cell_.v1 + kPadDir};
+  std::array<D3, 4> edges;
+  const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // cyclic order around the cone
+  for (int i = 0; i < 4; ++i) {
+    D3 e{};
+    e[cell_.axis] = cell_.sign;
+    e[ua] = us[corner[i][0]];
+    e[va] = vs[corner[i][1]];
+    edges[i] = e;
+  }
+  std::vector<D3> candidates;
+  for (int k = 0; k < 3; ++k) {
+    D3 n{};
+    n[k] = 1.0;
+    candidates.push_back(n);  // back / outer voxel faces
+    for (const auto& e : edges) candidates.push_back(cross3(e, n));  // bevel planes
+  }
+  for (int i = 0; i < 4; ++i) candidates.push_back(cross3(edges[i], edges[(i + 1) % 4]));  // sides
+  for (auto n : candidates) {
+    const double len = std::sqrt(dot3(n, n));
+    if (len < 1e-12) continue;
+    for (auto& c : n) c /= len;
+    // Keep an axis only when the whole cone projects on one side of it; dots within 1e-12
+    // of zero count as zero (an edge lying in the plane).
+    bool pos = true, neg = true;
+    for (const auto& e : edges) {
+      const double s = dot3(e, n);
+      if (s < -1e-12) pos = false;
+      if (s > 1e-12) neg = false;
+    }
+    if (neg && !pos)
+      for (auto& c : n) c = -c;
+    if (pos || neg) axes_.push_back(n);
+  }
+  const Vec3 c = ShaftGrid::face_direction(cell_, 0.5 * (cell_.u0 + cell_.u1), 0.5 * (cell_.v0 + cell_.v1));
+  center_dir_ = normalize(c);
+}
+
+Ray Shaft::sample_ray(const float rnd[5]) const {
+  Ray r;
+  const Vec3 d = voxel_.diagonal();
+  r.org = voxel_.lo + Vec3{d.x * rnd[0], d.y * rnd[1], d.z * rnd[2]};
+  r.dir = normalize(ShaftGrid::face_direction(cell_, cell_.u0 + (cell_.u1 - cell_.u0) * rnd[3],
+                                              cell_.v0 + (cell_.v1 - cell_.v0) * rnd[4]));
+  r.tmin = 0.0f;
+  r.tmax = kInfinity;
+  return r;
+}
+
+}  // namespace rayscout

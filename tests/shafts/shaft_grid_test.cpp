@@ -1,0 +1,118 @@
+// ShaftGrid: resolution from a voxel count, classification inside, outside and on borders.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "rayscout/shafts/shaft.h"
+#include "rayscout/shafts/shaft_grid.h"
+
+namespace rayscout {
+namespace {
+
+TEST(ShaftGrid, CubicalResolutionFollowsTheBoxShape) {
+  const Bounds3 box{{0, 0, 0}, {4, 2, 1}};
+  const auto res = ShaftGrid::cubical_resolution(box, 8 * 8 * 8);
+  // Voxel side ~ (8 / 512)^(1/3) = 0.25: 16 x 8 x 4.
+  EXPECT_EQ(res[0], 16);
+  EXPECT_EQ(res[1], 8);
+  EXPECT_EQ(res[2], 4);
+  const auto flat = ShaftGrid::cubical_resolution(Bounds3{{0, 0, 0}, {1, 1, 0}}, 100);
+  EXPECT_EQ(flat[2], 1);
+  EXPECT_EQ(flat[0], 10);
+}
+
+TEST(ShaftGrid, ClassifiesOriginVoxelAndDirectionCell) {
+  const ShaftGrid g(Bounds3{{0, 0, 0}, {4, 4, 4}}, {4, 4, 4}, 2);
+  ShaftCoord c;
+  ASSERT_TRUE(g.classify(Ray{{1.5f, 2.5f, 3.5f}, 0.0f, {1.0f, 0.5f, -0.5f}, kInfinity}, c));
+  EXPECT_EQ(c.voxel, g.voxel_id(1, 2, 3));
+  // Face +x (0), u = y / x = 0.5 -> cell 1, v = z / x = -0.5 -> cell 0.
+  EXPECT_EQ(c.cell, (0u * 2 + 0) * 2 + 1);
+  ASSERT_TRUE(g.classify(Ray{{0.5f, 0.5f, 0.5f}, 0.0f, {0.0f, 0.0f, -2.0f}, kInfinity}, c));
+  const auto r = g.cell_range(c.cell);
+  EXPECT_EQ(r.axis, 2);
+  EXPECT_EQ(r.sign, -1);
+}
+
+TEST(ShaftGrid, RejectsRaysItCannotClassifySafely) {
+  const ShaftGrid g(Bounds3{{0, 0, 0}, {1, 1, 1}}, {4, 4, 4}, 3);
+  ShaftCoord c;
+  EXPECT_FALSE(g.classify(Ray{{0.5f, 0.5f, 0.5f}, -1.0f, {1, 0, 0}, kInfinity}, c));   // tmin < 0
+  EXPECT_FALSE(g.classify(Ray{{0.5f, 0.5f, 0.5f}, 0.0f, {0, 0, 0}, kInfinity}, c));    // zero dir
+  EXPECT_FALSE(g.classify(Ray{{0.5f, 0.5f, NAN}, 0.0f, {1, 0, 0}, kInfinity}, c));     // NaN
+  EXPECT_FALSE(g.classify(Ray{{2.0f, 0.5f, 0.5f}, 0.0f, {1, 0, 0}, kInfinity}, c));    // away
+  EXPECT_FALSE(g.classify(Ray{{2.0f, 2.0f, 0.5f}, 0.0f, {0, 1, 0}, kInfinity}, c));    // parallel, outside slab
+  EXPECT_FALSE(g.classify(Ray{{-100.0f, 0.5f, 0.5f}, 0.0f, {1, 0, 0}, kInfinity}, c)); // too far
+}
+
+TEST(ShaftGrid, OutsideOriginsAreClassifiedAtTheirEntryPoint) {
+  const ShaftGrid g(Bounds3{{0, 0, 0}, {1, 1, 1}}, {4, 4, 4}, 3);
+  ShaftCoord c;
+  ASSERT_TRUE(g.classify(Ray{{-1.0f, 0.6f, 0.1f}, 0.0f, {1, 0, 0}, kInfinity}, c));
+  EXPECT_EQ(c.voxel, g.voxel_id(0, 2, 0));
+  ASSERT_TRUE(g.classify(Ray{{2.0f, 2.0f, 0.9f}, 0.0f, {-1, -1, 0}, kInfinity}, c));
+  EXPECT_EQ(c.voxel, g.voxel_id(3, 3, 3));
+  // Enters through a corner region from below.
+  ASSERT_TRUE(g.classify(Ray{{0.3f, -3.0f, 0.3f}, 0.0f, {0, 1, 0}, kInfinity}, c));
+  EXPECT_EQ(c.voxel, g.voxel_id(1, 0, 1));
+}
+
+// Every direction, including axis-parallel ones and ones exactly on cube-map face borders,
+// lies in the padded cone of the cell it is classified into.
+TEST(ShaftGrid, DirectionsLieInTheirCell) {
+  for (int d : {1, 2, 3, 5}) {
+    const ShaftGrid g(Bounds3{{0, 0, 0}, {1, 1, 1}}, {1, 1, 1}, d);
+    std::vector<Vec3> dirs;
+    const float vals[] = {-1.0f, -0.5f, 0.0f, 1.0f / 3.0f, 0.5f, 1.0f, 0.2f, -0.6f};
+    for (float x : vals)
+      for (float y : vals)
+        for (float z : vals)
+          if (x != 0 || y != 0 || z != 0) dirs.push_back({x, y, z});
+    std::mt19937 rng(5);
+    std::normal_distribution<float> n;
+    for (int i = 0; i < 2000; ++i) dirs.push_back({n(rng), n(rng), n(rng)});
+    for (const Vec3& dir : dirs) {
+      const auto r = g.cell_range(g.dir_cell(dir));
+      const int ua = r.axis == 2 ? 0 : r.axis + 1, va = ua == 2 ? 0 : ua + 1;
+      const double m = double(dir[r.axis]) * r.sign;
+      ASSERT_GT(m, 0.0) << dir.x << " " << dir.y << " " << dir.z;
+      const double u = dir[ua] / m, v = dir[va] / m;
+      EXPECT_GE(u, r.u0 - Shaft::kPadDir);
+      EXPECT_LE(u, r.u1 + Shaft::kPadDir);
+      EXPECT_GE(v, r.v0 - Shaft::kPadDir);
+      EXPECT_LE(v, r.v1 + Shaft::kPadDir);
+    }
+  }
+}
+
+TEST(Shaft, OverlapsEveryReachablePointAndCullsTheBackSide) {
+  const ShaftGrid g(Bounds3{{0, 0, 0}, {1, 1, 1}}, {5, 4, 3}, 3);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  size_t culled = 0, tested = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const ShaftCoord coord{uint32_t(rng() % g.voxel_count()), uint32_t(rng() % g.cells_per_voxel())};
+    const Shaft shaft(g, coord);
+    for (int i = 0; i < 50; ++i) {
+      float rnd[5];
+      for (float& r : rnd) r = u01(rng);
+      const Ray ray = shaft.sample_ray(rnd);
+      const Vec3 p = ray.org + ray.dir * (3.0f * u01(rng));
+      EXPECT_TRUE(shaft.overlaps(Bounds3{p, p})) << "a reachable point was culled";
+      // A random small box anywhere: count culls so the test shows the shaft culls at all.
+      const Vec3 q{u01(rng) * 3 - 1, u01(rng) * 3 - 1, u01(rng) * 3 - 1};
+      ++tested;
+      culled += !shaft.overlaps(Bounds3{q, q + Vec3{0.01f}});
+    }
+    // Behind the voxel along the face axis: unreachable.
+    const auto r = g.cell_range(coord.cell);
+    Bounds3 vb = g.voxel_box(coord.voxel), behind = vb;
+    if (r.sign > 0) { behind.hi[r.axis] = vb.lo[r.axis] - 0.01f; behind.lo[r.axis] = behind.hi[r.axis] - 0.1f; }
+    else { behind.lo[r.axis] = vb.hi[r.axis] + 0.01f; behind.hi[r.axis] = behind.lo[r.axis] + 0.1f; }
+    EXPECT_FALSE(shaft.overlaps(behind));
+  }
+  EXPECT_GT(culled, tested / 2) << "narrow shafts should cull most random boxes";
+}
+
+}  // namespace
+}  // namespace rayscout
