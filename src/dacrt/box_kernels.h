@@ -33,13 +33,13 @@ inline constexpr float kRobustScale =
 /// conservative; the hit itself is always decided by intersect_triangle and is_closer.
 inline constexpr float kHitSlack = 1.0f / 4096.0f;
 
-/// A box grown by 2^-18 of its largest coordinate magnitude on every side: the absolute part
-/// of the same rounding (a ray starting on a flat box's plane, t = 0 ties).
-inline Bounds3 padded(const Bounds3& b) {
-  const float m = std::max(max_component(abs(b.lo)), max_component(abs(b.hi)));
-  const Vec3 pad(m * (1.0f / 262144.0f));
-  return {b.lo - pad, b.hi + pad};
-}
+/// A box grown by pad on every side: the absolute part of the same rounding (a ray leaving a
+/// flat box's plane at t ~ 0; a hit t carries errors of the order of an ulp of the largest
+/// coordinate involved, scene or ray origin). See pad_for().
+inline Bounds3 padded(const Bounds3& b, float pad) { return {b.lo - Vec3(pad), b.hi + Vec3(pad)}; }
+
+/// The padding for coordinates up to magnitude m: 2^-18 m, about 32 ulps.
+inline float pad_for(float m) { return m * (1.0f / 262144.0f); }
 
 /// The tmax used to filter a ray: t + |t| kHitSlack (+inf stays +inf, a retired ray's -inf
 /// becomes NaN, which every box test rejects).

@@ -2,6 +2,7 @@
 #include "rayscout/dacrt/dacrt.h"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <numeric>
 
@@ -78,8 +79,11 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
     cb.extend(centroids[p]);
   }
 
+  float magnitude = std::max(max_component(abs(box.lo)), max_component(abs(box.hi)));
+  for (size_t i = 0; i < n; ++i)
+    magnitude = std::max(magnitude, std::max(std::fabs(rays.ox[i]), std::max(std::fabs(rays.oy[i]), std::fabs(rays.oz[i]))));
   dacrt::TraceContext ctx{&config_, rec.data(), pre.data(), triangles_.data(), centroids.data(), boxes.data(),
-                          {nullptr, nullptr, nullptr}, nullptr};
+                          {nullptr, nullptr, nullptr}, nullptr, dacrt::pad_for(magnitude)};
   if constexpr (kOccluded) ctx.occ = occluded->data();
   else ctx.hits = {hits->prim.data(), hits->u.data(), hits->v.data()};
 

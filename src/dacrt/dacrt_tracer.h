@@ -23,6 +23,7 @@ struct TraceContext {
   const Bounds3* tri_boxes;   ///< per triangle id
   HitOut hits;                ///< closest-hit outputs (intersect)
   uint8_t* occ;               ///< any-hit outputs (occluded)
+  float pad;                  ///< world-space box padding of filtering, pad_for(max coordinate)
 };
 
 /// One triangle split: tid[0, n_left) left, the rest right.
@@ -55,7 +56,7 @@ class DacrtTracer {
  private:
   size_t partition(uint32_t* rid, size_t nr, const Bounds3& box) {
     if constexpr (kStats) { stats.ray_box_tests += nr; details.partition_box_tests += nr; }
-    return partition_rays(ctx_.rays, rid, nr, padded(box), scratch_);
+    return partition_rays(ctx_.rays, rid, nr, padded(box, ctx_.pad), scratch_);
   }
 
   void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {

@@ -1,0 +1,260 @@
+// dacrt_bench: the experiments of the ray-sampling DACRT paper (Nabata et al., IPSJ Journal
+// 2014): frame times of Afra's DACRT and the ray-sampled DACRT per resolution and bounce,
+// the ablation, the sampling strategies, ray-box test reduction, and bvh/embree including
+// their build on the same ray sets. Prints markdown tables and writes JSON for the plots.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/core/scenes_dir.h"
+#include "rayscout/dacrt/dacrt.h"
+#include "rayscout/scene/load_scene.h"
+#include "ray_sets.h"
+#include "views.h"
+
+using namespace rayscout;
+using namespace rayscout::bench;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Options {
+  std::vector<std::string> views;
+  std::vector<int> res{512, 1024, 2048};
+  bool big = false;
+  int reps = 3;
+  int threads = 1;
+  std::vector<std::string> experiments{"resolution", "ablation", "sampling", "counts", "peers"};
+  std::string json = "docs/dacrt_results.json";
+  int study_res = 2048;
+  std::vector<std::string> study_views{"sibenik-a", "sponza-a"};
+};
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+void trace(const Accelerator& a, const RaySet& s, TraceStats* st = nullptr) {
+  if (s.occlusion) {
+    std::vector<uint8_t> occ;
+    a.occluded(s.rays, occ, st);
+  } else {
+    HitBatch hits;
+    a.intersect(s.rays, hits, st);
+  }
+}
+
+/// Median wall time of reps trace calls (ms).
+double time_trace(const Accelerator& a, const RaySet& s, int reps) {
+  std::vector<double> t;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = Clock::now();
+    trace(a, s);
+    t.push_back(ms_since(t0));
+  }
+  return median(t);
+}
+
+std::unique_ptr<Accelerator> make(const std::string& name, const Scene& scene, const Options& o,
+                                  const std::vector<std::string>& extra = {}) {
+  AcceleratorOptions opts;
+  if (name.rfind("dacrt", 0) == 0) opts.set("parallel", o.threads > 1 ? "on" : "off");
+  for (const auto& e : extra) opts.set(e);
+  return make_accelerator(name, scene, opts);
+}
+
+std::string set_label(const RaySet& s) { return s.kind + (s.bounce ? "@" + std::to_string(s.bounce) : ""); }
+
+bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"Experiments of the ray-sampling DACRT paper"};
+  for (const auto& v : paper_views()) o.views.push_back(v.name);
+  app.add_option("--views", o.views, "views (default: all nine)")->delimiter(',');
+  app.add_option("--res", o.res, "square resolutions")->delimiter(',');
+  app.add_flag("--big", o.big, "also 4096^2");
+  app.add_option("--reps", o.reps, "repetitions per measurement (median)");
+  app.add_option("--threads", o.threads, "threads (1 = the paper's single thread; dacrt parallel=on when > 1)");
+  app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers")->delimiter(',');
+  app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers");
+  app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
+  app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)");
+  CLI11_PARSE(app, argc, argv);
+  if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+  auto wants = [&](const std::string& e) { return contains(o.experiments, e); };
+
+  nlohmann::json out;
+  out["threads"] = o.threads;
+  out["reps"] = o.reps;
+  fmt::print("# dacrt_bench: threads={} reps={} (median)\n\n", o.threads, o.reps);
+
+  std::map<std::string, std::shared_ptr<Scene>> scenes;
+  auto scene_of = [&](const View& v) -> std::shared_ptr<Scene> {
+    auto it = scenes.find(v.file);
+    if (it != scenes.end()) return it->second;
+    auto path = find_scene_file(v.file);
+    if (!path) return nullptr;
+    auto s = std::make_shared<Scene>(load_scene(*path));
+    scenes[v.file] = s;
+    return s;
+  };
+  auto ray_sets = [&](const View& v, const Scene& scene, int res) {
+    auto bvh = make_accelerator("bvh", scene);
+    return make_ray_sets(scene, v, res, res, *bvh);
+  };
+
+  // 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
+  if (wants("resolution")) {
+    fmt::print("## Tracing time per resolution and batch (ms)\n\n");
+    fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | ratio | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
+    for (const auto& v : paper_views()) {
+      if (!contains(o.views, v.name)) continue;
+      auto scene = scene_of(v);
+      if (!scene) { fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file); continue; }
+      auto afra = make("dacrt", *scene, o), rs = make("dacrt-rs", *scene, o);
+      for (int res : o.res) {
+        const auto sets = ray_sets(v, *scene, res);
+        double fa = 0, fr = 0;
+        for (const auto& s : sets) {
+          const double ta = time_trace(*afra, s, o.reps), tr = time_trace(*rs, s, o.reps);
+          fa += ta; fr += tr;
+          fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, set_label(s), s.rays.size(), ta, tr, ta / tr);
+          out["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
+                                       {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
+        }
+        const auto& pr = paper_ratios().at(v.name);
+        const double paper = pr.count(res) ? pr.at(res) : 0.0;
+        fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {:.2f} |\n", v.name, res, fa, fr, fa / fr, paper);
+        out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr}, {"paper_ratio", paper}});
+        std::fflush(stdout);
+      }
+    }
+    fmt::print("\n");
+  }
+
+  // 2-5. Studies at one resolution on a few views.
+  const bool studies = wants("ablation") || wants("sampling") || wants("counts") || wants("peers");
+  for (const auto& v : paper_views()) {
+    if (!studies || !contains(o.study_views, v.name)) continue;
+    auto scene = scene_of(v);
+    if (!scene) { fmt::print("{}: scene missing, skipped\n", v.name); continue; }
+    const auto sets = ray_sets(v, *scene, o.study_res);
+    auto frame_ms = [&](const Accelerator& a) {
+      double t = 0;
+      for (const auto& s : sets) t += time_trace(a, s, o.reps);
+      return t;
+    };
+    double afra_ms = 0;
+    if (wants("ablation") || wants("sampling")) afra_ms = frame_ms(*make("dacrt", *scene, o));
+
+    if (wants("ablation")) {
+      fmt::print("## Ablation, {} at {}^2 (frame ms; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n", v.name, o.study_res);
+      fmt::print("| configuration | frame ms | speed-up vs dacrt |\n|---|---|---|\n");
+      fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", afra_ms);
+      const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
+          {"cost only (eq. 2)", {"cost=sampled"}},
+          {"order only (sec. 4.3)", {"order=sampled"}},
+          {"skip only (eq. 5)", {"skip=on"}},
+          {"cost + order", {"cost=sampled", "order=sampled"}},
+          {"all three (dacrt-rs)", {"cost=sampled", "order=sampled", "skip=on"}}};
+      for (const auto& [label, extra] : configs) {
+        const double t = frame_ms(*make("dacrt", *scene, o, extra));
+        fmt::print("| {} | {:.1f} | {:.2f} |\n", label, t, afra_ms / t);
+        out["ablation"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t}});
+      }
+      fmt::print("\n");
+    }
+    if (wants("sampling")) {
+      fmt::print("## Sampling strategies, {} at {}^2 (speed-up of dacrt-rs vs dacrt; fig. 9)\n\n", v.name, o.study_res);
+      fmt::print("| sampling | frame ms | speed-up |\n|---|---|---|\n");
+      const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
+          {"stride 1 %", {"fraction=0.01"}}, {"random 1 %", {"fraction=0.01", "strategy=random"}},
+          {"stride 0.1 %", {"fraction=0.001"}}, {"random 0.1 %", {"fraction=0.001", "strategy=random"}},
+          {"stride 100", {}}, {"random 100", {"strategy=random"}}};
+      for (const auto& [label, extra] : configs) {
+        const double t = frame_ms(*make("dacrt-rs", *scene, o, extra));
+        fmt::print("| {} | {:.1f} | {:.2f} |\n", label, t, afra_ms / t);
+        out["sampling"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t}});
+      }
+      fmt::print("\n");
+    }
+    if (wants("counts")) {
+      fmt::print("## Ray-box tests per batch, {} at {}^2 (fig. 10; paper: -30..-50 % primary, -30..-40 % shadow, -50 % mirror, -20 % random)\n\n", v.name, o.study_res);
+      fmt::print("| batch | dacrt box tests | dacrt-rs partition | dacrt-rs sampling | change (partition) | change (all) | tri tests dacrt | tri tests dacrt-rs | skipped |\n|---|---|---|---|---|---|---|---|---|\n");
+      auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
+      const auto* ad = dynamic_cast<const Dacrt*>(a.get());
+      const auto* rd = dynamic_cast<const Dacrt*>(r.get());
+      for (const auto& s : sets) {
+        TraceStats sa, sr;
+        trace(*a, s, &sa);
+        trace(*r, s, &sr);
+        const DacrtDetails da = ad->last_details(), dr = rd->last_details();
+        const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
+        const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
+        fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", set_label(s), sa.ray_box_tests,
+                   dr.partition_box_tests, dr.sampling_box_tests, 100 * ch_p, 100 * ch_a, sa.ray_tri_tests,
+                   sr.ray_tri_tests, dr.skipped_partitions);
+        out["counts"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)},
+                                 {"dacrt_box", sa.ray_box_tests}, {"rs_partition_box", dr.partition_box_tests},
+                                 {"rs_sampling_box", dr.sampling_box_tests}, {"rs_box", sr.ray_box_tests},
+                                 {"dacrt_tri", sa.ray_tri_tests}, {"rs_tri", sr.ray_tri_tests}});
+      }
+      fmt::print("\n");
+    }
+    if (wants("peers")) {
+      fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch)\n\n", v.name, o.study_res);
+      fmt::print("| batch | rays | dacrt | dacrt-rs | bvh build | bvh trace | bvh total | embree build | embree trace | embree total |\n|---|---|---|---|---|---|---|---|---|---|\n");
+      auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
+      const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
+      for (const auto& s : sets) {
+        const double ta = time_trace(*a, s, o.reps), tr = time_trace(*r, s, o.reps);
+        double peer[2][2] = {{0, 0}, {0, 0}};
+        const char* names[2] = {"bvh", "embree"};
+        for (int k = 0; k < 2; ++k) {
+          if (k == 1 && !have_embree) continue;
+          std::vector<double> b, t;
+          for (int rep = 0; rep < o.reps; ++rep) {
+            const auto t0 = Clock::now();
+            auto acc = make_accelerator(names[k], *scene);
+            b.push_back(ms_since(t0));
+            const auto t1 = Clock::now();
+            trace(*acc, s);
+            t.push_back(ms_since(t1));
+          }
+          peer[k][0] = median(b); peer[k][1] = median(t);
+        }
+        fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", set_label(s), s.rays.size(), ta, tr,
+                   peer[0][0], peer[0][1], peer[0][0] + peer[0][1], peer[1][0], peer[1][1], peer[1][0] + peer[1][1]);
+        out["peers"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
+                                {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", peer[0][0]}, {"bvh_trace_ms", peer[0][1]},
+                                {"embree_build_ms", peer[1][0]}, {"embree_trace_ms", peer[1][1]}});
+      }
+      fmt::print("\n");
+    }
+    std::fflush(stdout);
+  }
+  if (!o.json.empty()) {
+    std::ofstream f(o.json);
+    f << out.dump(1) << "\n";
+    fmt::print("results: {}\n", o.json);
+  }
+  return 0;
+}

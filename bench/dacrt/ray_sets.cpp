@@ -1,0 +1,93 @@
+// Ray sets per bounce for the DACRT benchmark (own pinhole camera, shading-free secondary rays).
+#include "ray_sets.h"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace rayscout::bench {
+namespace {
+
+struct HitPoint {
+  Vec3 p, n, d;  // position, geometric normal facing the incoming ray, incoming direction
+};
+
+std::vector<HitPoint> hit_points(const Scene& scene, const RayBatch& rays, const HitBatch& hits) {
+  std::vector<HitPoint> out;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (hits.prim[i] == kInvalidId) continue;
+    const Ray r = rays[i];
+    Vec3 n = normalize(scene.triangles[hits.prim[i]].normal());
+    if (dot(n, r.dir) > 0) n = -n;
+    out.push_back({r.org + r.dir * hits.t[i], n, r.dir});
+  }
+  return out;
+}
+
+RayBatch shadow_rays(const View& view, const std::vector<HitPoint>& pts, float eps, std::mt19937& rng) {
+  RayBatch rays;
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  for (const auto& h : pts) {
+    const Vec3 o = h.p + h.n * eps;
+    if (view.area_light) {
+      const Vec3 l = view.area_corner + view.area_u * u01(rng) + view.area_v * u01(rng);
+      rays.push_back({o, 0.0f, l - o, 1.0f - 1e-4f});
+    } else {
+      for (const Vec3& l : view.point_lights) rays.push_back({o, 0.0f, l - o, 1.0f - 1e-4f});
+    }
+  }
+  return rays;
+}
+
+}  // namespace
+
+std::vector<RaySet> make_ray_sets(const Scene& scene, const View& view, int width, int height,
+                                  const Accelerator& tracer) {
+  std::vector<RaySet> sets;
+  const Camera& c = view.camera;
+  const Vec3 fwd = normalize(c.look_at - c.eye), right = normalize(cross(fwd, c.up)), up = cross(right, fwd);
+  const float half_h = std::tan(c.fov_deg * std::numbers::pi_v<float> / 360.0f);
+  const float half_w = half_h * float(width) / float(height);
+  RaySet primary{"primary", 0, false, {}};
+  primary.rays.reserve(size_t(width) * height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const float sx = (2.0f * (x + 0.5f) / width - 1.0f) * half_w, sy = (1.0f - 2.0f * (y + 0.5f) / height) * half_h;
+      primary.rays.push_back({c.eye, 0.0f, normalize(fwd + right * sx + up * sy), kInfinity});
+    }
+  HitBatch hits;
+  tracer.intersect(primary.rays, hits);
+  const auto pts = hit_points(scene, primary.rays, hits);
+  const float diag = length(scene.bounds().diagonal()), eps = 1e-4f * diag;
+  std::mt19937 rng(7);
+  sets.push_back(std::move(primary));
+  sets.push_back({"shadow", 0, true, shadow_rays(view, pts, eps, rng)});
+
+  if (view.ao) {
+    RaySet ao{"ao", 0, true, {}};
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    for (const auto& h : pts) {
+      // Cosine-distributed direction around n.
+      const float r = std::sqrt(u01(rng)), phi = 2.0f * std::numbers::pi_v<float> * u01(rng);
+      const Vec3 a = std::fabs(h.n.x) > 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+      const Vec3 t = normalize(cross(a, h.n)), b = cross(h.n, t);
+      const Vec3 d = t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + h.n * std::sqrt(std::max(0.0f, 1.0f - r * r));
+      ao.rays.push_back({h.p + h.n * eps, 0.0f, d, 0.1f * diag});
+    }
+    sets.push_back(std::move(ao));
+  }
+  if (view.mirror_floor) {
+    RaySet mirror{"mirror", 1, false, {}};
+    for (const auto& h : pts)
+      if (h.n.y > 0.9f && h.p.y < view.mirror_below_y)
+        mirror.rays.push_back({h.p + h.n * eps, 0.0f, h.d - h.n * (2.0f * dot(h.d, h.n)), kInfinity});
+    HitBatch mh;
+    tracer.intersect(mirror.rays, mh);
+    const auto mpts = hit_points(scene, mirror.rays, mh);
+    sets.push_back(std::move(mirror));
+    sets.push_back({"shadow", 1, true, shadow_rays(view, mpts, eps, rng)});
+  }
+  return sets;
+}
+
+}  // namespace rayscout::bench

@@ -1,0 +1,66 @@
+// The benchmark views of the ray-sampling DACRT paper's figures 4-7 and their published ratios.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ray_sets.h"
+
+namespace rayscout::bench {
+
+/// Every view: Sibenik (a) point light, (b) another point light, (c) area light, all with the
+/// mirror floor of fig. 4; Sponza (a), (b) point lights, (c) random rays (stand-in for path
+/// tracing); Conference likewise. Cameras chosen to look into each model.
+inline std::vector<View> paper_views() {
+  std::vector<View> v;
+  View s;
+  s.file = "sibenik/sibenik.obj";
+  s.camera.eye = {-17.0f, -10.0f, 0.0f};
+  s.camera.look_at = {0.0f, -9.0f, 0.0f};
+  s.camera.fov_deg = 70;
+  s.mirror_floor = true;
+  s.mirror_below_y = -12.0f;
+  s.name = "sibenik-a"; s.point_lights = {{0.0f, 0.0f, 0.0f}}; v.push_back(s);
+  s.name = "sibenik-b"; s.point_lights = {{-8.0f, -9.0f, 3.0f}}; v.push_back(s);
+  s.name = "sibenik-c"; s.point_lights = {}; s.area_light = true;
+  s.area_corner = {-3.0f, 2.0f, -3.0f}; s.area_u = {6.0f, 0.0f, 0.0f}; s.area_v = {0.0f, 0.0f, 6.0f};
+  v.push_back(s);
+
+  View p;
+  p.file = "crytek-sponza/sponza.obj";
+  p.camera.eye = {-110.0f, 20.0f, -4.0f};
+  p.camera.look_at = {0.0f, 35.0f, 0.0f};
+  p.camera.fov_deg = 70;
+  p.name = "sponza-a"; p.point_lights = {{0.0f, 110.0f, 0.0f}}; v.push_back(p);
+  p.name = "sponza-b"; p.point_lights = {{-60.0f, 30.0f, 20.0f}}; v.push_back(p);
+  p.name = "sponza-c"; p.point_lights = {{0.0f, 110.0f, 0.0f}}; p.ao = true; v.push_back(p);
+
+  View c;
+  c.file = "conference/conference.obj";
+  c.camera.eye = {-800.0f, 420.0f, -850.0f};
+  c.camera.look_at = {400.0f, 100.0f, -150.0f};
+  c.camera.fov_deg = 60;
+  c.name = "conference-a"; c.point_lights = {{300.0f, 550.0f, -200.0f}}; v.push_back(c);
+  c.name = "conference-b"; c.point_lights = {{1200.0f, 300.0f, 300.0f}}; v.push_back(c);
+  c.name = "conference-c"; c.point_lights = {{300.0f, 550.0f, -200.0f}}; c.ao = true; v.push_back(c);
+  return v;
+}
+
+/// Afra time / proposed time per view and resolution, figs. 4, 6, 7 (the whole frame).
+inline const std::map<std::string, std::map<int, double>>& paper_ratios() {
+  static const std::map<std::string, std::map<int, double>> r = {
+      {"sibenik-a", {{512, 1.41}, {1024, 1.52}, {2048, 1.59}, {4096, 1.86}}},
+      {"sibenik-b", {{512, 1.54}, {1024, 1.61}, {2048, 1.76}, {4096, 1.75}}},
+      {"sibenik-c", {{512, 1.47}, {1024, 1.66}, {2048, 1.81}, {4096, 1.94}}},
+      {"sponza-a", {{512, 1.38}, {1024, 1.61}, {2048, 1.74}, {4096, 1.80}}},
+      {"sponza-b", {{512, 1.52}, {1024, 1.50}, {2048, 1.64}, {4096, 1.73}}},
+      {"sponza-c", {{512, 1.22}, {1024, 1.17}, {2048, 1.34}, {4096, 1.39}}},
+      {"conference-a", {{512, 1.24}, {1024, 1.34}, {2048, 1.43}, {4096, 1.43}}},
+      {"conference-b", {{512, 1.44}, {1024, 1.54}, {2048, 1.60}, {4096, 1.69}}},
+      {"conference-c", {{512, 1.13}, {1024, 1.20}, {2048, 1.26}, {4096, 1.36}}},
+  };
+  return r;
+}
+
+}  // namespace rayscout::bench
