@@ -114,24 +114,31 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
         shade(ctx, paths[i], ray, surface_point(scene, ray, refined), out);
       }
     });
-    // Merge in chunk order: the fixed order of every per-pixel sum.
-    RayBatch occlusion_rays, next_rays;
-    std::vector<ShadeOutput::Contribution> occlusion;
-    std::vector<PathState> next_paths;
-    size_t n_occ = 0, n_next = 0;
-    for (const ShadeOutput& out : outs) { n_occ += out.occlusion_.size(); n_next += out.next_.size(); }
-    occlusion_rays.reserve(n_occ);
-    occlusion.reserve(n_occ);
-    next_rays.reserve(n_next);
-    next_paths.reserve(n_next);
-    for (ShadeOutput& out : outs) {
-      for (const auto& c : out.radiance_) film[c.pixel] += c.value;
-      for (const Ray& r : out.occlusion_rays_) occlusion_rays.push_back(r);
-      occlusion.insert(occlusion.end(), out.occlusion_.begin(), out.occlusion_.end());
-      for (const Ray& r : out.next_rays_) next_rays.push_back(r);
-      next_paths.insert(next_paths.end(), out.next_.begin(), out.next_.end());
-      out = ShadeOutput();
+    // Merge in chunk order: the fixed order of every per-pixel sum. Chunk offsets first, so
+    // the copies can run in parallel.
+    std::vector<size_t> occ_at(chunks + 1, 0), next_at(chunks + 1, 0);
+    for (size_t c = 0; c < chunks; ++c) {
+      occ_at[c + 1] = occ_at[c] + outs[c].occlusion_.size();
+      next_at[c + 1] = next_at[c] + outs[c].next_.size();
+      for (const auto& r : outs[c].radiance_) film[r.pixel] += r.value;
     }
+    RayBatch occlusion_rays, next_rays;
+    std::vector<ShadeOutput::Contribution> occlusion(occ_at[chunks]);
+    std::vector<PathState> next_paths(next_at[chunks]);
+    occlusion_rays.resize(occ_at[chunks]);
+    next_rays.resize(next_at[chunks]);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+      ShadeOutput& out = outs[c];
+      for (size_t k = 0; k < out.occlusion_.size(); ++k) {
+        occlusion_rays.set(occ_at[c] + k, out.occlusion_rays_[k]);
+        occlusion[occ_at[c] + k] = out.occlusion_[k];
+      }
+      for (size_t k = 0; k < out.next_.size(); ++k) {
+        next_rays.set(next_at[c] + k, out.next_rays_[k]);
+        next_paths[next_at[c] + k] = out.next_[k];
+      }
+      out = ShadeOutput();
+    });
     stats.shading_ms += ms_since(t0);
 
     if (!occlusion_rays.empty()) {

@@ -1,0 +1,38 @@
+// `rayscout diff A B`: error metrics between two images and an optional false-colour difference.
+#include <cmath>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "rayscout/image/image.h"
+
+namespace rayscout::cli {
+namespace {
+
+struct DiffOptions {
+  std::string a, b, out;
+  float scale = 0;
+};
+
+CommandRegistration registration{[](CLI::App& app) {
+  auto opts = std::make_shared<DiffOptions>();
+  auto* cmd = app.add_subcommand("diff", "Compare image A with reference B: RMSE, relative MSE, PSNR, max error");
+  cmd->add_option("a", opts->a, "image (.png, .exr, .pfm)")->required();
+  cmd->add_option("b", opts->b, "reference image")->required();
+  cmd->add_option("--out", opts->out, "write a false-colour difference PNG");
+  cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference)");
+  cmd->callback([opts] {
+    const Image a = read_image(opts->a), b = read_image(opts->b);
+    const ImageError e = compare_images(a, b);
+    fmt::print("rmse     {:.6g}\nrel_mse  {:.6g}\npsnr     {} dB\nmax_abs  {:.6g}\n", e.rmse, e.rel_mse,
+               std::isinf(e.psnr) ? std::string("inf") : fmt::format("{:.2f}", e.psnr), e.max_abs);
+    if (!opts->out.empty()) {
+      write_image(difference_image(a, b, opts->scale), opts->out);
+      fmt::print("wrote {}\n", opts->out);
+    }
+  });
+}};
+
+}  // namespace
+}  // namespace rayscout::cli

@@ -1,0 +1,143 @@
+// `rayscout render`: renders a scene with an integrator on an accelerator and writes the image.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "commands.h"
+#include "integrators.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/image/image.h"
+#include "rayscout/render/renderer.h"
+#include "rayscout/scene/load_scene.h"
+
+// apps/rayscout/CMakeLists.txt compiles only cmd_*.cpp: the integrator table is built here
+// until integrators.cpp is listed there (then delete this include).
+#include "integrators.cpp"
+
+namespace rayscout::cli {
+namespace {
+
+struct RenderOptions {
+  std::string scene;
+  std::string integrator = "direct";
+  std::string accel;
+  std::vector<std::string> accel_opts;
+  int threads = 0;
+  std::string out = "rayscout.png";
+  std::string stats;
+  RenderConfig config;
+};
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+std::string default_accelerator() {
+  for (const auto& a : accelerators())
+    if (a.name == "bvh") return "bvh";
+  return "brute";
+}
+
+// One line on stderr, redrawn in place; only on a terminal.
+void draw_progress(const RenderProgress& p) {
+  const double done = double(p.bounce + 1) / double(p.max_depth + 1);
+  const int width = 24, filled = int(done * width + 0.5);
+  const double left = done > 0 ? p.elapsed_s * (1.0 - done) / done : 0.0;
+  fmt::print(stderr, "\r[{}{}] bounce {}/{}  {:.2f} Mrays traced  {:.1f} s  ~{:.1f} s left   ",
+             std::string(filled, '#'), std::string(width - filled, '.'), p.bounce, p.max_depth,
+             double(p.rays_traced) * 1e-6, p.elapsed_s, left);
+  std::fflush(stderr);
+}
+
+void run(RenderOptions& o) {
+  std::unique_ptr<tbb::global_control> threads;
+  if (o.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+  const int n_threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
+  const auto integrator = make_integrator(o.integrator);
+  if (o.accel.empty()) o.accel = default_accelerator();
+  AcceleratorOptions accel_options;
+  for (const auto& kv : o.accel_opts) accel_options.set(kv);
+
+  auto t = Clock::now();
+  const Scene scene = resolve_scene(o.scene);
+  const double load_ms = ms_since(t);
+  for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
+  t = Clock::now();
+  const auto accel = make_accelerator(o.accel, scene, accel_options);
+  const double build_ms = ms_since(t);
+
+  const bool show_progress = isatty(STDERR_FILENO);
+  if (show_progress) o.config.on_progress = draw_progress;
+  RenderStats stats;
+  const Image image = integrator->render(scene, *accel, o.config, &stats);
+  if (show_progress) fmt::print(stderr, "\n");
+  write_image(image, o.out);
+
+  fmt::print("wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
+             o.config.height, o.config.spp, integrator->name(), accel->name(), n_threads);
+  fmt::print("time: {:.3f} s render ({:.3f} s tracing {} rays, {:.2f} Mrays/s), {:.3f} s scene load, {:.3f} s build\n",
+             stats.total_ms * 1e-3, stats.trace_ms * 1e-3, stats.rays(), stats.mrays_per_s(), load_ms * 1e-3,
+             build_ms * 1e-3);
+  if (!o.stats.empty()) {
+    nlohmann::json j = nlohmann::json::parse(stats.to_json());
+    j["scene"] = o.scene.empty() ? "cornell" : o.scene;
+    j["integrator"] = integrator->name();
+    j["accel"] = accel->name();
+    j["threads"] = n_threads;
+    j["width"] = o.config.width;
+    j["height"] = o.config.height;
+    j["spp"] = o.config.spp;
+    j["seed"] = o.config.seed;
+    j["triangles"] = scene.triangles.size();
+    j["load_ms"] = load_ms;
+    j["build_ms"] = build_ms;
+    j["accel_memory_bytes"] = accel->build_info().memory_bytes;
+    if (o.stats == "-") {
+      fmt::print("{}\n", j.dump());
+    } else {
+      std::ofstream f(o.stats);
+      if (!(f << j.dump() << "\n")) throw InputError("--stats: cannot write " + o.stats);
+    }
+  }
+}
+
+CommandRegistration registration{[](CLI::App& app) {
+  auto opts = std::make_shared<RenderOptions>();
+  auto* cmd = app.add_subcommand("render", "Render a scene to an image (PNG, EXR or PFM)");
+  RenderConfig& c = opts->config;
+  cmd->add_option("--scene", opts->scene, "scene file (.json) or mesh; default: built-in Cornell box");
+  cmd->add_option("--integrator", opts->integrator, "one of: " + integrator_names())->capture_default_str();
+  cmd->add_option("--accel", opts->accel, "accelerator (default bvh, else brute); see `rayscout accelerators`");
+  cmd->add_option("--accel-opt", opts->accel_opts, "accelerator tunable key=value (repeatable)");
+  cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str();
+  cmd->add_option("--height", c.height, "image height in pixels")->capture_default_str();
+  cmd->add_option("--spp", c.spp, "camera samples per pixel")->capture_default_str();
+  cmd->add_option("--seed", c.seed, "random seed (same seed, same image)")->capture_default_str();
+  cmd->add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")->capture_default_str();
+  cmd->add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")->capture_default_str();
+  cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str();
+  cmd->add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")->capture_default_str();
+  cmd->add_option("--ray-epsilon", c.ray_epsilon, "tmin of secondary rays (0 = 1e-5 x scene size)")->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower)");
+  cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout)");
+  cmd->add_option("--out", opts->out, "output image: .png, .exr or .pfm")->capture_default_str();
+
+  // ---- Integrator-specific options: one call per integrator module below, e.g.
+  //      add_manylight_options(*cmd); ----
+  // ---- end of integrator-specific options ----
+
+  cmd->callback([opts] { run(*opts); });
+}};
+
+}  // namespace
+}  // namespace rayscout::cli

@@ -1,0 +1,31 @@
+// The integrator table of the CLI: add an integrator with one line in integrator_table().
+#include "integrators.h"
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout::cli {
+
+const std::vector<IntegratorEntry>& integrator_table() {
+  static const std::vector<IntegratorEntry> table = {
+      {"direct", "point lights + mirror reflections (papers' Sibenik (a), (b))", [] { return make_direct_integrator(); }},
+      {"area", "direct + --light-samples shadow rays to area lights per hit (Sibenik (c))", [] { return make_area_integrator(); }},
+      {"ao", "ambient occlusion: --ao-samples rays of length --ao-radius per hit", [] { return make_ao_integrator(); }},
+      {"path", "path tracing, --max-depth bounces, next-event estimation, depth of field", [] { return make_path_integrator(); }},
+      // New integrators: one line each above this comment.
+  };
+  return table;
+}
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name) {
+  for (const auto& e : integrator_table())
+    if (e.name == name) return e.make();
+  throw InputError("unknown integrator '" + name + "' (known: " + integrator_names() + ")");
+}
+
+std::string integrator_names() {
+  std::string names;
+  for (const auto& e : integrator_table()) names += (names.empty() ? "" : ", ") + e.name;
+  return names;
+}
+
+}  // namespace rayscout::cli
