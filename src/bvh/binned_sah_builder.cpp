@@ -1,11 +1,14 @@
-// Binned SAH builder: Wald 2007 binning over centroid bounds, parallel with oneTBB.
+// Binned SAH builder: Wald 2007 binning over centroid bounds, SSE arithmetic, parallel with oneTBB.
 #include "binned_sah_builder.h"
+
+#include <immintrin.h>
 
 #include <algorithm>
 #include <array>
 #include <string>
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
@@ -16,73 +19,100 @@ namespace {
 
 constexpr int kMaxBins = 256;
 
+// A box as two SSE registers (x, y, z, unused); the builder's working format.
+struct Box4 {
+  __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
+  void extend(__m128 l, __m128 h) { lo = _mm_min_ps(lo, l); hi = _mm_max_ps(hi, h); }
+  void extend(const Box4& b) { extend(b.lo, b.hi); }
+  void extend(__m128 p) { extend(p, p); }
+  // Half the surface area (the factor 2 cancels in every SAH comparison); 0 when empty.
+  float half_area() const {
+    alignas(16) float d[4];
+    _mm_store_ps(d, _mm_sub_ps(hi, lo));
+    if (d[0] < 0.0f || d[1] < 0.0f || d[2] < 0.0f) return 0.0f;
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+  }
+  Bounds3 bounds() const {
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+  }
+};
+
+// Trivially constructible, so only the bins a node uses are ever cleared.
+struct Box4Raw {
+  __m128 lo, hi;
+};
+
 struct Bin {
-  Bounds3 box;    // union of the primitives' boxes
-  Bounds3 cbox;   // union of their centroids
-  uint32_t count = 0;
-  void add(const Bin& o) { box.extend(o.box); cbox.extend(o.cbox); count += o.count; }
+  Box4Raw box;
+  uint32_t count;
+  void clear() { box.lo = _mm_set1_ps(kInfinity); box.hi = _mm_set1_ps(-kInfinity); count = 0; }
+  void add(const Bin& o) { box.lo = _mm_min_ps(box.lo, o.box.lo); box.hi = _mm_max_ps(box.hi, o.box.hi); count += o.count; }
 };
 
 struct Split {
   int axis = -1;
-  int bin = 0;          // left side = bins [0, bin]
-  float cost = 0.0f;    // A_L N_L + A_R N_R
-  Bin left, right;
+  int bin = 0;        // left side = bins [0, bin]
+  float cost = 0.0f;  // A_L N_L + A_R N_R (half areas)
+  int bins = 0;       // bin count used for this node
+  Box4 left, right;   // child boxes: unions of their bins
 };
+
+// What a subtree needs: its primitives' box and the bounds of their doubled centres.
+struct Range {
+  uint32_t begin, end;
+  Box4 box, cbox;
+};
+
+// A primitive as the builder moves it around: its box and id (Embree's PrimRef).
+// Partitioning these, rather than ids into a box array, keeps every pass over a node's
+// primitives sequential in memory.
+struct PrimRef : Box4 {
+  uint32_t id = 0;
+};
+inline uint32_t id_of(const PrimRef& p) { return p.id; }
 
 class Builder {
  public:
-  Builder(std::span<const Bounds3> boxes, std::span<const Vec3> centers, const BvhBuildConfig& c,
-          std::vector<Bvh2Node>& slots, std::vector<uint32_t>& ids)
-      : boxes_(boxes), centers_(centers), config_(c), slots_(slots), ids_(ids) {}
+  Builder(std::span<PrimRef> refs, const BvhBuildConfig& c, std::vector<Bvh2Node>& slots)
+      : refs_(refs), config_(c), slots_(slots) {}
 
-  // Builds the subtree of ids_[begin, end) into slots_[slot]; its descendants go to the
-  // 2 n - 2 slots starting at desc (a binary tree over n leaves-or-more has <= 2 n - 1 nodes),
+  // Builds the subtree of refs_[r.begin, r.end) into slots_[slot]; its descendants go to the
+  // 2 n - 2 slots starting at desc (a binary tree over n primitives has <= 2 n - 1 nodes),
   // which makes slot numbering independent of task scheduling.
-  void build(uint32_t slot, uint32_t begin, uint32_t end, const Bounds3& box, const Bounds3& cbox,
-             uint32_t desc) {
-    const uint32_t n = end - begin;
+  void build(uint32_t slot, const Range& r, uint32_t desc) {
+    const uint32_t n = r.end - r.begin;
     Bvh2Node& node = slots_[slot];
-    node.bounds = box;
+    node.bounds = r.box.bounds();
     node.pad = 0;
     node.axis = 0;
     const bool can_be_leaf = n <= uint32_t(config_.max_leaf_size);
-    Split split;
-    const Vec3 extent = cbox.diagonal();
-    if (n > 1 && (extent.x > 0.0f || extent.y > 0.0f || extent.z > 0.0f)) split = find_split(begin, end, cbox);
-    if (n == 1 || (split.axis < 0 && can_be_leaf)) return make_leaf(node, begin, n);
+    if (n == 1) return make_leaf(node, r.begin, n);
+    const Split split = find_split(r);
+    if (split.axis < 0 && can_be_leaf) return make_leaf(node, r.begin, n);
     if (split.axis >= 0 && can_be_leaf) {
       // SAH (Wald 2007 eq. 1) multiplied through by A(box), so flat boxes need no division.
-      const float area = box.surface_area();
+      const float area = r.box.half_area();
       const float split_cost = config_.traversal_cost * area + config_.intersection_cost * split.cost;
       const float leaf_cost = config_.intersection_cost * float(n) * area;
-      if (leaf_cost <= split_cost) return make_leaf(node, begin, n);
+      if (leaf_cost <= split_cost) return make_leaf(node, r.begin, n);
     }
-    uint32_t mid;
-    Bin left, right;
+    Range left, right;
     if (split.axis >= 0) {
-      mid = partition(begin, end, cbox, split.axis, split.bin);
-      left = split.left;
-      right = split.right;
+      partition(r, split, left, right);
       node.axis = uint8_t(split.axis);
     } else {
-      // Every centroid is equal (or binning found no split): split the list in half.
-      const int axis = extent.x > 0 || extent.y > 0 || extent.z > 0 ? max_axis(extent) : box.largest_axis();
-      mid = begin + n / 2;
-      auto* b = ids_.data();
-      std::nth_element(b + begin, b + mid, b + end, [&](uint32_t p, uint32_t q) {
-        const float cp = centers_[p][axis], cq = centers_[q][axis];
-        return cp < cq || (cp == cq && p < q);
-      });
-      left = bounds_of(begin, mid);
-      right = bounds_of(mid, end);
-      node.axis = uint8_t(axis);
+      // Every centre is equal (or binning found no split): split the list in half.
+      node.axis = uint8_t(r.box.bounds().largest_axis());
+      median_split(r, left, right);
     }
-    const uint32_t nl = mid - begin;
+    const uint32_t nl = left.end - left.begin;
     node.first = desc;
     node.count = 0;
-    auto build_left = [&] { build(desc, begin, mid, left.box, left.cbox, desc + 2); };
-    auto build_right = [&] { build(desc + 1, mid, end, right.box, right.cbox, desc + 2 * nl); };
+    auto build_left = [&] { build(desc, left, desc + 2); };
+    auto build_right = [&] { build(desc + 1, right, desc + 2 * nl); };
     if (n >= uint32_t(config_.parallel_threshold)) {
       tbb::parallel_invoke(build_left, build_right);
     } else {
@@ -97,57 +127,76 @@ class Builder {
     node.count = uint16_t(n);
   }
 
-  // Bin index of a centroid coordinate; the scale keeps the top value inside the last bin.
-  static int bin_of(float c, float lo, float scale, int bins) {
-    const int b = int((c - lo) * scale);
-    return std::clamp(b, 0, bins - 1);
-  }
+  struct Binner {
+    __m128 lo, scale;
+    int top;
+    // Bin index per axis of a doubled centre; the scale keeps the top value in the last bin.
+    void index(__m128 c2, int* idx) const {
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx), _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(c2, lo), scale)));
+      for (int a = 0; a < 3; ++a) idx[a] = std::clamp(idx[a], 0, top);
+    }
+  };
 
-  std::array<float, 3> scales(const Bounds3& cbox) const {
-    std::array<float, 3> s{};
-    const Vec3 e = cbox.diagonal();
-    for (int a = 0; a < 3; ++a) s[a] = e[a] > 0.0f ? float(config_.bins) * (1.0f - 1e-6f) / e[a] : 0.0f;
-    return s;
+  Binner binner(const Box4& cbox, int bins) const {
+    alignas(16) float lo[4], hi[4], s[4] = {0, 0, 0, 0};
+    _mm_store_ps(lo, cbox.lo);
+    _mm_store_ps(hi, cbox.hi);
+    for (int a = 0; a < 3; ++a) {
+      const float e = hi[a] - lo[a];
+      s[a] = e > 0.0f ? float(bins) * (1.0f - 1e-6f) / e : 0.0f;
+    }
+    return {cbox.lo, _mm_load_ps(s), bins - 1};
   }
 
   template <int NB>
   using BinArray = std::array<std::array<Bin, NB>, 3>;
 
   template <int NB>
-  void bin_range(uint32_t begin, uint32_t end, const Bounds3& cbox, const std::array<float, 3>& s,
-                 BinArray<NB>& bins) const {
+  void bin_range(uint32_t begin, uint32_t end, const Binner& b, BinArray<NB>& bins) const {
+    alignas(16) int idx[4];
     for (uint32_t i = begin; i < end; ++i) {
-      const uint32_t p = ids_[i];
-      const Vec3& c = centers_[p];
+      const Box4& box = refs_[i];
+      b.index(_mm_add_ps(box.lo, box.hi), idx);
       for (int a = 0; a < 3; ++a) {
-        if (s[a] == 0.0f) continue;
-        Bin& b = bins[a][bin_of(c[a], cbox.lo[a], s[a], config_.bins)];
-        b.box.extend(boxes_[p]);
-        b.cbox.extend(c);
-        ++b.count;
+        Bin& bin = bins[a][idx[a]];
+        bin.box.lo = _mm_min_ps(bin.box.lo, box.lo);
+        bin.box.hi = _mm_max_ps(bin.box.hi, box.hi);
+        ++bin.count;
       }
     }
   }
 
-  Split find_split(uint32_t begin, uint32_t end, const Bounds3& cbox) const {
+  Split find_split(const Range& r) const {
     // Bin storage sized to the configured count: clearing the bins is a real cost per node.
-    if (config_.bins <= 16) return find_split_n<16>(begin, end, cbox);
-    if (config_.bins <= 32) return find_split_n<32>(begin, end, cbox);
-    if (config_.bins <= 64) return find_split_n<64>(begin, end, cbox);
-    return find_split_n<kMaxBins>(begin, end, cbox);
+    if (config_.bins <= 16) return find_split_n<16>(r);
+    if (config_.bins <= 32) return find_split_n<32>(r);
+    if (config_.bins <= 64) return find_split_n<64>(r);
+    return find_split_n<kMaxBins>(r);
   }
 
   template <int NB>
-  Split find_split_n(uint32_t begin, uint32_t end, const Bounds3& cbox) const {
-    const auto s = scales(cbox);
-    const int nb = config_.bins;
+  Split find_split_n(const Range& r) const {
+    Split best;
+    const Bounds3 cb = r.cbox.bounds();
+    const Vec3 extent = cb.diagonal();
+    if (!(extent.x > 0.0f || extent.y > 0.0f || extent.z > 0.0f)) return best;
+    // Fewer primitives than bins: one bin per primitive (clearing and sweeping unused bins
+    // dominates the cost of small nodes).
+    const int nb = int(std::min<uint32_t>(uint32_t(config_.bins), std::max<uint32_t>(2u, r.end - r.begin)));
+    const Binner binr = binner(r.cbox, nb);
     BinArray<NB> bins;
-    if (end - begin >= uint32_t(config_.parallel_threshold)) {
+    auto clear = [nb](BinArray<NB>& b) {
+      for (int ax = 0; ax < 3; ++ax)
+        for (int k = 0; k < nb; ++k) b[ax][k].clear();
+    };
+    if (r.end - r.begin >= uint32_t(config_.parallel_threshold)) {
+      BinArray<NB> empty;
+      clear(empty);
       // Bin unions and counts are exact, so the reduction order cannot change the result.
       bins = tbb::parallel_reduce(
-          tbb::blocked_range<uint32_t>(begin, end, 1024), BinArray<NB>{},
-          [&](const tbb::blocked_range<uint32_t>& r, BinArray<NB> acc) {
-            bin_range<NB>(r.begin(), r.end(), cbox, s, acc);
+          tbb::blocked_range<uint32_t>(r.begin, r.end, 1024), empty,
+          [&](const tbb::blocked_range<uint32_t>& br, BinArray<NB> acc) {
+            bin_range<NB>(br.begin(), br.end(), binr, acc);
             return acc;
           },
           [nb](BinArray<NB> a, const BinArray<NB>& b) {
@@ -156,29 +205,29 @@ class Builder {
             return a;
           });
     } else {
-      bin_range<NB>(begin, end, cbox, s, bins);
+      clear(bins);
+      bin_range<NB>(r.begin, r.end, binr, bins);
     }
-    Split best;
     for (int a = 0; a < 3; ++a) {
-      if (s[a] == 0.0f) continue;
+      if (!(extent[a] > 0.0f)) continue;
       // Sweep from the right: right_cost[k] = A N of bins (k, nb).
       std::array<float, NB> right_cost;
       std::array<uint32_t, NB> right_count;
-      Bounds3 acc;
+      Box4 acc;
       uint32_t count = 0;
       for (int k = nb - 1; k > 0; --k) {
-        acc.extend(bins[a][k].box);
+        acc.extend(bins[a][k].box.lo, bins[a][k].box.hi);
         count += bins[a][k].count;
-        right_cost[k - 1] = acc.surface_area() * float(count);
+        right_cost[k - 1] = acc.half_area() * float(count);
         right_count[k - 1] = count;
       }
-      Bounds3 left;
+      Box4 left;
       count = 0;
       for (int k = 0; k < nb - 1; ++k) {
-        left.extend(bins[a][k].box);
+        left.extend(bins[a][k].box.lo, bins[a][k].box.hi);
         count += bins[a][k].count;
         if (count == 0 || right_count[k] == 0) continue;
-        const float cost = left.surface_area() * float(count) + right_cost[k];
+        const float cost = left.half_area() * float(count) + right_cost[k];
         if (best.axis < 0 || cost < best.cost) {
           best.axis = a;
           best.bin = k;
@@ -186,43 +235,77 @@ class Builder {
         }
       }
     }
-    if (best.axis >= 0) {
-      for (int k = 0; k < nb; ++k) (k <= best.bin ? best.left : best.right).add(bins[best.axis][k]);
-    }
+    if (best.axis >= 0)
+      for (int k = 0; k < nb; ++k) (k <= best.bin ? best.left : best.right).extend(bins[best.axis][k].box.lo, bins[best.axis][k].box.hi);
+    best.bins = nb;
     return best;
   }
 
-  uint32_t partition(uint32_t begin, uint32_t end, const Bounds3& cbox, int axis, int bin) const {
-    const float scale = scales(cbox)[axis];
-    auto* b = ids_.data();
-    auto* m = std::partition(b + begin, b + end, [&](uint32_t p) {
-      return bin_of(centers_[p][axis], cbox.lo[axis], scale, config_.bins) <= bin;
-    });
-    return uint32_t(m - b);
+  // In-place partition by bin (the binning's own arithmetic, so sides match the bins exactly);
+  // gathers each side's centre bounds on the way.
+  void partition(const Range& r, const Split& s, Range& left, Range& right) const {
+    const Binner binr = binner(r.cbox, s.bins);
+    alignas(16) int idx[4];
+    auto goes_left = [&](const PrimRef& p, __m128& c2) {
+      c2 = _mm_add_ps(p.lo, p.hi);
+      binr.index(c2, idx);
+      return idx[s.axis] <= s.bin;
+    };
+    PrimRef* ids = refs_.data();
+    uint32_t i = r.begin, j = r.end;
+    Box4 lc, rc;
+    __m128 c2;
+    for (;;) {
+      while (i < j && goes_left(ids[i], c2)) { lc.extend(c2); ++i; }
+      while (i < j && !goes_left(ids[j - 1], c2)) { rc.extend(c2); --j; }
+      if (i >= j) break;
+      // ids[i] goes right, ids[j - 1] goes left: swap them into place.
+      std::swap(ids[i], ids[j - 1]);
+      lc.extend(_mm_add_ps(ids[i].lo, ids[i].hi));
+      rc.extend(_mm_add_ps(ids[j - 1].lo, ids[j - 1].hi));
+      ++i;
+      --j;
+    }
+    left = {r.begin, i, s.left, lc};
+    right = {i, r.end, s.right, rc};
   }
 
-  Bin bounds_of(uint32_t begin, uint32_t end) const {
-    Bin r;
+  void median_split(const Range& r, Range& left, Range& right) const {
+    const uint32_t mid = r.begin + (r.end - r.begin) / 2;
+    const int axis = r.box.bounds().largest_axis();
+    PrimRef* b = refs_.data();
+    auto centre = [&](const PrimRef& p) {
+      alignas(16) float c[4];
+      _mm_store_ps(c, _mm_add_ps(p.lo, p.hi));
+      return c[axis];
+    };
+    std::nth_element(b + r.begin, b + mid, b + r.end, [&](const PrimRef& p, const PrimRef& q) {
+      const float cp = centre(p), cq = centre(q);
+      return cp < cq || (cp == cq && id_of(p) < id_of(q));
+    });
+    left = gather(r.begin, mid);
+    right = gather(mid, r.end);
+  }
+
+  Range gather(uint32_t begin, uint32_t end) const {
+    Range r{begin, end, {}, {}};
     for (uint32_t i = begin; i < end; ++i) {
-      r.box.extend(boxes_[ids_[i]]);
-      r.cbox.extend(centers_[ids_[i]]);
+      const Box4& b = refs_[i];
+      r.box.extend(b);
+      r.cbox.extend(_mm_add_ps(b.lo, b.hi));
     }
-    r.count = end - begin;
     return r;
   }
 
-  std::span<const Bounds3> boxes_;
-  std::span<const Vec3> centers_;
+  std::span<PrimRef> refs_;
   const BvhBuildConfig& config_;
   std::vector<Bvh2Node>& slots_;
-  std::vector<uint32_t>& ids_;
 };
 
 }  // namespace
 
-int build_binned_sah(std::span<const Bounds3> boxes, std::span<const Vec3> centers,
-                     const BvhBuildConfig& config, std::vector<Bvh2Node>& nodes,
-                     std::vector<uint32_t>& prim_ids) {
+int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& config,
+                     std::vector<Bvh2Node>& nodes, std::vector<uint32_t>& prim_ids) {
   if (config.bins < 2 || config.bins > kMaxBins)
     throw InputError("BvhBuildConfig.bins = " + std::to_string(config.bins) + ": must be in [2, 256]");
   if (config.max_leaf_size < 1 || config.max_leaf_size > 15)
@@ -233,20 +316,30 @@ int build_binned_sah(std::span<const Bounds3> boxes, std::span<const Vec3> cente
   const uint32_t n = uint32_t(boxes.size());
   nodes.clear();
   prim_ids.resize(n);
-  for (uint32_t i = 0; i < n; ++i) prim_ids[i] = i;
   if (n == 0) return 0;
 
-  struct Both { Bounds3 box, cbox; };
+  std::vector<PrimRef> refs(n);
+  struct Both { Box4 box, cbox; };
   const Both all = tbb::parallel_reduce(
       tbb::blocked_range<uint32_t>(0, n, 4096), Both{},
       [&](const tbb::blocked_range<uint32_t>& r, Both acc) {
-        for (uint32_t i = r.begin(); i != r.end(); ++i) { acc.box.extend(boxes[i]); acc.cbox.extend(centers[i]); }
+        for (uint32_t i = r.begin(); i != r.end(); ++i) {
+          const Bounds3& b = boxes[i];
+          refs[i].lo = _mm_setr_ps(b.lo.x, b.lo.y, b.lo.z, 0.0f);
+          refs[i].hi = _mm_setr_ps(b.hi.x, b.hi.y, b.hi.z, 0.0f);
+          acc.box.extend(refs[i]);
+          acc.cbox.extend(_mm_add_ps(refs[i].lo, refs[i].hi));
+          refs[i].id = i;
+        }
         return acc;
       },
       [](Both a, const Both& b) { a.box.extend(b.box); a.cbox.extend(b.cbox); return a; });
 
   std::vector<Bvh2Node> slots(2 * size_t(n) - 1);
-  Builder(boxes, centers, config, slots, prim_ids).build(0, 0, n, all.box, all.cbox, 1);
+  Builder(refs, config, slots).build(0, {0, n, all.box, all.cbox}, 1);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const auto& r) {
+    for (uint32_t i = r.begin(); i != r.end(); ++i) prim_ids[i] = id_of(refs[i]);
+  });
 
   // Compact the scheduling-independent slot layout into depth-first order, siblings adjacent.
   nodes.reserve(2 * size_t(n) - 1);

@@ -1,4 +1,4 @@
-// Binned SAH builder (private): boxes and centroids in, a Bvh2 node array out.
+// Binned SAH builder (private): primitive boxes in, a Bvh2 node array out.
 #pragma once
 
 #include <cstdint>
@@ -10,12 +10,12 @@
 
 namespace rayscout::detail {
 
-/// Builds a binary BVH over primitives known only by their boxes and centroids (binned SAH,
-/// Wald 2007, all three axes, parallel binning and task-parallel recursion with oneTBB).
-/// Fills nodes (root first, siblings adjacent, depth-first order) and prim_ids; returns the
-/// depth. Deterministic: the result does not depend on the thread count.
-int build_binned_sah(std::span<const Bounds3> boxes, std::span<const Vec3> centers,
-                     const BvhBuildConfig& config, std::vector<Bvh2Node>& nodes,
-                     std::vector<uint32_t>& prim_ids);
+/// Builds a binary BVH over primitives known only by their boxes, binned by box centre
+/// (binned SAH, Wald 2007, all three axes; parallel binning of large nodes and
+/// task-parallel recursion with oneTBB). Fills nodes (root first, siblings adjacent,
+/// depth-first order) and prim_ids; returns the depth. The result does not depend on the
+/// thread count. Throws InputError for a config out of range.
+int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& config,
+                     std::vector<Bvh2Node>& nodes, std::vector<uint32_t>& prim_ids);
 
 }  // namespace rayscout::detail

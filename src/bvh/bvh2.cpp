@@ -12,15 +12,11 @@ namespace rayscout {
 
 Bvh2 Bvh2::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
   std::vector<Bounds3> boxes(tris.size());
-  std::vector<Vec3> centers(tris.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      boxes[i] = tris[i].bounds();
-      centers[i] = boxes[i].center();  // box centres bin better than vertex means for slivers
-    }
+    for (size_t i = r.begin(); i != r.end(); ++i) boxes[i] = tris[i].bounds();
   });
   Bvh2 bvh;
-  bvh.depth_ = detail::build_binned_sah(boxes, centers, config, bvh.nodes, bvh.prim_ids);
+  bvh.depth_ = detail::build_binned_sah(boxes, config, bvh.nodes, bvh.prim_ids);
   return bvh;
 }
 
