@@ -202,6 +202,8 @@ class JsonSceneLoader {
       throw InputError(f_.file() + ": invalid JSON: " + what);
     }
     f_.check_keys(root, "", {"meshes", "camera", "lights", "materials"});
+    std::optional<CameraFields> camera;
+    if (root.contains("camera")) camera = parse_camera(root["camera"]);
 
     std::vector<Placement> placements;
     if (root.contains("meshes")) {
@@ -268,7 +270,7 @@ class JsonSceneLoader {
 
     const Bounds3 bounds = scene.bounds();
     scene.camera = framing_camera(bounds);
-    if (root.contains("camera")) parse_camera(root["camera"], scene.camera);
+    if (camera) apply_camera(*camera, scene.camera);
     if (scene.point_lights.empty() && scene.emissive_triangles.empty()) {
       scene.point_lights.push_back(framing_light(bounds, scene.camera));
       scene.warnings.push_back(f_.file() + ": no lights; added a point light near the camera");
@@ -404,18 +406,34 @@ class JsonSceneLoader {
     placements.push_back(std::move(pl));
   }
 
-  void parse_camera(const Json& j, Camera& c) {
+  // Camera keys given in the file; the rest come from the framing camera.
+  struct CameraFields {
+    std::optional<Vec3> eye, look_at, up;
+    std::optional<float> fov_deg, lens_radius, focus_distance;
+  };
+
+  CameraFields parse_camera(const Json& j) {
     f_.check_keys(j, "camera", {"eye", "look_at", "up", "fov_deg", "lens_radius", "focus_distance"});
+    CameraFields c;
     if (j.contains("eye")) c.eye = f_.vec3(j["eye"], "camera.eye");
     if (j.contains("look_at")) c.look_at = f_.vec3(j["look_at"], "camera.look_at");
     if (j.contains("up")) c.up = f_.direction(j["up"], "camera.up");
     if (j.contains("fov_deg")) {
       c.fov_deg = f_.number(j["fov_deg"], "camera.fov_deg");
-      if (!(c.fov_deg > 0 && c.fov_deg < 180)) f_.fail("camera.fov_deg", "expected a number in (0, 180)");
+      if (!(*c.fov_deg > 0 && *c.fov_deg < 180)) f_.fail("camera.fov_deg", "expected a number in (0, 180)");
     }
     if (j.contains("lens_radius")) c.lens_radius = f_.non_negative(j["lens_radius"], "camera.lens_radius");
     if (j.contains("focus_distance")) c.focus_distance = f_.positive(j["focus_distance"], "camera.focus_distance");
-    else c.focus_distance = length(c.look_at - c.eye);
+    return c;
+  }
+
+  void apply_camera(const CameraFields& f, Camera& c) {
+    if (f.eye) c.eye = *f.eye;
+    if (f.look_at) c.look_at = *f.look_at;
+    if (f.up) c.up = *f.up;
+    if (f.fov_deg) c.fov_deg = *f.fov_deg;
+    if (f.lens_radius) c.lens_radius = *f.lens_radius;
+    c.focus_distance = f.focus_distance ? *f.focus_distance : length(c.look_at - c.eye);
     const Vec3 view = c.look_at - c.eye;
     if (view.x == 0 && view.y == 0 && view.z == 0) f_.fail("camera.look_at", "must differ from camera.eye");
     const Vec3 side = cross(view, c.up);

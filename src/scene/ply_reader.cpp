@@ -169,7 +169,8 @@ Mesh read_ply(const std::filesystem::path& path) {
 
   Mesh mesh;
   mesh.materials.push_back(Material{.name = "default"});
-  mesh.positions.reserve(vertex_count);
+  // A header may declare absurd counts; never reserve more than the data could hold.
+  mesh.positions.reserve(std::min(vertex_count, data.size() / 3));
   const bool binary = format != Format::Ascii;
   const bool swap = (format == Format::BinaryBig) != (std::endian::native == std::endian::big);
   std::vector<double> values;
