@@ -1,0 +1,104 @@
+// ManylightRenderer: progressive many-light rendering with VisibilityCluster sampling and
+// probabilistic visibility (Nabata & Iwasaki 2019, building on Wu & Chuang 2013).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "rayscout/core/accelerator.h"
+#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/probabilistic_visibility.h"
+#include "rayscout/manylight/shading_points.h"
+#include "rayscout/manylight/visibility_cluster.h"
+#include "rayscout/manylight/vpl.h"
+
+namespace rayscout {
+
+/// Wall-clock costs of the preprocess (independent of the sample count; the paper's
+/// "Visibility Cluster" column of Table 1) and the calibrated per-sample costs.
+struct ManylightTimings {
+  double vpl_ms = 0, shading_points_ms = 0, cluster_ms = 0, visibility_ms = 0, pmf_ms = 0;
+  double calibration_ms = 0;
+  double t_eval = 0, t_skip = 0;  ///< seconds per VPL sample with / without the shadow ray
+  double preprocess_ms() const { return vpl_ms + shading_points_ms + cluster_ms + visibility_ms + pmf_ms; }
+};
+
+/// One point of an RMSE-over-time curve.
+struct ProgressRecord {
+  double seconds = 0;    ///< rendering time since the first pass (preprocess excluded)
+  size_t passes = 0;
+  double rmse = -1;      ///< against the reference; -1 without one
+  double skip_rate = 0;  ///< fraction of VPL samples whose shadow ray was skipped so far
+};
+
+/// Renders eq. (6) progressively: every pass draws config.samples_per_pass VPL samples at
+/// every shading point. Shading clusters are processed in wavefront rounds of
+/// config.points_per_round points each; a round's shadow rays form one batch to
+/// Accelerator::occluded, and t_hat, sigma^2 (eqs. 16, 17) of a cluster come from its
+/// samples of earlier rounds (the first round of the first pass uses q = 0).
+/// Holds references to scene and accel: both must outlive the renderer.
+class ManylightRenderer {
+ public:
+  /// Runs the preprocess: VPLs, shading points, VisibilityCluster. No calibration yet.
+  ManylightRenderer(const Scene& scene, const Accelerator& accel, const ManylightConfig& config);
+
+  /// Measures t_eval and t_skip by low-resolution renders (every calibration_stride-th pixel
+  /// row and column) with q = 0 and q = 1, unless config gave both. Leaves the image empty.
+  void calibrate();
+  /// Switches the visibility mode and clears the image and statistics (preprocess is kept).
+  void reset(VisibilityMode mode);
+  /// Reseeds the per-pass randomness (independent renders over the same preprocess).
+  void set_seed(uint64_t seed) { seed_ = seed; }
+
+  /// One pass over every shading point.
+  void render_pass();
+  /// Passes until `seconds` of rendering have elapsed (at least one, at most max_passes),
+  /// recording RMSE against `reference` (width * height, may be empty) after each pass.
+  std::vector<ProgressRecord> render_for(double seconds, std::span<const Vec3> reference,
+                                         size_t max_passes = SIZE_MAX);
+
+  /// Current estimate, width * height RGB (negative values possible, sec. 4.3).
+  std::vector<Vec3> image() const;
+  /// Per pixel fraction of skipped shadow rays so far (the paper's Fig. 3).
+  std::vector<float> skip_image() const;
+  double skip_rate() const;
+  size_t passes() const { return passes_; }
+  uint64_t shadow_rays_traced() const { return rays_traced_; }
+
+  const ManylightConfig& config() const { return config_; }
+  const ManylightTimings& timings() const { return timings_; }
+  const VplSet& vpls() const { return vpls_; }
+  const std::vector<ShadingPoint>& shading_points() const { return points_; }
+  const VisibilityClusters& clusters() const { return clusters_; }
+
+ private:
+  struct Sample;
+  enum class Forced { None, Zero, One };
+  /// One pass over the given shading clusters' point lists; forced q overrides (calibration).
+  /// Returns the number of samples with a non-zero tentative contribution.
+  size_t pass(const std::vector<std::vector<uint32_t>>& cluster_points, Forced forced, bool accumulate);
+
+  const Scene& scene_;
+  const Accelerator& accel_;
+  ManylightConfig config_;
+  ManylightTimings timings_;
+  VplSet vpls_;
+  std::vector<ShadingPoint> points_;
+  VisibilityClusters clusters_;
+  std::vector<std::vector<uint32_t>> cluster_points_;  ///< per shading cluster, processing order
+  float offset_ = 1e-4f;
+
+  std::vector<ClusterSampleStats> stats_;  ///< per shading cluster, eqs. (16), (17)
+  std::vector<Vec3> point_sum_;            ///< per shading point, sum of per-pass estimates
+  std::vector<uint32_t> point_skipped_, point_samples_;
+  size_t passes_ = 0;
+  uint64_t rays_traced_ = 0, samples_taken_ = 0, samples_skipped_ = 0;
+  uint64_t seed_ = 1;
+};
+
+/// Root-mean-square error over pixels and colour channels.
+double rmse(std::span<const Vec3> a, std::span<const Vec3> b);
+
+}  // namespace rayscout

@@ -1,0 +1,67 @@
+// Probabilistic visibility (Nabata & Iwasaki 2019): skip probability and visibility estimate.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "rayscout/manylight/config.h"
+
+namespace rayscout {
+
+/// The squared visibility error (v_i - r_i)^2 as each mode replaces it in eq. (15).
+inline double visibility_error_bound(VisibilityMode mode, double r, double epsilon) {
+  switch (mode) {
+    case VisibilityMode::Exact: return 1.0;  // unused: q = 0
+    case VisibilityMode::Veach: return 1.0;  // r = 0, (v - 0)^2 <= 1
+    case VisibilityMode::Conservative: return std::max((1.0 - r) * (1.0 - r), r * r);
+    case VisibilityMode::Proposed: return std::max(epsilon, r * (1.0 - r));
+  }
+  return 1.0;
+}
+
+/// The prediction r_i each mode uses in eq. (8): 0 for Veach, the cluster average otherwise.
+inline double visibility_prediction(VisibilityMode mode, double r) {
+  return mode == VisibilityMode::Veach ? 0.0 : r;
+}
+
+/// t_hat of eq. (16): t_eval / t_diff - mean(q) over earlier samples; 0 when skipping saves nothing.
+inline double t_hat(double t_eval, double t_skip, double mean_q) {
+  const double t_diff = t_eval - t_skip;
+  if (!(t_diff > 0.0)) return 0.0;
+  return t_eval / t_diff - mean_q;
+}
+
+/// Skip probability q_i of eq. (15): 1 - sqrt(t^2 D / p^2 * t_hat / sigma2), clamped to
+/// [0, 1]. t = scalar tentative contribution, p = pmf of the sample, D = the mode's
+/// (v - r)^2 replacement, sigma2 = eq. (17). q = 0 when nothing is known yet (sigma2 <= 0)
+/// or skipping saves nothing (t_hat <= 0); q = 1 only when t * D = 0, where a skip is exact.
+inline double skip_probability(VisibilityMode mode, double t, double p, double r, double t_hat_value,
+                               double sigma2, double epsilon) {
+  if (mode == VisibilityMode::Exact) return 0.0;
+  if (!(sigma2 > 0.0) || !(t_hat_value > 0.0) || !(p > 0.0)) return 0.0;
+  const double d = visibility_error_bound(mode, r, epsilon);
+  const double s = std::sqrt(t * t * d / (p * p) * t_hat_value / sigma2);
+  return std::clamp(1.0 - s, 0.0, 1.0);
+}
+
+/// The estimate V~ of eq. (8): r when skipped; (v - r q) / (1 - q) when traced. skipped must be
+/// false when q = 0.
+inline double visibility_estimate(bool skipped, double v, double r, double q) {
+  return skipped ? r : (v - r * q) / (1.0 - q);
+}
+
+/// Running sums of one shading cluster's earlier samples for eqs. (16) and (17).
+struct ClusterSampleStats {
+  double n = 0, sum_q = 0, sum_y = 0, sum_y2 = 0;  ///< y = scalar t V~ / p
+
+  void add(double q, double y) { n += 1; sum_q += q; sum_y += y; sum_y2 += y * y; }
+  double mean_q() const { return n > 0 ? sum_q / n : 0.0; }
+  /// Eq. (17): the (biased, 1/N) sample variance of y; 0 before two samples.
+  double variance() const {
+    if (n < 2) return 0.0;
+    const double m = sum_y / n;
+    return std::max(0.0, sum_y2 / n - m * m);
+  }
+};
+
+}  // namespace rayscout

@@ -1,0 +1,269 @@
+// ManylightRenderer: wavefront rounds over shading clusters with probabilistic visibility.
+#include "rayscout/manylight/manylight_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/manylight/brdf.h"
+#include "sampling.h"
+
+namespace rayscout {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+VisibilityMode parse_visibility_mode(const std::string& name) {
+  if (name == "exact") return VisibilityMode::Exact;
+  if (name == "veach") return VisibilityMode::Veach;
+  if (name == "conservative") return VisibilityMode::Conservative;
+  if (name == "proposed") return VisibilityMode::Proposed;
+  throw InputError("--visibility: unknown mode '" + name + "' (known: exact, veach, conservative, proposed)");
+}
+
+std::string to_string(VisibilityMode mode) {
+  switch (mode) {
+    case VisibilityMode::Exact: return "exact";
+    case VisibilityMode::Veach: return "veach";
+    case VisibilityMode::Conservative: return "conservative";
+    case VisibilityMode::Proposed: return "proposed";
+  }
+  return "?";
+}
+
+/// One VPL sample in a round's buffer.
+struct ManylightRenderer::Sample {
+  Vec3 value;         // t / p (colour), before V~
+  float lum_t = 0;    // scalar t / p
+  float r = 0, q = 0;
+  uint32_t point = 0;
+  uint32_t ray = 0;   // index into the round's ray batch when traced
+  uint8_t state = 0;  // 0 = empty slot, 1 = zero contribution, 2 = skipped, 3 = traced
+};
+
+ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& accel, const ManylightConfig& config)
+    : scene_(scene), accel_(accel), config_(config), seed_(config.seed) {
+  if (config_.samples_per_pass <= 0 || config_.points_per_round <= 0)
+    throw InputError("manylight: samples_per_pass and points_per_round must be positive");
+  if (!(config_.epsilon >= 0.0f)) throw InputError("manylight: epsilon must be >= 0");
+  offset_ = 1e-4f * length(scene.bounds().diagonal());
+  auto t0 = Clock::now();
+  vpls_ = generate_vpls(scene, accel, config_);
+  timings_.vpl_ms = seconds_since(t0) * 1e3;
+  t0 = Clock::now();
+  points_ = generate_shading_points(scene, accel, config_);
+  timings_.shading_points_ms = seconds_since(t0) * 1e3;
+  if (vpls_.vpls.empty()) throw InputError("manylight: the scene has no light (point light or emissive triangle)");
+  clusters_ = build_visibility_clusters(scene, accel, points_, vpls_, config_);
+  timings_.cluster_ms = clusters_.cluster_ms;
+  timings_.visibility_ms = clusters_.visibility_ms;
+  timings_.pmf_ms = clusters_.pmf_ms;
+  // Within a cluster, points in pixel order: neighbours follow each other (sec. 4.1).
+  cluster_points_.resize(clusters_.shading.size());
+  for (size_t c = 0; c < cluster_points_.size(); ++c) {
+    auto& list = cluster_points_[c];
+    list.assign(clusters_.shading.order.begin() + clusters_.shading.begin[c],
+                clusters_.shading.order.begin() + clusters_.shading.begin[c + 1]);
+    std::sort(list.begin(), list.end());
+  }
+  timings_.t_eval = config_.t_eval;
+  timings_.t_skip = config_.t_skip;
+  reset(config_.mode);
+}
+
+void ManylightRenderer::reset(VisibilityMode mode) {
+  config_.mode = mode;
+  stats_.assign(cluster_points_.size(), {});
+  point_sum_.assign(points_.size(), Vec3(0.0f));
+  point_skipped_.assign(points_.size(), 0);
+  point_samples_.assign(points_.size(), 0);
+  passes_ = 0;
+  rays_traced_ = samples_taken_ = samples_skipped_ = 0;
+}
+
+void ManylightRenderer::calibrate() {
+  if (config_.t_eval > 0 && config_.t_skip > 0) return;
+  auto t0 = Clock::now();
+  const int stride = std::max(1, config_.calibration_stride);
+  std::vector<std::vector<uint32_t>> subset(cluster_points_.size());
+  size_t count = 0;
+  for (size_t c = 0; c < cluster_points_.size(); ++c)
+    for (uint32_t p : cluster_points_[c]) {
+      const uint32_t px = points_[p].pixel;
+      if ((px % config_.width) % stride == 0 && (px / config_.width) % stride == 0) subset[c].push_back(p);
+    }
+  for (const auto& s : subset) count += s.size();
+  const double samples = double(std::max<size_t>(1, count)) * config_.samples_per_pass;
+  double best_eval = INFINITY, best_skip = INFINITY;
+  size_t nonzero = 0;
+  // Alternate and keep the minimum: the machine is shared, the minimum is the least disturbed.
+  for (int rep = 0; rep < 3; ++rep) {
+    auto t = Clock::now();
+    nonzero = pass(subset, Forced::Zero, false);
+    best_eval = std::min(best_eval, seconds_since(t));
+    t = Clock::now();
+    pass(subset, Forced::One, false);
+    best_skip = std::min(best_skip, seconds_since(t));
+  }
+  // Zero-contribution samples never trace a ray in any mode: charge them t_skip and give
+  // t_eval per sample that does trace (the cost model of eq. 11).
+  timings_.t_skip = best_skip / samples;
+  const double n0 = samples - double(nonzero);
+  timings_.t_eval = nonzero ? std::max(timings_.t_skip, (best_eval - n0 * timings_.t_skip) / double(nonzero))
+                            : best_eval / samples;
+  timings_.calibration_ms = seconds_since(t0) * 1e3;
+  reset(config_.mode);
+}
+
+void ManylightRenderer::render_pass() {
+  if (config_.mode != VisibilityMode::Exact && !(timings_.t_eval > 0)) calibrate();
+  pass(cluster_points_, Forced::None, true);
+  ++passes_;
+}
+
+size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster_points, Forced forced, bool accumulate) {
+  const size_t nc = cluster_points.size();
+  const size_t nl = clusters_.vpl_cluster_count();
+  const size_t per_round = size_t(config_.points_per_round);
+  const int spp_samples = config_.samples_per_pass;
+  const size_t stride = per_round * spp_samples;
+  size_t rounds = 0;
+  for (const auto& l : cluster_points) rounds = std::max(rounds, (l.size() + per_round - 1) / per_round);
+  std::vector<Sample> samples(nc * stride);
+  std::vector<Ray> ray_of(nc * stride);
+  RayBatch rays;
+  std::vector<uint8_t> occ;
+  size_t nonzero = 0;
+  const double t_hat_base_eval = timings_.t_eval, t_hat_base_skip = timings_.t_skip;
+  for (size_t round = 0; round < rounds; ++round) {
+    // Phase A: sample VPLs and decide skips with the statistics of earlier rounds.
+    tbb::parallel_for(size_t(0), nc, [&](size_t c) {
+      const auto& list = cluster_points[c];
+      const size_t b = round * per_round, e = std::min(list.size(), b + per_round);
+      const ClusterSampleStats& st = stats_[c];
+      const double th = t_hat(t_hat_base_eval, t_hat_base_skip, st.mean_q());
+      const double var = st.variance();
+      const float* cdf = &clusters_.cdf[c * nl];
+      const float* rr = &clusters_.r[c * nl];
+      for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = 0;
+      for (size_t i = b; i < e; ++i) {
+        const uint32_t pid = list[i];
+        const ShadingPoint& sp = points_[pid];
+        for (int j = 0; j < spp_samples; ++j) {
+          manylight_detail::Rng rng(seed_ + passes_ * 0x9E3779B97F4A7C15ull, pid, uint64_t(j) | (uint64_t(forced) << 32));
+          Sample& s = samples[c * stride + (i - b) * spp_samples + j];
+          s.point = pid;
+          const float u = rng.uniform();
+          const size_t l = std::min(size_t(std::upper_bound(cdf, cdf + nl, u) - cdf), nl - 1);
+          const double pmf_cluster = double(cdf[l]) - (l ? double(cdf[l - 1]) : 0.0);
+          const uint32_t members = clusters_.lights.count(l);
+          const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
+          const double p = pmf_cluster / double(members);
+          const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
+          if (max_component(t) <= 0.0f) { s.state = 1; s.value = Vec3(0.0f); s.q = 1; s.r = 0; s.lum_t = 0; continue; }
+          s.value = t * float(1.0 / p);
+          s.lum_t = luminance(s.value);
+          s.r = float(visibility_prediction(config_.mode, rr[l]));
+          double q = 0;
+          if (forced == Forced::One) q = 1;
+          else if (forced == Forced::None)
+            q = skip_probability(config_.mode, luminance(t), p, s.r, th, var, config_.epsilon);
+          s.q = float(q);
+          // q is stored as float: decide with the float value so eq. (8) uses what was sampled.
+          const bool skip = s.q >= 1.0f || (s.q > 0.0f && rng.uniform() < s.q);
+          if (skip) { s.state = 2; continue; }
+          s.state = 3;
+          ray_of[c * stride + (i - b) * spp_samples + j] = shadow_ray(sp, vpl, offset_);
+        }
+      }
+    });
+    rays.clear();
+    for (size_t k = 0; k < samples.size(); ++k) {
+      nonzero += samples[k].state >= 2 ? 1 : 0;
+      if (samples[k].state == 3) { samples[k].ray = uint32_t(rays.size()); rays.push_back(ray_of[k]); }
+    }
+    if (!rays.empty()) accel_.occluded(rays, occ);
+    rays_traced_ += accumulate ? rays.size() : 0;
+    // Phase B: V~ of eq. (8), the pixel estimate of eq. (6), and the cluster statistics.
+    tbb::parallel_for(size_t(0), nc, [&](size_t c) {
+      ClusterSampleStats& st = stats_[c];
+      for (size_t k = c * stride; k < (c + 1) * stride; ++k) {
+        const Sample& s = samples[k];
+        if (s.state == 0) continue;
+        double vt = 0;
+        if (s.state == 2) vt = s.r;
+        else if (s.state == 3) vt = visibility_estimate(false, occ[s.ray] ? 0.0 : 1.0, s.r, s.q);
+        if (s.state != 1) st.add(s.q, s.lum_t * vt);
+        else st.add(1.0, 0.0);
+        if (!accumulate) continue;
+        point_sum_[s.point] += s.value * float(vt / spp_samples);
+        if (s.state != 1) {
+          point_samples_[s.point]++;
+          point_skipped_[s.point] += s.state == 2 ? 1u : 0u;
+        }
+      }
+    });
+  }
+  return nonzero;
+}
+
+std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, std::span<const Vec3> reference, size_t max_passes) {
+  std::vector<ProgressRecord> records;
+  double elapsed = 0;
+  while (passes_ < max_passes && (records.empty() || elapsed < seconds)) {
+    const auto t = Clock::now();
+    render_pass();
+    elapsed += seconds_since(t);
+    ProgressRecord rec;
+    rec.seconds = elapsed;
+    rec.passes = passes_;
+    rec.skip_rate = skip_rate();
+    if (!reference.empty()) rec.rmse = rmse(image(), reference);
+    records.push_back(rec);
+  }
+  return records;
+}
+
+std::vector<Vec3> ManylightRenderer::image() const {
+  std::vector<Vec3> img(size_t(config_.width) * config_.height, Vec3(0.0f));
+  const float inv = passes_ ? 1.0f / float(passes_) : 0.0f;
+  for (size_t p = 0; p < points_.size(); ++p) {
+    const ShadingPoint& sp = points_[p];
+    img[sp.pixel] += sp.emitted + sp.weight * point_sum_[p] * inv;
+  }
+  return img;
+}
+
+std::vector<float> ManylightRenderer::skip_image() const {
+  std::vector<float> skipped(size_t(config_.width) * config_.height, 0.0f), total(skipped.size(), 0.0f);
+  for (size_t p = 0; p < points_.size(); ++p) {
+    skipped[points_[p].pixel] += float(point_skipped_[p]);
+    total[points_[p].pixel] += float(point_samples_[p]);
+  }
+  for (size_t i = 0; i < skipped.size(); ++i) skipped[i] = total[i] > 0 ? skipped[i] / total[i] : 0.0f;
+  return skipped;
+}
+
+double ManylightRenderer::skip_rate() const {
+  uint64_t skipped = 0, total = 0;
+  for (size_t p = 0; p < points_.size(); ++p) { skipped += point_skipped_[p]; total += point_samples_[p]; }
+  return total ? double(skipped) / double(total) : 0.0;
+}
+
+double rmse(std::span<const Vec3> a, std::span<const Vec3> b) {
+  if (a.size() != b.size()) throw InputError("rmse: image sizes differ");
+  if (a.empty()) return 0.0;
+  double sum = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const Vec3 d = a[i] - b[i];
+    sum += double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z;
+  }
+  return std::sqrt(sum / (3.0 * double(a.size())));
+}
+
+}  // namespace rayscout

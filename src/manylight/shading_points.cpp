@@ -1,0 +1,81 @@
+// Shading points from pinhole camera rays, following mirrors, traced as batches.
+#include "rayscout/manylight/shading_points.h"
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/manylight/brdf.h"
+#include "sampling.h"
+
+namespace rayscout {
+
+std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Accelerator& accel,
+                                                  const ManylightConfig& config) {
+  if (config.width <= 0 || config.height <= 0 || config.spp <= 0)
+    throw InputError("manylight: width, height and spp must be positive");
+  const Camera& cam = scene.camera;
+  const Vec3 forward = normalize(cam.look_at - cam.eye);
+  const Vec3 right = normalize(cross(forward, cam.up));
+  const Vec3 up = cross(right, forward);
+  const float tan_half = std::tan(0.5f * cam.fov_deg * kPi / 180.0f);
+  const float aspect = float(config.width) / float(config.height);
+  const size_t n = size_t(config.width) * config.height * config.spp;
+  const float diag = length(scene.bounds().diagonal());
+  const float offset = 1e-4f * diag;
+
+  std::vector<ShadingPoint> points(n);
+  RayBatch rays;
+  rays.resize(n);
+  std::vector<uint32_t> active(n);
+  std::vector<Vec3> throughput(n, Vec3(1.0f / float(config.spp)));
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t pixel = uint32_t(i / config.spp);
+    const int x = int(pixel % config.width), y = int(pixel / config.width);
+    float jx = 0.5f, jy = 0.5f;
+    if (config.spp > 1) {
+      manylight_detail::Rng rng(config.seed, 0xCA3E, i);
+      jx = rng.uniform();
+      jy = rng.uniform();
+    }
+    const float px = (2.0f * (float(x) + jx) / float(config.width) - 1.0f) * tan_half * aspect;
+    const float py = (1.0f - 2.0f * (float(y) + jy) / float(config.height)) * tan_half;
+    points[i].pixel = pixel;
+    rays.set(i, {cam.eye, 0.0f, normalize(forward + right * px + up * py), kInfinity});
+    active[i] = uint32_t(i);
+  }
+  HitBatch hits;
+  for (int bounce = 0; !active.empty(); ++bounce) {
+    accel.intersect(rays, hits);
+    RayBatch next_rays;
+    std::vector<uint32_t> next_active;
+    for (size_t k = 0; k < active.size(); ++k) {
+      if (!hits[k].hit()) continue;
+      ShadingPoint& sp = points[active[k]];
+      const Ray ray = rays[k];
+      const uint32_t prim = hits.prim[k];
+      const Material& m = scene.material_of(prim);
+      const Vec3 wo = -normalize(ray.dir);
+      Vec3 nrm = normalize(scene.triangles[prim].normal());
+      if (dot(nrm, wo) < 0.0f) nrm = -nrm;
+      const Vec3 p = ray.org + ray.dir * hits.t[k];
+      Vec3& tp = throughput[active[k]];
+      if (m.emissive()) sp.emitted += tp * m.emission;
+      if (m.type == Material::Type::Mirror) {
+        if (bounce >= config.max_mirror_bounces) continue;
+        tp *= m.specular;
+        if (max_component(tp) <= 0.0f) continue;
+        next_rays.push_back({p + nrm * offset, 0.0f, reflect(wo, nrm), kInfinity});
+        next_active.push_back(active[k]);
+        continue;
+      }
+      sp.position = p;
+      sp.normal = nrm;
+      sp.wo = wo;
+      sp.weight = tp;
+      sp.material = scene.material_ids[prim];
+    }
+    rays = std::move(next_rays);
+    active.swap(next_active);
+  }
+  return points;
+}
+
+}  // namespace rayscout

@@ -1,0 +1,240 @@
+// VisibilityCluster: clustering, cluster-pair visibility and the VPL-cluster distributions.
+#include "rayscout/manylight/visibility_cluster.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "rayscout/manylight/brdf.h"
+#include "sampling.h"
+
+namespace rayscout {
+
+namespace {
+
+using Feature = std::array<float, 6>;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+int ceil_log2(int n) {
+  int d = 0;
+  while ((1 << d) < n) ++d;
+  return d;
+}
+
+void bisect(std::vector<Feature>& f, std::vector<uint32_t>& order, size_t lo, size_t hi, int depth,
+            std::vector<uint32_t>& begins) {
+  if (depth == 0 || hi - lo < 2) {
+    begins.push_back(uint32_t(lo));
+    if (depth > 0) {
+      // Keep 2^depth clusters per subtree only when there are items; empty ones are dropped.
+    }
+    return;
+  }
+  Feature lo_f, hi_f;
+  lo_f.fill(INFINITY);
+  hi_f.fill(-INFINITY);
+  for (size_t i = lo; i < hi; ++i)
+    for (int d = 0; d < 6; ++d) {
+      lo_f[d] = std::min(lo_f[d], f[order[i]][d]);
+      hi_f[d] = std::max(hi_f[d], f[order[i]][d]);
+    }
+  int axis = 0;
+  for (int d = 1; d < 6; ++d)
+    if (hi_f[d] - lo_f[d] > hi_f[axis] - lo_f[axis]) axis = d;
+  const size_t mid = lo + (hi - lo) / 2;
+  std::nth_element(order.begin() + lo, order.begin() + mid, order.begin() + hi,
+                   [&](uint32_t a, uint32_t b) { return f[a][axis] < f[b][axis] || (f[a][axis] == f[b][axis] && a < b); });
+  bisect(f, order, lo, mid, depth - 1, begins);
+  bisect(f, order, mid, hi, depth - 1, begins);
+}
+
+}  // namespace
+
+Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3> normals,
+                          float diagonal, float normal_weight, int clusters) {
+  Clustering c;
+  const size_t n = positions.size();
+  std::vector<Feature> f(n);
+  const float inv = diagonal > 0 ? 1.0f / diagonal : 1.0f;
+  for (size_t i = 0; i < n; ++i)
+    f[i] = {positions[i].x * inv, positions[i].y * inv, positions[i].z * inv,
+            normals[i].x * normal_weight, normals[i].y * normal_weight, normals[i].z * normal_weight};
+  c.order.resize(n);
+  for (size_t i = 0; i < n; ++i) c.order[i] = uint32_t(i);
+  if (n > 0) bisect(f, c.order, 0, n, ceil_log2(std::max(1, clusters)), c.begin);
+  c.begin.push_back(uint32_t(n));
+  return c;
+}
+
+Vec3 tentative_contribution(const Scene& scene, const ShadingPoint& sp, const Vpl& vpl, float clamp_distance) {
+  const Vec3 d = vpl.position - sp.position;
+  const float dist2 = dot(d, d);
+  if (!(dist2 > 0.0f)) return Vec3(0.0f);
+  const Vec3 w = d * (1.0f / std::sqrt(dist2));
+  const float cos_x = dot(sp.normal, w);
+  if (cos_x <= 0.0f) return Vec3(0.0f);
+  const Vec3 intensity = vpl_intensity(vpl, scene, -w);
+  if (max_component(intensity) <= 0.0f) return Vec3(0.0f);
+  const Vec3 f = eval_brdf(scene.materials[sp.material], sp.normal, w, sp.wo);
+  return intensity * f * (cos_x / std::max(dist2, clamp_distance * clamp_distance));
+}
+
+Ray shadow_ray(const ShadingPoint& sp, const Vpl& vpl, float offset) {
+  const Vec3 o = sp.position + sp.normal * offset;
+  Vec3 y = vpl.position;
+  if (vpl.kind != Vpl::Kind::Point) {
+    // Offset the VPL end towards the shading point's side of its surface.
+    const float side = dot(vpl.normal, sp.position - vpl.position) >= 0.0f ? 1.0f : -1.0f;
+    y = y + vpl.normal * (side * offset);
+  }
+  return {o, 0.0f, y - o, 0.999f};
+}
+
+VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerator& accel,
+                                             std::span<const ShadingPoint> points,
+                                             const VplSet& vpls, const ManylightConfig& config) {
+  VisibilityClusters vc;
+  auto t0 = Clock::now();
+  const float diag = length(scene.bounds().diagonal());
+  const float offset = 1e-4f * diag;
+
+  std::vector<uint32_t> valid;
+  std::vector<Vec3> pos, nrm;
+  for (uint32_t i = 0; i < points.size(); ++i) {
+    if (!points[i].valid()) continue;
+    valid.push_back(i);
+    pos.push_back(points[i].position);
+    nrm.push_back(points[i].normal);
+  }
+  vc.shading = cluster_points(pos, nrm, diag, config.normal_weight, config.shading_clusters);
+  for (auto& id : vc.shading.order) id = valid[id];
+  vc.shading_cluster_of.assign(points.size(), VisibilityClusters::kNoCluster);
+  for (uint32_t c = 0; c < vc.shading.size(); ++c)
+    for (uint32_t k = vc.shading.begin[c]; k < vc.shading.begin[c + 1]; ++k) vc.shading_cluster_of[vc.shading.order[k]] = c;
+
+  pos.clear();
+  nrm.clear();
+  for (const Vpl& v : vpls.vpls) {
+    pos.push_back(v.position);
+    nrm.push_back(v.kind == Vpl::Kind::Point ? Vec3(0.0f) : v.normal);
+  }
+  vc.lights = cluster_points(pos, nrm, diag, config.normal_weight, config.vpl_clusters);
+  vc.cluster_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  const size_t ns = vc.shading.size(), nl = vc.lights.size();
+  const size_t pairs = ns * nl;
+  std::vector<double> sum_t(pairs, 0.0);
+  std::vector<uint32_t> n_t(pairs, 0), n_vis(pairs, 0), n_traced(pairs, 0);
+  // Samples `count` random member pairs of every listed cluster pair; stream `pass` keeps
+  // the refinement's samples independent of the first ones.
+  auto sample_pairs = [&](const std::vector<uint32_t>& pair_ids, int count, uint64_t pass) {
+    const size_t chunk_pairs = std::max<size_t>(1, (size_t(1) << 20) / size_t(std::max(1, count)));
+    for (size_t c0 = 0; c0 < pair_ids.size(); c0 += chunk_pairs) {
+      const size_t c1 = std::min(pair_ids.size(), c0 + chunk_pairs);
+      const size_t m = (c1 - c0) * size_t(count);
+      std::vector<float> lum(m, 0.0f);
+      std::vector<Ray> ray_of(m);
+      tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1), [&](const auto& range) {
+        for (size_t k = range.begin(); k != range.end(); ++k) {
+          const uint32_t pid = pair_ids[k];
+          const size_t s = pid / nl, l = pid % nl;
+          manylight_detail::Rng rng(config.seed, 0xC1A55 + pass, pid);
+          for (int j = 0; j < count; ++j) {
+            const auto& sp = points[vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))]];
+            const auto& vpl = vpls.vpls[vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))]];
+            const size_t slot = (k - c0) * count + j;
+            lum[slot] = luminance(tentative_contribution(scene, sp, vpl, config.clamp_distance));
+            ray_of[slot] = shadow_ray(sp, vpl, offset);
+          }
+        }
+      });
+      RayBatch rays;
+      std::vector<uint32_t> slot_of;
+      for (size_t slot = 0; slot < m; ++slot)
+        if (lum[slot] > 0.0f) { rays.push_back(ray_of[slot]); slot_of.push_back(uint32_t(slot)); }
+      std::vector<uint8_t> occ;
+      accel.occluded(rays, occ);
+      vc.shadow_rays += rays.size();
+      for (size_t k = c0; k < c1; ++k) {
+        const uint32_t pid = pair_ids[k];
+        for (int j = 0; j < count; ++j) {
+          sum_t[pid] += lum[(k - c0) * count + j];
+          n_t[pid]++;
+        }
+      }
+      for (size_t i = 0; i < rays.size(); ++i) {
+        const uint32_t pid = pair_ids[c0 + slot_of[i] / count];
+        n_traced[pid]++;
+        n_vis[pid] += occ[i] ? 0u : 1u;
+      }
+    }
+  };
+  std::vector<uint32_t> all(pairs);
+  for (size_t i = 0; i < pairs; ++i) all[i] = uint32_t(i);
+  sample_pairs(all, std::max(1, config.visibility_samples), 0);
+
+  vc.r.assign(pairs, 0.5f);
+  std::vector<float> weight(pairs, 0.0f);
+  auto update = [&](size_t pid) {
+    // Unknown (no pair faced each other): r = 0.5, the most uncertain prediction.
+    vc.r[pid] = n_traced[pid] ? float(n_vis[pid]) / float(n_traced[pid]) : 0.5f;
+    const double c = n_t[pid] ? sum_t[pid] / n_t[pid] * double(vc.lights.count(pid % nl)) : 0.0;
+    weight[pid] = float(c * std::max(vc.r[pid], config.r_floor));
+  };
+  for (size_t pid = 0; pid < pairs; ++pid) update(pid);
+  if (config.refine_samples > 0) {
+    // Refine pairs whose visibility is mixed and that carry an above-average share of their
+    // row: only there does a better r change the pdf or the skip probability much.
+    std::vector<uint32_t> refine;
+    for (size_t s = 0; s < ns; ++s) {
+      double row = 0;
+      for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
+      const double mean = row / double(nl);
+      for (size_t l = 0; l < nl; ++l) {
+        const size_t pid = s * nl + l;
+        if (vc.r[pid] > 0.0f && vc.r[pid] < 1.0f && weight[pid] >= mean && weight[pid] > 0) refine.push_back(uint32_t(pid));
+      }
+    }
+    vc.refined_pairs = refine.size();
+    sample_pairs(refine, config.refine_samples, 1);
+    for (uint32_t pid : refine) update(pid);
+  }
+  vc.visibility_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  vc.pmf.assign(pairs, 0.0f);
+  vc.cdf.assign(pairs, 0.0f);
+  const double n_vpl = double(vpls.vpls.size());
+  const double mix = std::clamp(double(config.uniform_mix), 0.0, 1.0);
+  tbb::parallel_for(size_t(0), ns, [&](size_t s) {
+    double row = 0;
+    for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
+    double acc = 0;
+    for (size_t l = 0; l < nl; ++l) {
+      const double uniform = double(vc.lights.count(l)) / n_vpl;
+      const double p = row > 0 ? (1.0 - mix) * weight[s * nl + l] / row + mix * uniform : uniform;
+      vc.pmf[s * nl + l] = float(p);
+      acc += p;
+      vc.cdf[s * nl + l] = float(acc);
+    }
+    // Normalise so the last entry is exactly 1 and pmf matches the CDF steps.
+    for (size_t l = 0; l < nl; ++l) {
+      vc.pmf[s * nl + l] = float(vc.pmf[s * nl + l] / acc);
+      vc.cdf[s * nl + l] = float(vc.cdf[s * nl + l] / acc);
+    }
+    vc.cdf[s * nl + nl - 1] = 1.0f;
+  });
+  if (config.override_r >= 0.0f && config.override_r <= 1.0f) std::fill(vc.r.begin(), vc.r.end(), config.override_r);
+  vc.pmf_ms = ms_since(t0);
+  return vc;
+}
+
+}  // namespace rayscout

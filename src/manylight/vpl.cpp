@@ -1,0 +1,189 @@
+// Instant radiosity: light paths from point and area lights, every vertex a VPL.
+#include "rayscout/manylight/vpl.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "rayscout/manylight/brdf.h"
+#include "sampling.h"
+
+namespace rayscout {
+
+using manylight_detail::Rng;
+
+Vec3 vpl_intensity(const Vpl& vpl, const Scene& scene, const Vec3& w) {
+  switch (vpl.kind) {
+    case Vpl::Kind::Point: return vpl.power;
+    case Vpl::Kind::Emitter: return vpl.power * (std::fabs(dot(vpl.normal, w)) / (2.0f * kPi));
+    case Vpl::Kind::Surface: {
+      const float c = dot(vpl.normal, w);
+      if (c <= 0.0f) return Vec3(0.0f);
+      return vpl.power * eval_brdf(scene.materials[vpl.material], vpl.normal, vpl.wi, w) * c;
+    }
+  }
+  return Vec3(0.0f);
+}
+
+namespace {
+
+/// A light the paths start from: a point light or one emissive triangle.
+struct LightSource {
+  bool point = false;
+  uint32_t index = 0;  // into point_lights or triangles
+  float power = 0;     // scalar (luminance) power, W
+};
+
+/// A light path in flight.
+struct PathState {
+  Vec3 throughput;  // flux carried, W per colour (not yet divided by the path count)
+  uint32_t path = 0;
+  int bounces = 0;
+};
+
+}  // namespace
+
+VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const ManylightConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  VplSet out;
+  std::vector<LightSource> lights;
+  for (uint32_t i = 0; i < scene.point_lights.size(); ++i)
+    lights.push_back({true, i, 4.0f * kPi * luminance(scene.point_lights[i].intensity)});
+  for (uint32_t id : scene.emissive_triangles) {
+    // Two-sided emitters: total power 2 pi Le A (see docs/manylight.md).
+    const float p = 2.0f * kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
+    if (p > 0) lights.push_back({false, id, p});
+  }
+  if (lights.empty() || config.vpl_count == 0) return out;
+  std::vector<double> cdf(lights.size());
+  double total = 0;
+  for (size_t i = 0; i < lights.size(); ++i) cdf[i] = (total += lights[i].power);
+  for (auto& c : cdf) c /= total;
+
+  const float diag = length(scene.bounds().diagonal());
+  const float offset = 1e-4f * diag;
+  const size_t target = config.vpl_count;
+  size_t batch_paths = std::max<size_t>(256, target / 3);
+  std::vector<PathState> states;
+  RayBatch rays;
+  HitBatch hits;
+  while (out.vpls.size() < target) {
+    states.clear();
+    rays.clear();
+    for (size_t k = 0; k < batch_paths; ++k) {
+      const uint32_t path = uint32_t(out.light_paths + k);
+      Rng rng(config.seed, 0x11A7, path);
+      const double u = rng.uniform_double();
+      const size_t li = std::min(size_t(std::lower_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), lights.size() - 1);
+      const double pdf = (cdf[li] - (li ? cdf[li - 1] : 0.0));
+      const LightSource& ls = lights[li];
+      Vpl v;
+      Vec3 dir, org;
+      Vec3 flux;
+      if (ls.point) {
+        const PointLight& pl = scene.point_lights[ls.index];
+        v.kind = Vpl::Kind::Point;
+        v.position = pl.position;
+        v.power = pl.intensity * float(1.0 / pdf);
+        const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
+        const float s = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        dir = Vec3(s * std::cos(phi), s * std::sin(phi), z);
+        org = pl.position;
+        flux = pl.intensity * float(4.0 * kPi / pdf);
+      } else {
+        const Triangle& tri = scene.triangles[ls.index];
+        float a = rng.uniform(), b = rng.uniform();
+        if (a + b > 1.0f) { a = 1.0f - a; b = 1.0f - b; }
+        v.kind = Vpl::Kind::Emitter;
+        v.position = tri.v0 + (tri.v1 - tri.v0) * a + (tri.v2 - tri.v0) * b;
+        Vec3 n = normalize(tri.normal());
+        if (rng.uniform() < 0.5f) n = -n;
+        v.normal = n;
+        const Vec3 le = scene.material_of(ls.index).emission;
+        v.power = le * (2.0f * kPi * tri.area() / float(pdf));
+        dir = manylight_detail::sample_cosine(n, rng.uniform(), rng.uniform());
+        org = v.position + n * offset;
+        flux = v.power;  // per side pi Le A, chosen with probability 1/2
+      }
+      out.vpls.push_back(v);
+      if (config.max_vpl_bounces > 0) {
+        states.push_back({flux, path, 0});
+        rays.push_back({org, 0.0f, dir, kInfinity});
+      }
+    }
+    out.light_paths += batch_paths;
+    // Wavefront: trace every live path one segment, make VPLs, continue the survivors.
+    while (!rays.empty()) {
+      accel.intersect(rays, hits);
+      std::vector<PathState> next_states;
+      RayBatch next_rays;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        if (hits.prim[i] == kInvalidId) continue;
+        PathState st = states[i];
+        const Ray ray = rays[i];
+        const Triangle& tri = scene.triangles[hits.prim[i]];
+        const uint32_t mat_id = scene.material_ids[hits.prim[i]];
+        const Material& m = scene.materials[mat_id];
+        const Vec3 p = ray.org + ray.dir * hits.t[i];
+        const Vec3 wi = -normalize(ray.dir);
+        Vec3 n = normalize(tri.normal());
+        if (dot(n, wi) < 0.0f) n = -n;
+        st.bounces++;
+        if (m.type != Material::Type::Mirror) {
+          Vpl v;
+          v.kind = Vpl::Kind::Surface;
+          v.position = p;
+          v.normal = n;
+          v.wi = wi;
+          v.power = st.throughput;
+          v.material = mat_id;
+          out.vpls.push_back(v);
+        }
+        if (st.bounces >= config.max_vpl_bounces) continue;
+        Rng rng(config.seed, 0x5CA7 + uint64_t(st.bounces), st.path);
+        Vec3 wo;
+        Vec3 weight;
+        if (m.type == Material::Type::Mirror) {
+          wo = reflect(wi, n);
+          weight = m.specular;
+        } else {
+          const float kd = luminance(m.diffuse);
+          const float ks = m.type == Material::Type::Glossy ? luminance(m.specular) : 0.0f;
+          if (kd + ks <= 0.0f) continue;
+          const float pd = kd / (kd + ks);
+          const Vec3 axis = reflect(wi, n);
+          if (rng.uniform() < pd) wo = manylight_detail::sample_cosine(n, rng.uniform(), rng.uniform());
+          else wo = manylight_detail::sample_phong(axis, m.exponent, rng.uniform(), rng.uniform());
+          const float cos_o = dot(wo, n);
+          if (cos_o <= 0.0f) continue;
+          float pdf = pd * cos_o / kPi;
+          if (ks > 0.0f) {
+            const float ca = std::max(0.0f, dot(axis, wo));
+            pdf += (1.0f - pd) * (m.exponent + 1.0f) / (2.0f * kPi) * std::pow(ca, m.exponent);
+          }
+          if (!(pdf > 0.0f)) continue;
+          weight = eval_brdf(m, n, wi, wo) * (cos_o / pdf);
+        }
+        const Vec3 nt = st.throughput * weight;
+        // Russian roulette keeps the flux per path roughly constant.
+        const float survive = std::min(1.0f, max_component(nt) / std::max(1e-30f, max_component(st.throughput)));
+        if (!(survive > 0.0f) || rng.uniform() >= survive) continue;
+        st.throughput = nt / survive;
+        next_states.push_back(st);
+        next_rays.push_back({p + n * (dot(wo, n) > 0 ? offset : -offset), 0.0f, wo, kInfinity});
+      }
+      states.swap(next_states);
+      rays = std::move(next_rays);
+    }
+    const size_t made = out.vpls.size();
+    if (made < target) {
+      const double per_path = made > 0 ? double(made) / double(out.light_paths) : 1.0;
+      batch_paths = std::max<size_t>(64, size_t(double(target - made) / per_path) + 1);
+    }
+  }
+  const float inv = 1.0f / float(out.light_paths);
+  for (auto& v : out.vpls) v.power *= inv;
+  out.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace rayscout

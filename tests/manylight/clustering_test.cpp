@@ -1,0 +1,107 @@
+// Clustering, VPL generation and the sampling distributions of VisibilityCluster.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/manylight_renderer.h"
+#include "rayscout/manylight/visibility_cluster.h"
+#include "rayscout/manylight/vpl.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout {
+namespace {
+
+TEST(Clustering, EveryItemExactlyOnceInBalancedClusters) {
+  std::vector<Vec3> pos, nrm;
+  for (int i = 0; i < 1000; ++i) {
+    pos.push_back(Vec3(float(i % 10), float((i / 10) % 10), float(i / 100)));
+    nrm.push_back(Vec3(0, i % 2 ? 1.0f : -1.0f, 0));
+  }
+  const Clustering c = cluster_points(pos, nrm, 10.0f, 1.0f, 30);  // rounds up to 32
+  ASSERT_EQ(c.size(), 32u);
+  std::vector<uint32_t> sorted = c.order;
+  std::sort(sorted.begin(), sorted.end());
+  for (uint32_t i = 0; i < 1000; ++i) ASSERT_EQ(sorted[i], i);
+  for (size_t k = 0; k < c.size(); ++k) {
+    EXPECT_GE(c.count(k), 31u);
+    EXPECT_LE(c.count(k), 32u);
+  }
+}
+
+TEST(Clustering, NormalsSeparateCoincidentPoints) {
+  // Two coincident sheets facing opposite ways must never share a cluster.
+  std::vector<Vec3> pos, nrm;
+  for (int i = 0; i < 256; ++i) {
+    pos.push_back(Vec3(float(i % 16) * 0.01f, 0, float(i / 16) * 0.01f));
+    nrm.push_back(Vec3(0, 1, 0));
+    pos.push_back(pos.back());
+    nrm.push_back(Vec3(0, -1, 0));
+  }
+  const Clustering c = cluster_points(pos, nrm, 1.0f, 1.0f, 8);
+  for (size_t k = 0; k < c.size(); ++k) {
+    const float y0 = nrm[c.order[c.begin[k]]].y;
+    for (uint32_t j = c.begin[k]; j < c.begin[k + 1]; ++j) EXPECT_EQ(nrm[c.order[j]].y, y0);
+  }
+}
+
+TEST(Vpls, PowerIsConservedAndPathsAreCounted) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  ManylightConfig config;
+  config.vpl_count = 2000;
+  const VplSet set = generate_vpls(scene, *accel, config);
+  ASSERT_GE(set.vpls.size(), 2000u);
+  ASSERT_GT(set.light_paths, 0u);
+  // The path starts carry the lights' total power (point: 4 pi I; area: 2 pi Le A).
+  double expected = 0, got = 0;
+  for (const auto& pl : scene.point_lights) expected += 4 * kPi * luminance(pl.intensity);
+  for (uint32_t id : scene.emissive_triangles)
+    expected += 2 * kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
+  for (const auto& v : set.vpls) {
+    if (v.kind == Vpl::Kind::Point) got += 4 * kPi * luminance(v.power);
+    if (v.kind == Vpl::Kind::Emitter) got += luminance(v.power);
+  }
+  EXPECT_NEAR(got, expected, 1e-3 * expected);
+  size_t surface = std::count_if(set.vpls.begin(), set.vpls.end(), [](const Vpl& v) { return v.kind == Vpl::Kind::Surface; });
+  EXPECT_GT(surface, set.vpls.size() / 2) << "most VPLs are indirect-light vertices";
+}
+
+TEST(VisibilityClusters, PmfsArePositiveAndNormalised) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  ManylightConfig config;
+  config.width = 32;
+  config.height = 24;
+  config.vpl_count = 500;
+  config.shading_clusters = 16;
+  config.vpl_clusters = 16;
+  ManylightRenderer renderer(scene, *accel, config);
+  const VisibilityClusters& vc = renderer.clusters();
+  const size_t nl = vc.vpl_cluster_count();
+  ASSERT_EQ(vc.shading.size(), 16u);
+  ASSERT_EQ(nl, 16u);
+  bool some_occluded = false, some_visible = false;
+  for (size_t s = 0; s < vc.shading.size(); ++s) {
+    double sum = 0;
+    for (size_t l = 0; l < nl; ++l) {
+      EXPECT_GT(vc.pmf[s * nl + l], 0.0f);
+      sum += vc.pmf[s * nl + l];
+      const float r = vc.r[s * nl + l];
+      EXPECT_GE(r, 0.0f);
+      EXPECT_LE(r, 1.0f);
+      some_occluded |= r < 1.0f;
+      some_visible |= r > 0.0f;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-5);
+    EXPECT_FLOAT_EQ(vc.cdf[s * nl + nl - 1], 1.0f);
+  }
+  EXPECT_TRUE(some_occluded);
+  EXPECT_TRUE(some_visible);
+  EXPECT_GT(vc.shadow_rays, 0u);
+}
+
+}  // namespace
+}  // namespace rayscout

@@ -1,0 +1,175 @@
+// Statistical tests: every visibility mode converges to the exact many-light sum of eq. (1).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/manylight_renderer.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout {
+namespace {
+
+bool small_scale() {
+  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
+  return s && std::string(s) == "small";
+}
+
+ManylightConfig small_config() {
+  ManylightConfig c;
+  c.width = 32;
+  c.height = 24;
+  c.vpl_count = 400;
+  c.shading_clusters = 16;
+  c.vpl_clusters = 16;
+  c.samples_per_pass = 4;
+  c.points_per_round = 4;
+  c.t_eval = 1.0;  // fixed costs: calibration timing would make the test nondeterministic
+  c.t_skip = 0.2;
+  return c;
+}
+
+/// Eq. (1) summed over every VPL with exact visibility, per pixel.
+std::vector<Vec3> exact_sum(const Scene& scene, const Accelerator& accel, const ManylightRenderer& r) {
+  const auto& points = r.shading_points();
+  const auto& vpls = r.vpls().vpls;
+  const float offset = 1e-4f * length(scene.bounds().diagonal());
+  std::vector<Vec3> img(size_t(r.config().width) * r.config().height, Vec3(0.0f));
+  for (const ShadingPoint& sp : points) {
+    img[sp.pixel] += sp.emitted;
+    if (!sp.valid()) continue;
+    RayBatch rays;
+    std::vector<Vec3> t;
+    for (const Vpl& v : vpls) {
+      const Vec3 c = tentative_contribution(scene, sp, v, r.config().clamp_distance);
+      if (max_component(c) <= 0.0f) continue;
+      t.push_back(c);
+      rays.push_back(shadow_ray(sp, v, offset));
+    }
+    std::vector<uint8_t> occ;
+    accel.occluded(rays, occ);
+    Vec3 sum(0.0f);
+    for (size_t i = 0; i < t.size(); ++i)
+      if (!occ[i]) sum += t[i];
+    img[sp.pixel] += sp.weight * sum;
+  }
+  return img;
+}
+
+/// Region means (8 x 8 pixel blocks, channel-averaged) of an image.
+std::vector<double> regions(const std::vector<Vec3>& img, int w, int h) {
+  const int bw = 8, nx = w / bw, ny = h / bw;
+  std::vector<double> out(size_t(nx) * ny, 0.0);
+  for (int y = 0; y < ny * bw; ++y)
+    for (int x = 0; x < nx * bw; ++x) out[(y / bw) * nx + x / bw] += luminance(img[size_t(y) * w + x]) / (bw * bw);
+  return out;
+}
+
+/// Mean over `renders` independent renders of `passes` passes each; returns max |mean - ref| / SE
+/// over regions (SE = standard error of the mean over renders).
+double max_z_score(ManylightRenderer& r, VisibilityMode mode, const std::vector<double>& ref, int renders, int passes) {
+  const int w = r.config().width, h = r.config().height;
+  std::vector<double> sum(ref.size(), 0.0), sum2(ref.size(), 0.0);
+  for (int k = 0; k < renders; ++k) {
+    r.reset(mode);
+    r.set_seed(1000 + uint64_t(k) * 7919);
+    for (int p = 0; p < passes; ++p) r.render_pass();
+    const auto reg = regions(r.image(), w, h);
+    for (size_t i = 0; i < reg.size(); ++i) { sum[i] += reg[i]; sum2[i] += reg[i] * reg[i]; }
+  }
+  double worst = 0;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    const double mean = sum[i] / renders;
+    const double var = std::max(0.0, (sum2[i] / renders - mean * mean) * renders / (renders - 1.0));
+    const double se = std::sqrt(var / renders);
+    const double diff = std::fabs(mean - ref[i]);
+    const double z = se > 0 ? diff / se : (diff <= 1e-6 * std::fabs(ref[i]) + 1e-9 ? 0.0 : INFINITY);
+    worst = std::max(worst, z);
+  }
+  return worst;
+}
+
+class ManylightUnbiased : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scene_ = default_scene();
+    accel_ = make_accelerator("brute", scene_);
+  }
+  Scene scene_;
+  std::unique_ptr<Accelerator> accel_;
+};
+
+TEST_F(ManylightUnbiased, EveryModeConvergesToTheExactSumWithinFourStandardErrors) {
+  ManylightConfig config = small_config();
+  ManylightRenderer r(scene_, *accel_, config);
+  const auto ref = regions(exact_sum(scene_, *accel_, r), config.width, config.height);
+  const int renders = small_scale() ? 60 : 200;
+  for (VisibilityMode mode : {VisibilityMode::Exact, VisibilityMode::Veach, VisibilityMode::Conservative,
+                              VisibilityMode::Proposed}) {
+    const double z = max_z_score(r, mode, ref, renders, 2);
+    EXPECT_LT(z, 4.0) << to_string(mode);
+    if (mode != VisibilityMode::Exact) EXPECT_GT(r.skip_rate(), 0.05) << to_string(mode) << " skips something";
+    else EXPECT_EQ(r.skip_rate(), 0.0);
+  }
+}
+
+TEST_F(ManylightUnbiased, EpsilonKeepsProposedUnbiasedWhenThePredictionIsZeroOrOne) {
+  const int renders = small_scale() ? 60 : 200;
+  std::vector<double> ref;
+  for (float forced_r : {0.0f, 1.0f}) {
+    ManylightConfig config = small_config();
+    config.override_r = forced_r;  // a wrong prediction for every occluded (r = 1) or visible (r = 0) pair
+    ManylightRenderer r(scene_, *accel_, config);
+    if (ref.empty()) ref = regions(exact_sum(scene_, *accel_, r), config.width, config.height);
+    EXPECT_LT(max_z_score(r, VisibilityMode::Proposed, ref, renders, 2), 4.0) << "r = " << forced_r;
+    EXPECT_GT(r.skip_rate(), 0.2) << "r = " << forced_r;
+  }
+  // Counter-check that the test can fail: without the floor, r = 1 skips every shadow ray after
+  // the first samples and the image converges to the unoccluded sum instead.
+  ManylightConfig config = small_config();
+  config.override_r = 1.0f;
+  config.epsilon = 0.0f;
+  ManylightRenderer biased(scene_, *accel_, config);
+  EXPECT_GT(max_z_score(biased, VisibilityMode::Proposed, ref, small_scale() ? 30 : 60, 2), 10.0);
+}
+
+TEST_F(ManylightUnbiased, ZeroSkipProbabilityEqualsExactBitForBit) {
+  ManylightConfig config = small_config();
+  config.t_eval = config.t_skip = 1.0;  // t_diff = 0 -> t_hat = 0 -> q = 0 for every sample
+  ManylightRenderer r(scene_, *accel_, config);
+  r.reset(VisibilityMode::Exact);
+  for (int p = 0; p < 3; ++p) r.render_pass();
+  const auto exact = r.image();
+  const uint64_t exact_rays = r.shadow_rays_traced();
+  r.reset(VisibilityMode::Proposed);
+  for (int p = 0; p < 3; ++p) r.render_pass();
+  const auto proposed = r.image();
+  EXPECT_EQ(r.shadow_rays_traced(), exact_rays);
+  EXPECT_EQ(r.skip_rate(), 0.0);
+  for (size_t i = 0; i < exact.size(); ++i) ASSERT_EQ(exact[i], proposed[i]) << "pixel " << i;
+}
+
+TEST_F(ManylightUnbiased, ExactModeConvergesPerPixelToTheSum) {
+  // Many passes of exact visibility: the per-pixel estimate approaches eq. (1). The geometry
+  // term is clamped (in the reference too) so that per-pixel variance is bounded.
+  ManylightConfig config = small_config();
+  config.samples_per_pass = 16;
+  config.clamp_distance = 0.2f;
+  ManylightRenderer r(scene_, *accel_, config);
+  const auto ref = exact_sum(scene_, *accel_, r);
+  r.reset(VisibilityMode::Exact);
+  const auto records = r.render_for(1e9, ref, small_scale() ? 16 : 64);
+  // Unbiased Monte Carlo: MSE ~ 1 / passes, so 4x the passes halves the RMSE (with slack).
+  const double early = records[records.size() / 4 - 1].rmse, late = records.back().rmse;
+  EXPECT_LT(late, 0.7 * early) << "early " << early << " late " << late;
+  double ref_rms = 0;
+  for (const Vec3& v : ref) ref_rms += luminance(v) * luminance(v);
+  ref_rms = std::sqrt(ref_rms / ref.size());
+  EXPECT_LT(late, 0.1 * ref_rms);
+}
+
+}  // namespace
+}  // namespace rayscout

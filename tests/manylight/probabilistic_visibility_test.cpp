@@ -1,0 +1,92 @@
+// Skip probability (eq. 15) against hand-computed values; the estimator of eq. (8) is unbiased.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "rayscout/manylight/probabilistic_visibility.h"
+
+namespace rayscout {
+namespace {
+
+TEST(SkipProbability, ProposedMatchesHandComputedValue) {
+  // t = 2, p = 0.5, r = 0.8: D = max(0.1, 0.8 * 0.2) = 0.16; t_hat = 1 / (1 - 0.2) - 0.25 = 1.
+  // q = 1 - sqrt(4 * 0.16 / 0.25 * 1 / 16) = 1 - sqrt(0.16) = 0.6.
+  const double th = t_hat(1.0, 0.2, 0.25);
+  EXPECT_DOUBLE_EQ(th, 1.0);
+  EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 2.0, 0.5, 0.8, th, 16.0, 0.1), 0.6, 1e-12);
+}
+
+TEST(SkipProbability, EpsilonFloorAppliesNearZeroAndOne) {
+  // r = 1: r(1 - r) = 0 -> D = eps = 0.1; sqrt(1 * 0.1 / 1 * 2.5 / 1) = 0.5 -> q = 0.5.
+  EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 1.0, 1.0, 1.0, 2.5, 1.0, 0.1), 0.5, 1e-12);
+  EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 1.0, 1.0, 0.0, 2.5, 1.0, 0.1), 0.5, 1e-12);
+  // Without the floor the skip would be certain (the bias of sec. 4.2).
+  EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 1.0, 1.0, 1.0, 2.5, 1.0, 0.0), 1.0);
+}
+
+TEST(SkipProbability, VeachAndConservative) {
+  // Veach: D = 1 whatever r: q = 1 - sqrt(0.25 * 1 / 1 * 1 / 4) = 0.75 (sigma^2 = 4).
+  EXPECT_NEAR(skip_probability(VisibilityMode::Veach, 0.5, 1.0, 0.9, 1.0, 4.0, 0.1), 0.75, 1e-12);
+  // Conservative, r = 0.9: D = max(0.01, 0.81) = 0.81: q = 1 - sqrt(0.81 / 4) = 0.55.
+  EXPECT_NEAR(skip_probability(VisibilityMode::Conservative, 1.0, 1.0, 0.9, 1.0, 4.0, 0.1), 0.55, 1e-12);
+  EXPECT_DOUBLE_EQ(visibility_error_bound(VisibilityMode::Conservative, 0.5, 0.1), 0.25);
+  EXPECT_DOUBLE_EQ(visibility_prediction(VisibilityMode::Veach, 0.9), 0.0);
+  EXPECT_DOUBLE_EQ(visibility_prediction(VisibilityMode::Proposed, 0.9), 0.9);
+}
+
+TEST(SkipProbability, ClampsAndDegenerateInputs) {
+  EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Exact, 1, 1, 0.5, 1, 1, 0.1), 0.0);
+  // Large contribution: negative q clamps to 0.
+  EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 100, 0.01, 0.5, 1, 1, 0.1), 0.0);
+  // No statistics yet (sigma^2 = 0) or nothing to gain (t_hat = 0): always trace.
+  EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 1, 1, 0.5, 1, 0, 0.1), 0.0);
+  EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 1, 1, 0.5, 0, 1, 0.1), 0.0);
+  EXPECT_DOUBLE_EQ(t_hat(1.0, 1.0, 0.0), 0.0);
+  // Zero contribution: skipping is exact, q = 1.
+  EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 0, 1, 0.5, 1, 1, 0.1), 1.0);
+}
+
+TEST(VisibilityEstimate, TracedValueMatchesEq8) {
+  EXPECT_DOUBLE_EQ(visibility_estimate(false, 1.0, 0.8, 0.5), (1.0 - 0.4) / 0.5);
+  EXPECT_DOUBLE_EQ(visibility_estimate(false, 0.0, 0.8, 0.5), -0.8);
+  EXPECT_DOUBLE_EQ(visibility_estimate(true, 0.0, 0.8, 0.5), 0.8);
+  // q = 0 is exact visibility.
+  EXPECT_DOUBLE_EQ(visibility_estimate(false, 1.0, 0.3, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(visibility_estimate(false, 0.0, 0.3, 0.0), 0.0);
+}
+
+TEST(VisibilityEstimate, ExpectationIsTheTrueVisibilityAndVarianceIsEq9) {
+  std::mt19937_64 gen(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (double v : {0.0, 1.0})
+    for (double r : {0.0, 0.3, 1.0})
+      for (double q : {0.2, 0.7, 0.95}) {
+        const int n = 200000;
+        double sum = 0, sum2 = 0;
+        for (int i = 0; i < n; ++i) {
+          const double x = visibility_estimate(u(gen) < q, v, r, q);
+          sum += x;
+          sum2 += x * x;
+        }
+        const double mean = sum / n, var = sum2 / n - mean * mean;
+        const double expected_var = q * (v - r) * (v - r) / (1 - q);  // eq. (9)
+        const double se = std::sqrt(std::max(expected_var, 1e-12) / n);
+        EXPECT_NEAR(mean, v, 4 * se + 1e-12) << "v=" << v << " r=" << r << " q=" << q;
+        EXPECT_NEAR(var, expected_var, 0.05 * expected_var + 1e-9) << "v=" << v << " r=" << r << " q=" << q;
+      }
+}
+
+TEST(ClusterSampleStats, MeansAndEq17Variance) {
+  ClusterSampleStats st;
+  EXPECT_DOUBLE_EQ(st.variance(), 0.0);
+  st.add(0.5, 1.0);
+  EXPECT_DOUBLE_EQ(st.variance(), 0.0);
+  st.add(0.0, 3.0);
+  st.add(1.0, 5.0);
+  EXPECT_DOUBLE_EQ(st.mean_q(), 0.5);
+  EXPECT_NEAR(st.variance(), 8.0 / 3.0, 1e-12);  // 1/N sum (y - 3)^2 = (4 + 0 + 4) / 3
+}
+
+}  // namespace
+}  // namespace rayscout
