@@ -261,6 +261,9 @@ class JsonSceneLoader {
       maps[i].assign(pl.mesh->materials.size(), index);
     }
 
+    size_t total = 0;
+    for (const auto& pl : placements) total += pl.mesh->faces.size();
+    builder.reserve(total);
     for (size_t i = 0; i < placements.size(); ++i) {
       const auto& pl = placements[i];
       for (const auto& w : pl.mesh->warnings) add_warning_once(scene, w);

@@ -1,9 +1,16 @@
 // SceneBuilder: assembles meshes into a Scene.
 #include "scene_builder.h"
 
+#include <algorithm>
+
 #include "rayscout/core/accelerator_options.h"
 
 namespace rayscout::detail {
+
+void SceneBuilder::reserve(size_t triangles) {
+  scene_.triangles.reserve(triangles);
+  scene_.material_ids.reserve(triangles);
+}
 
 uint32_t SceneBuilder::intern(const Material& m) {
   if (auto i = find(m.name)) return *i;
@@ -47,8 +54,12 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     }
   }
   const std::vector<Vec3>& pos = identity ? mesh.positions : moved;
-  scene_.triangles.reserve(scene_.triangles.size() + mesh.faces.size());
-  scene_.material_ids.reserve(scene_.material_ids.size() + mesh.faces.size());
+  // Grow geometrically: an exact reserve per mesh would copy everything for every mesh added.
+  const size_t need = scene_.triangles.size() + mesh.faces.size();
+  if (need > scene_.triangles.capacity()) {
+    scene_.triangles.reserve(std::max(need, 2 * scene_.triangles.capacity()));
+    scene_.material_ids.reserve(std::max(need, 2 * scene_.material_ids.capacity()));
+  }
   size_t dropped = 0;
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
     const auto& face = mesh.faces[f];

@@ -16,6 +16,8 @@ class SceneBuilder {
  public:
   explicit SceneBuilder(Scene& scene) : scene_(scene) {}
 
+  /// Reserves room for this many triangles in total.
+  void reserve(size_t triangles);
   /// Index of the material named m.name; adds m when no material has that name yet.
   uint32_t intern(const Material& m);
   /// Adds m, or replaces the material of the same name; returns its index.
