@@ -1,0 +1,138 @@
+// Image files (PNG, EXR, PFM) round trip; error metrics on images with known answers.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/image/image.h"
+
+namespace rayscout {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_file(const std::string& name) {
+  return fs::temp_directory_path() / ("rayscout_image_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
+// A non-square gradient with values beyond [0, 1] and exact binary fractions.
+Image test_image() {
+  Image img(7, 5);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) img.at(x, y) = {x / 6.0f, y / 4.0f, 0.1f * float(x + 7 * y) - 1.5f};
+  img.at(3, 2) = {1e6f, 1e-20f, 3.25f};
+  return img;
+}
+
+bool bit_equal(const Image& a, const Image& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Vec3)) == 0;
+}
+
+TEST(ImageIo, FloatFormatsRoundTripExactly) {
+  const Image img = test_image();
+  for (const char* ext : {".exr", ".pfm", ".PFM"}) {
+    const fs::path p = temp_file(std::string("float") + ext);
+    write_image(img, p);
+    EXPECT_TRUE(bit_equal(read_image(p), img)) << ext;
+    fs::remove(p);
+  }
+}
+
+TEST(ImageIo, PngIsClampedSrgbWithin8Bits) {
+  const Image img = test_image();
+  const fs::path p = temp_file("ldr.png");
+  write_image(img, p);
+  const Image back = read_image(p);
+  ASSERT_EQ(back.width, img.width);
+  ASSERT_EQ(back.height, img.height);
+  for (size_t i = 0; i < img.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float expected = std::clamp(img.pixels[i][c], 0.0f, 1.0f);
+      // half a code value in sRGB space, mapped back to linear
+      EXPECT_NEAR(linear_to_srgb(back.pixels[i][c]), linear_to_srgb(expected), 0.5f / 255.0f + 1e-6f);
+    }
+  fs::remove(p);
+}
+
+TEST(ImageIo, TopRowComesFirstInEveryFormat) {
+  Image img(2, 2);
+  img.at(0, 0) = Vec3{1, 0, 0};  // top left red
+  for (const char* ext : {".png", ".exr", ".pfm"}) {
+    const fs::path p = temp_file(std::string("orient") + ext);
+    write_image(img, p);
+    const Image back = read_image(p);
+    EXPECT_FLOAT_EQ(back.at(0, 0).x, 1.0f) << ext;
+    EXPECT_FLOAT_EQ(back.at(0, 1).x, 0.0f) << ext;
+    fs::remove(p);
+  }
+}
+
+TEST(ImageIo, SrgbCurveKnownValues) {
+  EXPECT_FLOAT_EQ(linear_to_srgb(0.0f), 0.0f);
+  EXPECT_FLOAT_EQ(linear_to_srgb(1.0f), 1.0f);
+  EXPECT_NEAR(linear_to_srgb(0.18f), 0.4614f, 1e-4f);
+  EXPECT_NEAR(srgb_to_linear(0.5f), 0.2140f, 1e-4f);
+  EXPECT_FLOAT_EQ(linear_to_srgb(5.0f), 1.0f);
+  EXPECT_FLOAT_EQ(linear_to_srgb(std::nanf("")), 0.0f);
+}
+
+TEST(ImageIo, BadInputThrows) {
+  EXPECT_THROW(read_image(temp_file("missing.exr")), InputError);
+  EXPECT_THROW(write_image(test_image(), temp_file("x.bmp")), InputError);
+  EXPECT_THROW(write_image(Image(), temp_file("empty.png")), InputError);
+  const fs::path junk = temp_file("junk.pfm");
+  std::ofstream(junk) << "P6\n1 1\n255\nabc";
+  EXPECT_THROW(read_image(junk), InputError);
+  std::ofstream(junk) << "PF\n4 4\n-1.0\nshort";
+  EXPECT_THROW(read_image(junk), InputError);
+  const fs::path bad_exr = temp_file("junk.exr"), bad_png = temp_file("junk.png");
+  std::ofstream(bad_exr) << "not an exr";
+  std::ofstream(bad_png) << "not a png";
+  EXPECT_THROW(read_image(bad_exr), InputError);
+  EXPECT_THROW(read_image(bad_png), InputError);
+  for (const auto& p : {junk, bad_exr, bad_png}) fs::remove(p);
+}
+
+TEST(ImageCompare, KnownValues) {
+  Image a(4, 2), b(4, 2);
+  for (auto& p : b.pixels) p = Vec3{0.5f};
+  ImageError e = compare_images(a, b);
+  EXPECT_DOUBLE_EQ(e.rmse, 0.5);
+  EXPECT_DOUBLE_EQ(e.max_abs, 0.5);
+  EXPECT_NEAR(e.psnr, 10 * std::log10(4.0), 1e-12);  // mse 0.25
+  EXPECT_NEAR(e.rel_mse, 0.25 / 0.26, 1e-12);
+
+  // one channel of one pixel off by 0.3: mse = 0.09 / 24
+  Image c = b;
+  c.at(2, 1).y += 0.3f;
+  e = compare_images(c, b);
+  EXPECT_NEAR(e.rmse, std::sqrt(0.09 / 24), 1e-7);
+  EXPECT_NEAR(e.max_abs, 0.3, 1e-7);
+  EXPECT_NEAR(e.rel_mse, 0.09 / 0.26 / 24, 1e-7);
+
+  e = compare_images(b, b);
+  EXPECT_EQ(e.rmse, 0.0);
+  EXPECT_TRUE(std::isinf(e.psnr));
+  EXPECT_THROW(compare_images(a, Image(2, 4)), InputError);
+}
+
+TEST(ImageCompare, DifferenceImageRamp) {
+  Image a(3, 1), b(3, 1);
+  a.at(1, 0) = Vec3{0.5f};
+  a.at(2, 0) = Vec3{1.0f};
+  const Image d = difference_image(a, b);
+  EXPECT_EQ(d.at(0, 0), Vec3(0.0f));                        // no difference: black
+  EXPECT_FLOAT_EQ(linear_to_srgb(d.at(2, 0).x), 1.0f);      // the largest: red
+  EXPECT_FLOAT_EQ(d.at(2, 0).y, 0.0f);
+  EXPECT_GT(d.at(1, 0).y, 0.5f);                            // half way: green
+}
+
+}  // namespace
+}  // namespace rayscout

@@ -1,0 +1,176 @@
+// Known answers: radiance in closed spheres and under a square light, ambient occlusion limits.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/render/renderer.h"
+#include "test_scenes.h"
+
+namespace rayscout {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+std::string fast_accel() {
+  for (const auto& a : accelerators())
+    if (a.name == "bvh") return "bvh";
+  return "brute";
+}
+
+Image render_with(const Integrator& integrator, const Scene& scene, const RenderConfig& cfg) {
+  const auto accel = make_accelerator(fast_accel(), scene);
+  return integrator.render(scene, *accel, cfg);
+}
+
+double mean_channel(const Image& img, int c) {
+  double s = 0;
+  for (const Vec3& p : img.pixels) s += p[c];
+  return s / double(img.pixels.size());
+}
+
+// A camera inside a sphere of radius r centred at the origin, looking sideways.
+Camera inside_camera(float r) {
+  Camera cam;
+  cam.eye = {0.1f * r, -0.05f * r, 0.07f * r};
+  cam.look_at = {1.0f * r, 0.3f * r, -0.2f * r};
+  cam.fov_deg = 70;
+  return cam;
+}
+
+// Point light of intensity I at the centre of a closed diffuse sphere of radius r, albedo rho:
+// irradiance on the wall E = I cos / d^2 = I / r^2, radiance L = rho / pi * E = rho I / (pi r^2).
+// The tessellated sphere's facets lie inside the sphere (distance h = r cos(phi) <= d <= r,
+// cos = h / d), so pixel values lie in [rho I h / (pi r^3) ... rho I / (pi h^2)]: with 5120
+// facets phi < 3 degrees, i.e. within 0.3%; we allow 1%.
+TEST(Analytic, DirectPointLightInSphere) {
+  const float r = 2.0f, rho = 0.6f, intensity = 5.0f;
+  Scene scene;
+  testing::add_part(scene, testing::sphere({0, 0, 0}, r, 4), Material{.diffuse = Vec3{rho}});
+  scene.point_lights.push_back({{0, 0, 0}, Vec3{intensity}});
+  scene.camera = inside_camera(r);
+  RenderConfig cfg;
+  cfg.width = cfg.height = testing::small_scale() ? 8 : 24;
+  cfg.spp = 2;
+  const Image img = render_with(*make_direct_integrator(), scene, cfg);
+  const float expected = rho * intensity / (kPi * r * r);
+  for (const Vec3& p : img.pixels) {
+    EXPECT_NEAR(p.x, expected, 0.01f * expected);
+    EXPECT_EQ(p.x, p.y);
+  }
+  // The path integrator's first bounce sees the same direct light; no emitters, so its
+  // indirect light is rho times the wall's radiance per bounce: L = rho I/(pi r^2) (1 + rho + rho^2).
+  cfg.max_depth = 3;
+  cfg.spp = 16;
+  const Image path = render_with(*make_path_integrator(), scene, cfg);
+  const double expected_path = expected * (1 + rho + rho * rho);
+  EXPECT_NEAR(mean_channel(path, 1), expected_path, 0.02 * expected_path);
+}
+
+// White furnace with emission: a closed sphere whose inside emits Le and reflects rho.
+// Path tracing with max_depth D sees L = Le (1 + rho + ... + rho^D). Next-event estimation
+// inside a sphere is exact (cos cos' / d^2 = 1 / (4 r^2) everywhere), so the noise is small.
+TEST(Analytic, PathFurnaceInEmissiveSphere) {
+  const float r = 1.5f, rho = 0.5f, le = 2.0f;
+  Scene scene;
+  testing::add_part(scene, testing::inward_sphere({0, 0, 0}, r, 3),
+                    Material{.diffuse = Vec3{rho}, .emission = Vec3{le}});
+  scene.camera = inside_camera(r);
+  RenderConfig cfg;
+  cfg.width = cfg.height = testing::small_scale() ? 8 : 16;
+  cfg.spp = 4;
+  for (int depth : {0, 1, 3}) {
+    cfg.max_depth = depth;
+    const Image img = render_with(*make_path_integrator(), scene, cfg);
+    double expected = 0;
+    for (int k = 0; k <= depth; ++k) expected += le * std::pow(rho, k);
+    EXPECT_NEAR(mean_channel(img, 0), expected, 0.02 * expected) << "max_depth " << depth;
+  }
+}
+
+// Irradiance of a square light (side a, radiance Le, facing down) at height h above the
+// point under its centre: E = pi Le F with the form factor of four a/2 x a/2 rectangles,
+// each seen from under a corner (Howell's catalogue, config. B-3):
+// F = 1/(2 pi) (A/sqrt(1+A^2) atan(B/sqrt(1+A^2)) + B/sqrt(1+B^2) atan(A/sqrt(1+B^2))), A = B = a/(2h).
+// A diffuse floor of albedo rho has L = rho / pi E = rho Le 4 F there. Tolerance 3% (the
+// estimate of 16 spp x 64 light samples per pixel is accurate to ~0.5%; the pixels see a
+// region of radius ~0.02 h around the centre, where E falls by less than 0.1%).
+TEST(Analytic, AreaLightIrradianceOnPlane) {
+  const float a = 1.0f, h = 1.0f, le = 4.0f, rho = 0.7f;
+  Scene scene;
+  testing::add_part(scene, testing::quad({-20, -20, 0}, {40, 0, 0}, {0, 40, 0}), Material{.diffuse = Vec3{rho}});
+  testing::add_part(scene, testing::quad({-a / 2, -a / 2, h}, {0, a, 0}, {a, 0, 0}),  // normal -z
+                    Material{.diffuse = Vec3{0.0f}, .emission = Vec3{le}});
+  scene.camera.eye = {0, -3, 2};
+  scene.camera.look_at = {0, 0, 0};
+  scene.camera.up = {0, 0, 1};
+  scene.camera.fov_deg = 1.0f;
+  RenderConfig cfg;
+  cfg.width = cfg.height = 4;
+  cfg.spp = testing::small_scale() ? 4 : 16;
+  cfg.light_samples = 64;
+  const Image img = render_with(*make_area_integrator(), scene, cfg);
+  const double A = a / (2 * h), s = std::sqrt(1 + A * A);
+  const double f_corner = (1 / (2 * std::numbers::pi)) * 2 * (A / s) * std::atan(A / s);
+  const double expected = rho * le * 4 * f_corner;
+  EXPECT_NEAR(mean_channel(img, 0), expected, 0.03 * expected);
+  // Direct ignores area lights: the floor is black.
+  EXPECT_EQ(mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
+}
+
+TEST(Analytic, AmbientOcclusionOpenPlaneIsOne) {
+  Scene scene;
+  testing::add_part(scene, testing::grid(8), Material{});
+  scene.camera.eye = {0.5f, 0.5f, 1.0f};
+  scene.camera.look_at = {0.5f, 0.5f, 0.0f};
+  scene.camera.fov_deg = 40;
+  RenderConfig cfg;
+  cfg.width = cfg.height = 16;
+  cfg.ao_samples = 8;
+  cfg.ao_radius = 5.0f;
+  const Image img = render_with(*make_ao_integrator(), scene, cfg);
+  for (const Vec3& p : img.pixels) EXPECT_FLOAT_EQ(p.x, 1.0f);
+}
+
+TEST(Analytic, AmbientOcclusionClosedBoxIsZero) {
+  Scene scene;
+  testing::add_part(scene, testing::inward_box({-1, -1, -1}, {1, 1, 1}), Material{});
+  scene.camera.eye = {0.2f, 0.1f, 0.3f};
+  scene.camera.look_at = {1, 0.5f, -0.5f};
+  RenderConfig cfg;
+  cfg.width = cfg.height = 16;
+  cfg.ao_samples = 8;
+  cfg.ao_radius = 10.0f;
+  const Image img = render_with(*make_ao_integrator(), scene, cfg);
+  for (const Vec3& p : img.pixels) EXPECT_EQ(p.x, 0.0f);
+  // With a radius far below the box size the rays are free again except near edges.
+  cfg.ao_radius = 1e-3f;
+  const Image open = render_with(*make_ao_integrator(), scene, cfg);
+  EXPECT_GT(mean_channel(open, 0), 0.95);
+}
+
+// A perfect mirror (reflectance 1) shows the lit floor it faces with the floor's radiance.
+TEST(Analytic, MirrorReflectsRadianceUnchanged) {
+  Scene scene;
+  const float rho = 0.5f;
+  testing::add_part(scene, testing::quad({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}), Material{.diffuse = Vec3{rho}});
+  testing::add_part(scene, testing::quad({-10, -10, 4}, {0, 20, 0}, {20, 0, 0}),  // ceiling mirror, normal -z
+                    Material{.type = Material::Type::Mirror, .specular = Vec3{1.0f}});
+  scene.point_lights.push_back({{0, 0, 1}, Vec3{3.0f}});
+  scene.camera.eye = {0, 0, 2};
+  scene.camera.look_at = {0, 0, 5};  // looking up into the mirror, the floor beneath seen in it
+  scene.camera.up = {0, 1, 0};
+  scene.camera.fov_deg = 0.1f;  // sees the floor within 0.005 of (0, 0, 0): cos^3 falloff < 1e-4
+  RenderConfig cfg;
+  cfg.width = cfg.height = 2;
+  cfg.spp = 1;
+  const Image img = render_with(*make_direct_integrator(), scene, cfg);
+  const float expected = rho / kPi * 3.0f / 1.0f;  // point light 1 above the floor point (0, 0, 0)
+  EXPECT_NEAR(mean_channel(img, 0), expected, 0.002 * expected);
+  cfg.max_depth = 0;  // no reflection rays: black
+  EXPECT_EQ(mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
+}
+
+}  // namespace
+}  // namespace rayscout

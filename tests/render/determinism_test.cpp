@@ -1,0 +1,155 @@
+// Same seed, same image, bit for bit: across accelerators, thread counts and repeated runs.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/render/renderer.h"
+#include "rayscout/scene/load_scene.h"
+#include "test_scenes.h"
+
+namespace rayscout {
+namespace {
+
+// The built-in Cornell box with a mirror short box and a glossy tall box, so that every
+// material and ray kind occurs.
+Scene test_scene() {
+  Scene s = default_scene();
+  Material mirror{.name = "test_mirror", .type = Material::Type::Mirror, .specular = Vec3{0.9f}};
+  Material glossy{.name = "test_glossy", .type = Material::Type::Glossy, .diffuse = Vec3{0.3f},
+                  .specular = Vec3{0.5f}, .exponent = 20};
+  const uint32_t m = uint32_t(s.materials.size());
+  s.materials.push_back(mirror);
+  s.materials.push_back(glossy);
+  for (uint32_t i = 0; i < s.triangles.size(); ++i) {
+    if (s.material_of(i).emissive()) continue;
+    const Vec3 c = s.triangles[i].centroid();
+    if (c.y > 0.01f && c.y < 1.9f && std::fabs(c.x) < 0.95f && std::fabs(c.z) < 0.95f)
+      s.material_ids[i] = c.x > 0 ? m : m + 1;  // the boxes: right one mirror, left one glossy
+  }
+  return s;
+}
+
+RenderConfig small_config() {
+  RenderConfig c;
+  c.width = testing::small_scale() ? 12 : 32;
+  c.height = testing::small_scale() ? 10 : 24;
+  c.spp = 3;
+  c.seed = 11;
+  c.light_samples = 2;
+  c.ao_samples = 2;
+  return c;
+}
+
+std::vector<std::unique_ptr<Integrator>> all_integrators() {
+  std::vector<std::unique_ptr<Integrator>> v;
+  v.push_back(make_direct_integrator());
+  v.push_back(make_area_integrator());
+  v.push_back(make_ao_integrator());
+  v.push_back(make_path_integrator());
+  return v;
+}
+
+// Index of the first pixel that differs in any bit, or -1.
+long first_difference(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height) return 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    if (std::memcmp(&a.pixels[i], &b.pixels[i], sizeof(Vec3)) != 0) return long(i);
+  return -1;
+}
+
+TEST(Determinism, EveryAcceleratorGivesBruteForcesImage) {
+  const Scene scene = test_scene();
+  const RenderConfig cfg = small_config();
+  const auto brute = make_accelerator("brute", scene);
+  for (const auto& integrator : all_integrators()) {
+    const Image ref = integrator->render(scene, *brute, cfg);
+    double sum = 0;
+    for (const Vec3& p : ref.pixels) sum += p.x + p.y + p.z;
+    EXPECT_GT(sum, 0.0) << integrator->name() << ": black image";
+    for (const auto& info : accelerators()) {
+      if (info.name == "brute") continue;
+      const auto accel = make_accelerator(info.name, scene);
+      const Image img = integrator->render(scene, *accel, cfg);
+      EXPECT_EQ(first_difference(ref, img), -1) << integrator->name() << " on " << info.name;
+    }
+  }
+}
+
+TEST(Determinism, ThreadCountDoesNotChangeTheImage) {
+  const Scene scene = test_scene();
+  const RenderConfig cfg = small_config();
+  for (const auto& info : accelerators()) {
+    const auto accel = make_accelerator(info.name, scene);
+    for (const auto& integrator : all_integrators()) {
+      Image one, two;
+      {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = integrator->render(scene, *accel, cfg);
+      }
+      {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        two = integrator->render(scene, *accel, cfg);
+      }
+      EXPECT_EQ(first_difference(one, two), -1) << integrator->name() << " on " << info.name;
+    }
+  }
+}
+
+TEST(Determinism, SeedSelectsTheImage) {
+  const Scene scene = test_scene();
+  RenderConfig cfg = small_config();
+  const auto accel = make_accelerator("brute", scene);
+  const auto path = make_path_integrator();
+  const Image a = path->render(scene, *accel, cfg), b = path->render(scene, *accel, cfg);
+  EXPECT_EQ(first_difference(a, b), -1);
+  cfg.seed = 12;
+  EXPECT_NE(first_difference(a, path->render(scene, *accel, cfg)), -1);
+}
+
+TEST(Batches, KindsBouncesAndStats) {
+  const Scene scene = test_scene();
+  RenderConfig cfg = small_config();
+  cfg.max_depth = 2;
+  cfg.count = true;
+  std::vector<BatchInfo> seen;
+  std::vector<size_t> sizes;
+  cfg.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
+    seen.push_back(info);
+    sizes.push_back(rays.size());
+  };
+  const auto accel = make_accelerator("brute", scene);
+  RenderStats stats;
+  make_direct_integrator()->render(scene, *accel, cfg, &stats);
+  ASSERT_GE(seen.size(), 4u);
+  EXPECT_EQ(seen[0].kind, "primary");
+  EXPECT_FALSE(seen[0].occlusion);
+  EXPECT_EQ(sizes[0], size_t(cfg.width) * cfg.height * cfg.spp);
+  EXPECT_EQ(seen[1].kind, "shadow");
+  EXPECT_TRUE(seen[1].occlusion);
+  EXPECT_EQ(seen[2].kind, "mirror");
+  EXPECT_EQ(seen[2].bounce, 1);
+  ASSERT_EQ(stats.batches.size(), seen.size());
+  uint64_t total = 0;
+  for (size_t i = 0; i < seen.size(); ++i) {
+    EXPECT_EQ(stats.batches[i].rays, sizes[i]);
+    EXPECT_EQ(stats.batches[i].info.kind, seen[i].kind);
+    EXPECT_LE(seen[i].bounce, cfg.max_depth);
+    // brute force tests every ray against every triangle
+    EXPECT_EQ(stats.batches[i].counters.rays, sizes[i]);
+    total += sizes[i];
+  }
+  EXPECT_EQ(stats.rays(), total);
+  EXPECT_GT(stats.to_json().find("\"mirror\""), 0u);
+
+  seen.clear();
+  make_ao_integrator()->render(scene, *accel, cfg);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[1].kind, "ao");
+  seen.clear();
+  make_path_integrator()->render(scene, *accel, cfg);
+  EXPECT_EQ(seen.back().bounce, cfg.max_depth);
+  EXPECT_EQ(seen[2].kind, "path");
+}
+
+}  // namespace
+}  // namespace rayscout
