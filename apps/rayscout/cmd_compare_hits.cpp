@@ -1,0 +1,78 @@
+// `rayscout compare-hits A B`: ray-by-ray agreement of two HITS (or two OCCL) files.
+#include <memory>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/hit_compare.h"
+#include "rayscout/core/ray_file.h"
+
+namespace rayscout::cli {
+namespace {
+
+struct CompareArgs {
+  std::string a, b;
+  float tolerance = 1e-4f;
+  float edge_eps = 1e-4f;
+  bool strict = false;
+};
+
+// Returns true when the files agree within the tolerance.
+bool compare_files(const CompareArgs& args) {
+  const RayFileKind ka = ray_file_kind(args.a), kb = ray_file_kind(args.b);
+  if (ka == RayFileKind::Rays || kb == RayFileKind::Rays)
+    throw InputError((ka == RayFileKind::Rays ? args.a : args.b) + ": a RAYS file; compare-hits compares HITS or OCCL files");
+  if (ka != kb) throw InputError(args.a + " and " + args.b + ": one is a HITS file, the other an OCCL file");
+  HitCompareConfig cfg;
+  cfg.rel_tol = args.tolerance;
+  cfg.allow_grazing = !args.strict;
+  cfg.edge_eps = args.edge_eps;
+
+  if (ka == RayFileKind::Occlusion) {
+    const OcclusionDiff d = compare_occlusion(read_occlusion(args.a), read_occlusion(args.b), cfg);
+    fmt::print("rays:                  {}\n", d.rays);
+    fmt::print("occluded:              {} in A, {} in B\n", d.occluded_ref, d.occluded_got);
+    fmt::print("disagreements:         {}\n", d.differ);
+    if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
+    fmt::print("result:                {}\n", d.ok() ? "OK" : "DIFFERENT");
+    return d.ok();
+  }
+  const HitBatch ha = read_hits(args.a), hb = read_hits(args.b);
+  const HitDiff d = compare_hits(ha, hb, cfg);
+  size_t hits_a = 0, hits_b = 0;
+  for (uint32_t p : ha.prim) hits_a += p != kInvalidId;
+  for (uint32_t p : hb.prim) hits_b += p != kInvalidId;
+  fmt::print("rays:                  {}\n", d.rays);
+  fmt::print("hits:                  {} in A, {} in B, {} in both\n", hits_a, hits_b, d.both_hit);
+  fmt::print("hit/miss:              {}\n", d.hit_miss);
+  fmt::print("different triangle:    {} (true ties excluded: {})\n", d.other_prim, d.ties);
+  fmt::print("grazing contacts:      {}{}\n", d.grazing,
+             args.strict ? "" : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", cfg.edge_eps));
+  fmt::print("t beyond tolerance:    {}\n", d.t_mismatch);
+  fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} (|dt| / max(1, t_A))\n",
+             d.max_rel_diff, d.p99_rel_diff);
+  if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
+  fmt::print("result:                {} (tolerance {:g})\n", d.ok() ? "OK" : "DIFFERENT", args.tolerance);
+  return d.ok();
+}
+
+CommandRegistration registration{[](CLI::App& app) {
+  auto args = std::make_shared<CompareArgs>();
+  auto* cmd = app.add_subcommand(
+      "compare-hits", "Compare two HITS (or two OCCL) files ray by ray; exit 1 when they differ beyond the tolerance");
+  cmd->add_option("A", args->a, "Reference HITS or OCCL file")->required();
+  cmd->add_option("B", args->b, "Candidate file of the same kind")->required();
+  cmd->add_option("--tolerance", args->tolerance, "Relative t tolerance: |tA - tB| <= tol * max(1, tA)")
+      ->capture_default_str();
+  cmd->add_option("--edge-eps", args->edge_eps,
+                  "A hit with a barycentric <= this is a grazing (edge/vertex) contact")->capture_default_str();
+  cmd->add_flag("--strict", args->strict, "Count disagreements at grazing contacts as errors too");
+  cmd->callback([args] {
+    if (!compare_files(*args)) throw CLI::RuntimeError(1);
+  });
+}};
+
+}  // namespace
+}  // namespace rayscout::cli

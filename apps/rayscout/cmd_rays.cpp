@@ -1,0 +1,56 @@
+// `rayscout rays`: writes a workload's ray set (primary, shadow, ao, diffuse) to a RAYS file.
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/core/ray_file.h"
+#include "rayscout/render/workloads.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout::cli {
+namespace {
+
+struct RaysArgs {
+  std::string scene, workload = "primary", out, accel = "bvh";
+  WorkloadConfig config;
+};
+
+void run_rays(const RaysArgs& a) {
+  if (a.config.width < 1 || a.config.height < 1 || a.config.spp < 1)
+    throw InputError(fmt::format("--width {} --height {} --spp {}: each must be >= 1", a.config.width,
+                                 a.config.height, a.config.spp));
+  const Workload workload = parse_workload(a.workload);
+  const auto start = std::chrono::steady_clock::now();
+  const Scene scene = resolve_scene(a.scene);
+  // Secondary workloads start at the primary hits, found with this accelerator.
+  const auto accel = make_accelerator(a.accel, scene);
+  const RayBatch rays = make_workload(scene, *accel, workload, a.config);
+  write_rays(a.out, rays);
+  fmt::print("wrote {} {} rays ({}x{}, {} spp, seed {}) to {} in {:.0f} ms\n", rays.size(), workload_name(workload),
+             a.config.width, a.config.height, a.config.spp, a.config.seed, a.out,
+             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+}
+
+CommandRegistration registration{[](CLI::App& app) {
+  auto args = std::make_shared<RaysArgs>();
+  auto* cmd = app.add_subcommand("rays", "Write a workload's rays to a RAYS file (for trace and other tracers)");
+  cmd->add_option("--scene", args->scene, "Scene (.json or mesh file; 'cornell' = built-in)")->required();
+  cmd->add_option("--workload", args->workload, "primary, shadow, ao or diffuse (secondary rays start at primary hits; "
+                                                "pixels whose primary ray missed are left out)")->capture_default_str();
+  cmd->add_option("--width", args->config.width, "Image width in pixels")->capture_default_str();
+  cmd->add_option("--height", args->config.height, "Image height in pixels")->capture_default_str();
+  cmd->add_option("--spp", args->config.spp, "Camera samples per pixel")->capture_default_str();
+  cmd->add_option("--seed", args->config.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--ao-radius", args->config.ao_radius, "AO ray length (0 = 10% of the scene diagonal)")
+      ->capture_default_str();
+  cmd->add_option("--accel", args->accel, "Accelerator that finds the primary hits")->capture_default_str();
+  cmd->add_option("--out", args->out, "Output RAYS file")->required();
+  cmd->callback([args] { run_rays(*args); });
+}};
+
+}  // namespace
+}  // namespace rayscout::cli

@@ -1,0 +1,127 @@
+// `rayscout trace`: traces a ray file with one accelerator and prints one JSON line of timings.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "commands.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/core/ray_file.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout::cli {
+namespace {
+
+struct TraceArgs {
+  std::string scene, rays, accel = "bvh", out;
+  bool occluded = false, count = false;
+  int threads = 0, repeat = 5;
+  std::vector<std::string> accel_opts;
+};
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// JSON string literal (names and paths only: escape quotes, backslashes and control bytes).
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') { out += '\\'; out += c; }
+    else if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", int(c));
+    else out += c;
+  }
+  return out + "\"";
+}
+
+void run_trace(const TraceArgs& a) {
+  if (a.threads < 0) throw InputError("--threads " + std::to_string(a.threads) + ": must be >= 1 (0 = all cores)");
+  if (a.repeat < 1) throw InputError("--repeat " + std::to_string(a.repeat) + ": must be >= 1");
+  const int threads = a.threads > 0 ? a.threads : tbb::info::default_concurrency();
+  // Limits every TBB parallel region of this process, Embree's build included.
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+
+  AcceleratorOptions options;
+  for (const auto& kv : a.accel_opts) options.set(kv);
+  const Scene scene = resolve_scene(a.scene);
+  const RayBatch rays = read_rays(a.rays);
+  const auto accel = make_accelerator(a.accel, scene, options);
+  const BuildInfo build = accel->build_info();
+
+  HitBatch hits;
+  std::vector<uint8_t> occ;
+  auto trace_once = [&](TraceStats* stats) {
+    if (a.occluded) accel->occluded(rays, occ, stats);
+    else accel->intersect(rays, hits, stats);
+  };
+  trace_once(nullptr);  // warm-up: page in the structure and the rays
+  std::vector<double> times;
+  for (int r = 0; r < a.repeat; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    trace_once(nullptr);
+    times.push_back(ms_since(start));
+  }
+  const double trace_ms = median(times);
+  size_t positives = 0;
+  if (a.occluded) for (uint8_t o : occ) positives += o != 0;
+  else for (uint32_t p : hits.prim) positives += p != kInvalidId;
+  if (!a.out.empty()) {
+    if (a.occluded) write_occlusion(a.out, occ);
+    else write_hits(a.out, hits);
+  }
+
+  std::string line = fmt::format(
+      "{{\"accel\": {}, \"query\": \"{}\", \"rays\": {}, \"{}\": {}, \"threads\": {}, \"build_ms\": {:.3f}, "
+      "\"trace_ms\": {:.3f}, \"trace_ms_min\": {:.3f}, \"repeat\": {}, \"mrays_per_s\": {:.3f}, \"memory_bytes\": {}",
+      quoted(a.accel), a.occluded ? "occluded" : "intersect", rays.size(), a.occluded ? "occluded" : "hits",
+      positives, threads, build.build_ms, trace_ms, *std::min_element(times.begin(), times.end()), a.repeat,
+      trace_ms > 0 ? double(rays.size()) / (trace_ms * 1e3) : 0.0, build.memory_bytes);
+  if (accel->last_trace_memory_bytes() > 0)
+    line += fmt::format(", \"trace_memory_bytes\": {}", accel->last_trace_memory_bytes());
+  if (a.count) {
+    // A separate run: counting must never slow the timed runs.
+    TraceStats stats;
+    trace_once(&stats);
+    if (a.accel == "embree")
+      line += ", \"counters\": null, \"counters_note\": \"Embree has no work counters\"";
+    else
+      line += fmt::format(
+          ", \"counters\": {{\"rays\": {}, \"traversal_steps\": {}, \"ray_box_tests\": {}, \"ray_tri_tests\": {}, "
+          "\"box_tests_per_ray\": {:.3f}, \"tri_tests_per_ray\": {:.3f}}}",
+          stats.rays, stats.traversal_steps, stats.ray_box_tests, stats.ray_tri_tests,
+          rays.empty() ? 0.0 : double(stats.ray_box_tests) / double(rays.size()),
+          rays.empty() ? 0.0 : double(stats.ray_tri_tests) / double(rays.size()));
+  }
+  fmt::print("{}}}\n", line);
+}
+
+CommandRegistration registration{[](CLI::App& app) {
+  auto args = std::make_shared<TraceArgs>();
+  auto* cmd = app.add_subcommand("trace", "Trace a ray file; print one JSON line of build and trace times");
+  cmd->add_option("--scene", args->scene, "Scene (.json or mesh file; 'cornell' = built-in)")->required();
+  cmd->add_option("--rays", args->rays, "RAYS file (rayscout rays writes one)")->required();
+  cmd->add_option("--accel", args->accel, "Accelerator (rayscout accelerators lists them)")->capture_default_str();
+  cmd->add_flag("--occluded", args->occluded, "Any-hit queries (shadow rays) instead of closest hits");
+  cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--repeat", args->repeat, "Timed repetitions after one warm-up; trace_ms is their median")
+      ->capture_default_str();
+  cmd->add_flag("--count", args->count, "Add exact work counters (from a separate, untimed run)");
+  cmd->add_option("--accel-opt", args->accel_opts, "Accelerator tunable key=value (repeatable)");
+  cmd->add_option("--out", args->out, "Write the hits (HITS file, or OCCL with --occluded)");
+  cmd->callback([args] { run_trace(*args); });
+}};
+
+}  // namespace
+}  // namespace rayscout::cli
