@@ -7,17 +7,22 @@ namespace rayscout {
 
 /// Affine transform p' = M p, kept in double so composed transforms round once.
 struct Transform {
-  double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+  double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  ///< rows of [A | t]; default identity
 
+  /// p + t.
   static Transform translate(const Vec3& t);
+  /// Per-axis scale (s.x, s.y, s.z) about the origin.
   static Transform scale(const Vec3& s);
   /// Rotation by deg degrees about axis (need not be unit length), right-handed.
   static Transform rotate(const Vec3& axis, double deg);
 
   /// This transform applied after `inner`: (*this * inner)(p) = this(inner(p)).
   Transform operator*(const Transform& inner) const;
+  /// M p + t, computed in double and rounded to float once.
   Vec3 apply_point(const Vec3& p) const;
+  /// M v (no translation).
   Vec3 apply_vector(const Vec3& v) const;
+  /// True when exactly the identity (then points are copied bit for bit).
   bool is_identity() const;
 };
 
