@@ -53,7 +53,7 @@ inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear) {
 
 /// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
 /// others follow (the set is kept whole for the sibling). scratch holds >= n ids.
-inline size_t partition_rays(const RayRecord* rays, uint32_t* rid, size_t n, const Bounds3& box,
+__attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, uint32_t* rid, size_t n, const Bounds3& box,
                              uint32_t* scratch) {
   size_t w = 0, m = 0, i = 0;
 #if defined(__AVX512F__)
@@ -165,6 +165,65 @@ inline void ray_vs_boxes(const RayRecord& r, const BoxSoa& boxes, float* entry) 
     b.hi = {boxes.hix[i], boxes.hiy[i], boxes.hiz[i]};
     float tnear;
     entry[i] = ray_hits_box(r, b, tnear) ? tnear : std::numeric_limits<float>::quiet_NaN();
+  }
+#endif
+}
+
+/// Algorithm 2 for one sample ray against the candidate pairs (lb[j], rb[j]): c_L, c_R count
+/// the boxes hit; of rays hitting both, the nearer entry gets the vote (n_L, n_R), an equal
+/// entry (a ray starting inside both) goes by the ray's direction along the split axis
+/// (goes_up: left first). Padding lanes hold empty boxes and count nothing.
+inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, uint32_t* hits_l,
+                         uint32_t* hits_r, uint32_t* votes_l, uint32_t* votes_r) {
+#if defined(__AVX512F__)
+  const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
+  const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
+  const __m512 robust = _mm512_set1_ps(kRobustScale), tmin = _mm512_set1_ps(r.tmin),
+               tmax = _mm512_set1_ps(filter_tmax(r.t));
+  const __m512i one = _mm512_set1_epi32(1);
+  auto test = [&](const BoxSoa& b, int i, __m512& tnear) {
+    tnear = tmin;
+    __m512 tfar = tmax;
+    auto slab = [&](const float* lo, const float* hi, __m512 o, __m512 inv) {
+      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(lo + i), o), inv);
+      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(hi + i), o), inv);
+      const __mmask16 swap = _mm512_cmp_ps_mask(t0, t1, _CMP_GT_OQ);
+      const __m512 a = _mm512_mask_blend_ps(swap, t0, t1);
+      const __m512 c = _mm512_mul_ps(_mm512_mask_blend_ps(swap, t1, t0), robust);
+      tnear = _mm512_max_ps(a, tnear);
+      tfar = _mm512_min_ps(c, tfar);
+    };
+    slab(b.lox, b.hix, ox, ix);
+    slab(b.loy, b.hiy, oy, iy);
+    slab(b.loz, b.hiz, oz, iz);
+    return _mm512_cmp_ps_mask(tnear, tfar, _CMP_LE_OQ);
+  };
+  for (int i = 0; i < lb.count; i += 16) {
+    __m512 nl, nr;
+    const __mmask16 hl = test(lb, i, nl), hr = test(rb, i, nr);
+    const __mmask16 both = hl & hr;
+    __mmask16 left = _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ);
+    if (goes_up) left |= _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_EQ_OQ);
+    auto add = [&](uint32_t* p, __mmask16 m) {
+      __m512i v = _mm512_load_si512(p + i);
+      _mm512_store_si512(p + i, _mm512_mask_add_epi32(v, m, v, one));
+    };
+    add(hits_l, hl);
+    add(hits_r, hr);
+    add(votes_l, left);
+    add(votes_r, static_cast<__mmask16>(both & ~left));
+  }
+#else
+  alignas(64) float el[BoxSoa::kMax], er[BoxSoa::kMax];
+  ray_vs_boxes(r, lb, el);
+  ray_vs_boxes(r, rb, er);
+  for (int j = 0; j < lb.count; ++j) {
+    const bool hl = !std::isnan(el[j]), hr = !std::isnan(er[j]);
+    hits_l[j] += hl;
+    hits_r[j] += hr;
+    if (hl && hr) {
+      if (el[j] < er[j] || (el[j] == er[j] && goes_up)) ++votes_l[j]; else ++votes_r[j];
+    }
   }
 #endif
 }

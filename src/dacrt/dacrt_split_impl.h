@@ -61,19 +61,14 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         BoxSoa& rb = rb_;
         for (int j = 0; j < k - 1; ++j) { lb.set(j, left[j].box); rb.set(j, right[j].box); }
         lb.resize(k - 1); rb.resize(k - 1);
-        float* el = el_;
-        float* er = er_;
         ns = cfg_.sample_count(nr);
+        const int padded_count = lb.count;
+        std::fill_n(hits_l, padded_count, 0u); std::fill_n(hits_r, padded_count, 0u);
+        std::fill_n(votes_l, padded_count, 0u); std::fill_n(votes_r, padded_count, 0u);
         for (size_t q = 0; q < ns; ++q) {
           const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
-          ray_vs_boxes(r, lb, el);
-          ray_vs_boxes(r, rb, er);
-          for (int j = 0; j < k - 1; ++j) {
-            const bool hl = !std::isnan(el[j]), hr = !std::isnan(er[j]);
-            hits_l[j] += hl; hits_r[j] += hr;
-            const float dl = hl ? el[j] : kInfinity, dr = hr ? er[j] : kInfinity;
-            if (dl < dr) ++votes_l[j]; else ++votes_r[j];
-          }
+          const bool goes_up = (axis == 0 ? r.ix : (axis == 1 ? r.iy : r.iz)) >= 0.0f;
+          sample_pairs(r, lb, rb, goes_up, hits_l, hits_r, votes_l, votes_r);
         }
         if constexpr (kStats) {
           const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
@@ -146,7 +141,8 @@ void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, 
       float tnear;
       if (ray_hits_box(r, s.box[c], tnear)) { ++hits[c]; d[c] = tnear; }
     }
-    ++s.votes[d[0] < d[1] ? 0 : 1];
+    const bool ray_goes_up = (s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz)) >= 0.0f;
+    if (d[0] < kInfinity && d[1] < kInfinity) ++s.votes[d[0] < d[1] || (d[0] == d[1] && ray_goes_up) ? 0 : 1];
   }
   s.alpha[0] = double(hits[0]) / double(ns);
   s.alpha[1] = double(hits[1]) / double(ns);

@@ -78,7 +78,7 @@ class DacrtTracer {
     if (!split(rid, nr, tid, nt, cb, sample, s)) { leaf(rid, nr, tid, nt); return; }
 
     int first = 0;
-    if (s.sampled && cfg_.sampled_order) {
+    if (s.sampled && cfg_.sampled_order && s.votes[0] + s.votes[1] > 0) {
       first = s.votes[0] >= s.votes[1] ? 0 : 1;  // Algorithm 1, line 18
     } else {
       // Afra: one ray (the first of the set) decides, by its direction along the split axis.
@@ -127,8 +127,7 @@ class DacrtTracer {
   struct Bin { Bounds3 box, cb; uint32_t n = 0; };
   Bin bins_[256], left_[256], right_[256];
   BoxSoa lb_, rb_;
-  alignas(64) float el_[256], er_[256];
-  uint32_t hits_l_[256], hits_r_[256], votes_l_[256], votes_r_[256];
+  alignas(64) uint32_t hits_l_[256], hits_r_[256], votes_l_[256], votes_r_[256];
 };
 
 }  // namespace rayscout::dacrt

@@ -19,7 +19,7 @@ struct HitOut {
 };
 
 /// Closest hit of rays rid[0, nr) over triangles tid[0, nt). Returns ray-triangle tests.
-inline uint64_t leaf_intersect(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+__attribute__((noinline)) inline uint64_t leaf_intersect(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
                                const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out) {
   for (size_t i = 0; i < nr; ++i) {
     const uint32_t r = rid[i];
@@ -45,7 +45,7 @@ inline uint64_t leaf_intersect(RayRecord* rays, const RayPrecomp* pre, const uin
 
 /// Any hit of rays rid[0, nr) over triangles tid[0, nt); a blocked ray is marked in occ and
 /// retired. Returns ray-triangle tests (a ray stops at its first hit; retired rays cost none).
-inline uint64_t leaf_occluded(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+__attribute__((noinline)) inline uint64_t leaf_occluded(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
                               const Triangle* tris, const uint32_t* tid, size_t nt, uint8_t* occ) {
   uint64_t tests = 0;
   for (size_t i = 0; i < nr; ++i) {
