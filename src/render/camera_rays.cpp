@@ -44,9 +44,7 @@ void pixel_sample_position(const PathSampler& sampler, int x, int y, int sample,
     return;
   }
   // N-rooks: y stratum = (a * sample + b) mod spp with a coprime to spp, a permutation per pixel.
-  PathSampler pixel_key = sampler;
-  pixel_key.sample = 0xFFFFFFFFu;
-  const uint64_t h = pixel_key.bits(0);
+  const uint64_t h = sampler.pixel_sampler().bits(0);
   uint64_t a = 1 + (h % uint64_t(spp));
   auto gcd = [](uint64_t p, uint64_t q) { while (q) { uint64_t r = p % q; p = q; q = r; } return p; };
   while (gcd(a, uint64_t(spp)) != 1) ++a;

@@ -95,15 +95,20 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
       config.on_progress({info.bounce, max_bounce(config), rays_traced, std::chrono::duration<double>(Clock::now() - start).count()});
   };
 
+  // Buffers live across bounces: their capacity is reused, so later bounces do not page-fault.
   HitBatch hits;
   std::vector<uint8_t> occluded;
+  std::vector<ShadeOutput> outs;
+  RayBatch occlusion_rays, next_rays;
+  std::vector<ShadeOutput::Contribution> occlusion;
+  std::vector<PathState> next_paths;
   for (int bounce = 0; !paths.empty(); ++bounce) {
     ctx.bounce = bounce;
     trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, rays, &hits, nullptr);
 
     t0 = Clock::now();
     const size_t n = paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
-    std::vector<ShadeOutput> outs(chunks);
+    outs.resize(chunks);
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
       ShadeOutput& out = outs[c];
       for (size_t i = c * kShadeChunk, end = std::min(n, i + kShadeChunk); i < end; ++i) {
@@ -122,9 +127,8 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
       next_at[c + 1] = next_at[c] + outs[c].next_.size();
       for (const auto& r : outs[c].radiance_) film[r.pixel] += r.value;
     }
-    RayBatch occlusion_rays, next_rays;
-    std::vector<ShadeOutput::Contribution> occlusion(occ_at[chunks]);
-    std::vector<PathState> next_paths(next_at[chunks]);
+    occlusion.resize(occ_at[chunks]);
+    next_paths.resize(next_at[chunks]);
     occlusion_rays.resize(occ_at[chunks]);
     next_rays.resize(next_at[chunks]);
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
@@ -137,7 +141,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
         next_rays.set(next_at[c] + k, out.next_rays_[k]);
         next_paths[next_at[c] + k] = out.next_[k];
       }
-      out = ShadeOutput();
+      out.clear();
     });
     stats.shading_ms += ms_since(t0);
 
@@ -148,8 +152,8 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
         if (!occluded[i]) film[occlusion[i].pixel] += occlusion[i].value;
       stats.shading_ms += ms_since(t0);
     }
-    rays = std::move(next_rays);
-    paths = std::move(next_paths);
+    std::swap(rays, next_rays);
+    std::swap(paths, next_paths);
   }
 
   Image image(config.width, config.height);

@@ -17,22 +17,29 @@ constexpr uint64_t mix64(uint64_t x) {
   return x;
 }
 
-/// Random numbers of one path vertex: the key (seed, pixel, sample, bounce) plus a dimension
-/// index. Dimensions in use: 0-3 camera (pixel jitter, lens) at bounce 0; 4-6 BSDF sampling;
-/// 8 and up light and AO samples (see kDimLights).
-struct PathSampler {
-  uint64_t seed = 1;
-  uint32_t pixel = 0, sample = 0, bounce = 0;
-
+/// Random numbers of one path vertex: the key (seed, pixel, sample, bounce) is hashed once,
+/// dimension d is then output d of a SplitMix64 stream seeded with it. Dimensions in use:
+/// 0-3 camera (pixel jitter, lens) at bounce 0; 4-6 BSDF sampling; 8 and up light and AO
+/// samples (see kDimLights).
+class PathSampler {
+ public:
+  PathSampler(uint64_t seed, uint32_t pixel, uint32_t sample, uint32_t bounce)
+      : seed_(seed), pixel_(pixel) {
+    uint64_t h = mix64(seed + 0x9E3779B97F4A7C15ULL);
+    h = mix64(h ^ ((uint64_t(pixel) << 32) | sample));
+    key_ = mix64(h ^ bounce);
+  }
   /// Uniform float in [0, 1), 24 random bits.
   float get(uint32_t dim) const { return float(bits(dim) >> 40) * 0x1p-24f; }
   /// 64 random bits of dimension dim.
-  uint64_t bits(uint32_t dim) const {
-    uint64_t h = mix64(seed + 0x9E3779B97F4A7C15ULL);
-    h = mix64(h ^ ((uint64_t(pixel) << 32) | sample));
-    h = mix64(h ^ ((uint64_t(bounce) << 32) | dim));
-    return h;
-  }
+  uint64_t bits(uint32_t dim) const { return mix64(key_ + (uint64_t(dim) + 1) * 0x9E3779B97F4A7C15ULL); }
+  /// A sampler of the same seed and pixel that no (sample, bounce) key reaches: per-pixel choices.
+  PathSampler pixel_sampler() const { return {seed_, pixel_, 0xFFFFFFFFu, 0xFFFFFFFFu}; }
+
+ private:
+  uint64_t seed_;
+  uint32_t pixel_;
+  uint64_t key_;
 };
 
 inline constexpr uint32_t kDimPixel = 0;   ///< 2 dims: position inside the pixel

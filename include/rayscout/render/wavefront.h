@@ -51,6 +51,9 @@ class ShadeOutput {
 
  private:
   friend class WavefrontIntegrator;
+  void clear() {
+    radiance_.clear(); occlusion_.clear(); occlusion_rays_.clear(); next_rays_.clear(); next_.clear();
+  }
   struct Contribution { uint32_t pixel; Vec3 value; };
   std::vector<Contribution> radiance_, occlusion_;
   std::vector<Ray> occlusion_rays_, next_rays_;

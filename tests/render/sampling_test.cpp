@@ -1,0 +1,141 @@
+// Sampling building blocks: counter-based random numbers, pixel strata, thin lens, area
+// lights, and the glossy BSDF's sampling weights against its value.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "bsdf.h"
+#include "rayscout/render/camera_rays.h"
+#include "rayscout/render/light_sampler.h"
+#include "rayscout/render/sampler.h"
+#include "test_scenes.h"
+
+namespace rayscout {
+namespace {
+
+TEST(PathSampler, UniformAndDecorrelated) {
+  // Mean and variance of U[0,1) over many keys and dimensions; neighbouring keys differ.
+  double sum = 0, sum2 = 0, prod = 0;
+  const int n = 200000;
+  for (int i = 0; i < n; ++i) {
+    const PathSampler s(5, uint32_t(i), uint32_t(i % 7), uint32_t(i % 3));
+    const float a = s.get(uint32_t(i % 11)), b = s.get(uint32_t(i % 11) + 1);
+    ASSERT_GE(a, 0.0f);
+    ASSERT_LT(a, 1.0f);
+    sum += a; sum2 += double(a) * a; prod += double(a) * b;
+  }
+  EXPECT_NEAR(sum / n, 0.5, 0.003);             // sd of the mean 0.29 / sqrt(n) = 0.00065
+  EXPECT_NEAR(sum2 / n, 1.0 / 3.0, 0.003);
+  EXPECT_NEAR(prod / n, 0.25, 0.003);           // independent dimensions
+  EXPECT_NE(PathSampler(1, 0, 0, 0).bits(0), PathSampler(2, 0, 0, 0).bits(0));
+  EXPECT_NE(PathSampler(1, 0, 0, 0).bits(0), PathSampler(1, 0, 0, 1).bits(0));
+  EXPECT_EQ(PathSampler(1, 9, 3, 2).bits(4), PathSampler(1, 9, 3, 2).bits(4));
+}
+
+// Every stratum of a pixel gets exactly one sample, for square and non-square counts.
+TEST(PixelSamples, OnePerStratum) {
+  for (int spp : {1, 4, 9, 16, 3, 5, 8}) {
+    const int k = int(std::lround(std::sqrt(double(spp))));
+    const bool grid = k * k == spp;
+    std::set<std::pair<int, int>> strata;
+    std::set<int> xs, ys;
+    for (int s = 0; s < spp; ++s) {
+      float fx, fy;
+      pixel_sample_position(PathSampler(3, 77, uint32_t(s), 0), 5, 9, s, spp, fx, fy);
+      ASSERT_GE(fx, 5.0f); ASSERT_LT(fx, 6.0f);
+      ASSERT_GE(fy, 9.0f); ASSERT_LT(fy, 10.0f);
+      if (grid) strata.insert({int((fx - 5) * k), int((fy - 9) * k)});
+      xs.insert(int((fx - 5) * spp));
+      ys.insert(int((fy - 9) * spp));
+    }
+    if (grid) EXPECT_EQ(int(strata.size()), spp) << spp;
+    else EXPECT_EQ(int(xs.size()), spp) << spp;  // N-rooks: every row and column once
+    if (!grid) EXPECT_EQ(int(ys.size()), spp) << spp;
+  }
+}
+
+// Thin lens: rays of one film position leave from points on the lens disk and all meet at
+// the focus distance; a pinhole leaves from the eye.
+TEST(CameraRays, ThinLensFocusesOnThePlaneInFocus) {
+  Camera cam;
+  cam.eye = {1, 2, 3};
+  cam.look_at = {1, 2, -7};
+  cam.lens_radius = 0.2f;
+  cam.focus_distance = 4.0f;
+  const CameraRays rays(cam, 64, 48);
+  Vec3 meet{0.0f};
+  for (int i = 0; i < 16; ++i) {
+    const Ray r = rays.generate(20.5f, 30.25f, (i % 4 + 0.5f) / 4, (i / 4 + 0.5f) / 4);
+    EXPECT_LE(length(r.org - cam.eye), 0.2f * 1.0001f);
+    EXPECT_NEAR(r.org.z, 3.0f, 1e-6f);  // the lens lies in the plane facing the view axis
+    EXPECT_NEAR(length(r.dir), 1.0f, 1e-5f);
+    const Vec3 p = r.org + r.dir * ((-1.0f - r.org.z) / r.dir.z);  // on the plane z = 3 - 4
+    if (i == 0) meet = p;
+    EXPECT_LT(length(p - meet), 1e-4f);
+  }
+  cam.lens_radius = 0;
+  EXPECT_EQ(CameraRays(cam, 64, 48).generate(3, 4, 0.9f, 0.1f).org, cam.eye);
+  // The centre of the film looks at look_at; the top row is up.
+  const Ray centre = CameraRays(cam, 64, 48).generate(32, 24, 0, 0);
+  EXPECT_NEAR(centre.dir.z, -1.0f, 1e-6f);
+  EXPECT_GT(CameraRays(cam, 64, 48).generate(32, 0, 0, 0).dir.y, 0.0f);
+}
+
+// Triangles are chosen in proportion to area x emission; pdf_area integrates to 1.
+TEST(LightSampler, PowerProportionalChoice) {
+  Scene scene;
+  testing::add_part(scene, testing::quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), Material{.emission = Vec3{1.0f}});
+  testing::add_part(scene, testing::quad({5, 0, 0}, {2, 0, 0}, {0, 1, 0}), Material{.emission = Vec3{3.0f}});
+  testing::add_part(scene, testing::quad({9, 0, 0}, {1, 0, 0}, {0, 1, 0}), Material{});  // not a light
+  const LightSampler lights(scene);
+  const int n = 100000;
+  int second = 0;
+  double inv_pdf = 0;
+  for (int i = 0; i < n; ++i) {
+    const PathSampler s(1, uint32_t(i), 0, 0);
+    const LightSample ls = lights.sample(s.get(0), s.get(1), s.get(2));
+    ASSERT_LT(ls.p.x, 7.0f);
+    second += ls.p.x >= 5.0f;
+    EXPECT_EQ(ls.emission.x, ls.p.x >= 5.0f ? 3.0f : 1.0f);
+    inv_pdf += 1.0 / ls.pdf_area;
+    EXPECT_NEAR(ls.n.z, 1.0f, 1e-6f);
+  }
+  EXPECT_NEAR(double(second) / n, 6.0 / 7.0, 0.005);  // power 1 vs 2 x 3
+  EXPECT_NEAR(inv_pdf / n, 3.0, 0.01);                 // E[1 / pdf] = total area 3
+}
+
+// The sampled weight f cos / pdf of a glossy material has the mean of the cosine-sampled
+// estimate of the same integral (its directional albedo): a wrong mixture pdf would bias it.
+TEST(Bsdf, GlossySamplingWeightsMatchItsValue) {
+  const Material m{.type = Material::Type::Glossy, .diffuse = Vec3{0.3f}, .specular = Vec3{0.5f}, .exponent = 20};
+  const Vec3 n{0, 0, 1};
+  const Vec3 wo = normalize(Vec3{0.5f, 0.2f, 1.0f});
+  const int count = 400000;
+  double sampled = 0, reference = 0;
+  for (int i = 0; i < count; ++i) {
+    const PathSampler s(9, uint32_t(i), 0, 0);
+    const detail::BsdfSample bs = detail::sample_bsdf(m, n, wo, s.get(0), s.get(1), s.get(2));
+    if (bs.valid) sampled += bs.weight.x;
+    // reference: uniform hemisphere directions, f cos / (1 / 2 pi)
+    const float z = s.get(3), phi = 2 * std::numbers::pi_v<float> * s.get(4), r = std::sqrt(1 - z * z);
+    const Vec3 wi{r * std::cos(phi), r * std::sin(phi), z};
+    reference += detail::eval_bsdf(m, n, wo, wi).x * z * 2 * std::numbers::pi;
+  }
+  sampled /= count;
+  reference /= count;
+  EXPECT_NEAR(sampled, reference, 0.01 * reference);
+  EXPECT_LT(sampled, 0.8 + 1e-6);  // energy: kd + ks at most
+  // Diffuse: weight is the albedo; mirror: the reflectance along the mirror direction.
+  const Material d{.diffuse = Vec3{0.4f}};
+  EXPECT_EQ(detail::sample_bsdf(d, n, wo, 0.5f, 0.3f, 0.7f).weight.x, 0.4f);
+  const Material mirror{.type = Material::Type::Mirror, .specular = Vec3{0.9f}};
+  const detail::BsdfSample ms = detail::sample_bsdf(mirror, n, wo, 0.1f, 0.2f, 0.3f);
+  EXPECT_TRUE(ms.specular);
+  EXPECT_NEAR(ms.wi.x, -wo.x, 1e-6f);
+  EXPECT_NEAR(ms.wi.z, wo.z, 1e-6f);
+}
+
+}  // namespace
+}  // namespace rayscout
