@@ -1,0 +1,34 @@
+# CLI round trip: rayscout rays -> trace (bvh, embree) -> compare-hits, on the built-in scene.
+# Run by CTest: cmake -DRAYSCOUT=<binary> -DWORK=<dir> -P cli_round_trip.cmake
+file(MAKE_DIRECTORY ${WORK})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message("${out}${err}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+foreach(workload primary diffuse)
+  run(${RAYSCOUT} rays --scene cornell --workload ${workload} --width 64 --height 64 --out ${WORK}/${workload}.rays)
+  foreach(accel bvh embree)
+    run(${RAYSCOUT} trace --scene cornell --rays ${WORK}/${workload}.rays --accel ${accel} --repeat 1
+        --out ${WORK}/${workload}_${accel}.hits)
+    if(NOT last_output MATCHES "\"accel\": \"${accel}\".*\"mrays_per_s\"")
+      message(FATAL_ERROR "trace printed no JSON line for ${accel}")
+    endif()
+  endforeach()
+  run(${RAYSCOUT} compare-hits ${WORK}/${workload}_bvh.hits ${WORK}/${workload}_embree.hits --tolerance 1e-4)
+endforeach()
+run(${RAYSCOUT} rays --scene cornell --workload shadow --width 64 --height 64 --out ${WORK}/shadow.rays)
+foreach(accel bvh embree)
+  run(${RAYSCOUT} trace --scene cornell --rays ${WORK}/shadow.rays --accel ${accel} --occluded --repeat 1
+      --out ${WORK}/shadow_${accel}.occl)
+endforeach()
+run(${RAYSCOUT} compare-hits ${WORK}/shadow_bvh.occl ${WORK}/shadow_embree.occl)
+# A file compared with a different one must fail with exit 1.
+execute_process(COMMAND ${RAYSCOUT} compare-hits ${WORK}/primary_bvh.hits ${WORK}/diffuse_embree.hits
+                RESULT_VARIABLE rc OUTPUT_QUIET)
+if(NOT rc EQUAL 1)
+  message(FATAL_ERROR "compare-hits of different ray sets returned ${rc}, expected 1")
+endif()
