@@ -96,7 +96,8 @@ class Builder {
       // SAH (Wald 2007 eq. 1) multiplied through by A(box), so flat boxes need no division.
       const float area = r.box.half_area();
       const float split_cost = config_.traversal_cost * area + config_.intersection_cost * split.cost;
-      const float leaf_cost = config_.intersection_cost * float(n) * area;
+      const uint32_t tests = (n + uint32_t(config_.leaf_block) - 1) / uint32_t(config_.leaf_block);
+      const float leaf_cost = config_.intersection_cost * float(tests) * area;
       if (leaf_cost <= split_cost) return make_leaf(node, r.begin, n);
     }
     Range left, right;
@@ -311,6 +312,8 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
   if (config.max_leaf_size < 1 || config.max_leaf_size > 15)
     throw InputError("BvhBuildConfig.max_leaf_size = " + std::to_string(config.max_leaf_size) +
                      ": must be in [1, 15]");
+  if (config.leaf_block < 1)
+    throw InputError("BvhBuildConfig.leaf_block = " + std::to_string(config.leaf_block) + ": must be >= 1");
   if (boxes.size() >= (1u << 27))
     throw InputError("BVH: " + std::to_string(boxes.size()) + " triangles, at most 2^27 supported");
   const uint32_t n = uint32_t(boxes.size());

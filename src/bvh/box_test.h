@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "rayscout/bvh/wide_bvh.h"
@@ -19,16 +20,19 @@ inline constexpr float kRobustScale =
 // conservative (traversal widens tmin below 0, see CullInterval).
 inline constexpr float kRobustScaleNegative = 2.0f - kRobustScale;
 
-/// Core's intersect_box (Ize 2013) with one change: a negative far distance is scaled by
-/// kRobustScaleNegative instead of kRobustScale, so the test is conservative for negative
-/// distances too. Never culls a box core's test accepts.
+/// The slab test of core's intersect_box (Ize 2013) with the near and far planes chosen by
+/// the sign of the inverse direction instead of by comparing the two distances (what Ize's
+/// paper and Embree do). Without NaNs the two choices are the same numbers; when a direction
+/// component is 0 and the origin lies exactly on a slab plane (0 * inf = NaN), this version
+/// keeps the box where core's swap may cull it, so it never culls a box core accepts. A
+/// negative far distance is scaled by kRobustScaleNegative, towards zero, to stay conservative.
 inline bool intersect_box_robust(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
                                  float tmax, float& tnear_out) {
   float tnear = tmin, tfar = tmax;
   for (int axis = 0; axis < 3; ++axis) {
-    float t0 = (box.lo[axis] - org[axis]) * inv_dir[axis];
-    float t1 = (box.hi[axis] - org[axis]) * inv_dir[axis];
-    if (t0 > t1) { const float s = t0; t0 = t1; t1 = s; }
+    const bool neg = std::signbit(inv_dir[axis]);
+    const float t0 = ((neg ? box.hi : box.lo)[axis] - org[axis]) * inv_dir[axis];
+    float t1 = ((neg ? box.lo : box.hi)[axis] - org[axis]) * inv_dir[axis];
     t1 *= std::signbit(t1) ? kRobustScaleNegative : kRobustScale;
     tnear = t0 > tnear ? t0 : tnear;  // NaN t0 keeps tnear
     tfar = t1 < tfar ? t1 : tfar;     // NaN t1 keeps tfar
@@ -37,14 +41,23 @@ inline bool intersect_box_robust(const Vec3& org, const Vec3& inv_dir, const Bou
   return tnear <= tfar;
 }
 
-/// Per-ray constants of the wide box test, broadcast once per ray.
+/// Per-ray constants of the wide box test: the broadcast origin and inverse direction, and
+/// per axis the byte offsets of the near and far plane arrays inside a WideNode.
 struct WideRay {
 #if defined(__AVX2__)
   __m256 ox, oy, oz, ix, iy, iz, tmin;
 #endif
   Vec3 org, inv_dir;
   float t_min;
+  size_t near_off[3], far_off[3];
   WideRay(const Vec3& o, const Vec3& inv, float tmin_) : org(o), inv_dir(inv), t_min(tmin_) {
+    const size_t lo[3] = {offsetof(WideNode, lo_x), offsetof(WideNode, lo_y), offsetof(WideNode, lo_z)};
+    const size_t hi[3] = {offsetof(WideNode, hi_x), offsetof(WideNode, hi_y), offsetof(WideNode, hi_z)};
+    for (int a = 0; a < 3; ++a) {
+      const bool neg = std::signbit(inv[a]);
+      near_off[a] = neg ? hi[a] : lo[a];
+      far_off[a] = neg ? lo[a] : hi[a];
+    }
 #if defined(__AVX2__)
     ox = _mm256_set1_ps(o.x); oy = _mm256_set1_ps(o.y); oz = _mm256_set1_ps(o.z);
     ix = _mm256_set1_ps(inv.x); iy = _mm256_set1_ps(inv.y); iz = _mm256_set1_ps(inv.z);
@@ -59,23 +72,22 @@ struct WideRay {
 inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float tmax, float* dist) {
   const uint32_t used = (1u << node.count) - 1u;
 #if defined(__AVX2__)
+  const char* base = reinterpret_cast<const char*>(&node);
   const __m256 k = _mm256_set1_ps(kRobustScale), k_neg = _mm256_set1_ps(kRobustScaleNegative);
   __m256 tnear = r.tmin, tfar = _mm256_set1_ps(tmax);
-  auto axis = [&](const float* lo, const float* hi, __m256 o, __m256 inv) {
-    __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(lo), o), inv);
-    __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(hi), o), inv);
-    const __m256 swap = _mm256_cmp_ps(t0, t1, _CMP_GT_OQ);  // if (t0 > t1) swap, NaN: no swap
-    const __m256 a = _mm256_blendv_ps(t0, t1, swap), b = _mm256_blendv_ps(t1, t0, swap);
-    t1 = _mm256_mul_ps(b, _mm256_blendv_ps(k, k_neg, b));  // blendv picks by b's sign bit
+  auto axis = [&](int a, __m256 o, __m256 inv) {
+    const __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(reinterpret_cast<const float*>(base + r.near_off[a])), o), inv);
+    __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(reinterpret_cast<const float*>(base + r.far_off[a])), o), inv);
+    t1 = _mm256_mul_ps(t1, _mm256_blendv_ps(k, k_neg, t1));  // blendv picks by t1's sign bit
     // max_ps(x, y) = x > y ? x : y and min_ps(x, y) = x < y ? x : y: a NaN first operand
     // keeps the running value, exactly as the scalar ternaries.
-    tnear = _mm256_max_ps(a, tnear);
+    tnear = _mm256_max_ps(t0, tnear);
     tfar = _mm256_min_ps(t1, tfar);
   };
-  axis(node.lo_x, node.hi_x, r.ox, r.ix);
-  axis(node.lo_y, node.hi_y, r.oy, r.iy);
-  axis(node.lo_z, node.hi_z, r.oz, r.iz);
-  _mm256_storeu_ps(dist, tnear);
+  axis(0, r.ox, r.ix);
+  axis(1, r.oy, r.iy);
+  axis(2, r.oz, r.iz);
+  _mm256_store_ps(dist, tnear);
   return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ))) & used;
 #else
   uint32_t mask = 0;

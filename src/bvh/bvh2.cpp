@@ -7,16 +7,31 @@
 #include <tbb/parallel_for.h>
 
 #include "binned_sah_builder.h"
+#include "presplit.h"
 
 namespace rayscout {
 
 Bvh2 Bvh2::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
-  std::vector<Bounds3> boxes(tris.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) boxes[i] = tris[i].bounds();
-  });
+  detail::PrimReferences refs = detail::presplit_triangles(tris, config.presplit);
   Bvh2 bvh;
-  bvh.depth_ = detail::build_binned_sah(boxes, config, bvh.nodes, bvh.prim_ids);
+  bvh.depth_ = detail::build_binned_sah(refs.boxes, config, bvh.nodes, bvh.prim_ids);
+  if (!(config.presplit > 0.0f)) return bvh;  // references are the triangles themselves
+  bvh.split_references = true;
+  // References to triangle ids; two pieces of one triangle in a leaf become one entry.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, bvh.nodes.size(), 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Bvh2Node& n = bvh.nodes[i];
+      if (!n.is_leaf()) continue;
+      uint32_t* ids = bvh.prim_ids.data() + n.first;
+      uint16_t kept = 0;
+      for (uint16_t k = 0; k < n.count; ++k) {
+        const uint32_t id = refs.ref_tri[ids[k]];
+        if (std::find(ids, ids + kept, id) == ids + kept) ids[kept++] = id;
+      }
+      for (uint16_t k = kept; k < n.count; ++k) ids[k] = ids[0];  // unreferenced filler
+      n.count = kept;
+    }
+  });
   return bvh;
 }
 
@@ -38,7 +53,7 @@ void Bvh2::update_depth() {
 std::string Bvh2::validate(size_t triangle_count) const {
   if (nodes.empty())
     return triangle_count == 0 && prim_ids.empty() ? "" : "no nodes but " + std::to_string(triangle_count) + " triangles";
-  if (prim_ids.size() != triangle_count)
+  if (split_references ? prim_ids.size() < triangle_count : prim_ids.size() != triangle_count)
     return "prim_ids has " + std::to_string(prim_ids.size()) + " entries, expected " + std::to_string(triangle_count);
   std::vector<uint8_t> node_seen(nodes.size(), 0), prim_seen(triangle_count, 0);
   std::vector<uint32_t> stack{0};
@@ -54,7 +69,9 @@ std::string Bvh2::validate(size_t triangle_count) const {
       for (uint32_t k = n.first; k < n.first + n.count; ++k) {
         const uint32_t p = prim_ids[k];
         if (p >= triangle_count) return at + "triangle id " + std::to_string(p) + " out of range";
-        if (prim_seen[p]++) return at + "triangle " + std::to_string(p) + " appears twice";
+        if (prim_seen[p]++ && !split_references) return at + "triangle " + std::to_string(p) + " appears twice";
+        if (std::find(prim_ids.begin() + n.first, prim_ids.begin() + k, p) != prim_ids.begin() + k)
+          return at + "triangle " + std::to_string(p) + " twice in one leaf";
         ++leaf_prims;
       }
       continue;
@@ -67,8 +84,10 @@ std::string Bvh2::validate(size_t triangle_count) const {
       stack.push_back(c);
     }
   }
-  if (leaf_prims != triangle_count)
+  if (!split_references && leaf_prims != triangle_count)
     return "leaves hold " + std::to_string(leaf_prims) + " triangles, expected " + std::to_string(triangle_count);
+  for (size_t p = 0; p < triangle_count; ++p)
+    if (!prim_seen[p]) return "triangle " + std::to_string(p) + " in no leaf";
   for (size_t i = 0; i < nodes.size(); ++i)
     if (!node_seen[i]) return "node " + std::to_string(i) + " unreachable";
   return "";

@@ -2,6 +2,7 @@
 #include "rayscout/bvh/wide_bvh.h"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 namespace rayscout {
@@ -14,8 +15,9 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
   WideBvh w;
   if (bvh.nodes.empty()) return w;
   w.bounds = bvh.nodes[0].bounds;
+  w.split_references = bvh.split_references;
   w.prim_ids.reserve(bvh.prim_ids.size());
-  w.leaf_tris.reserve(bvh.prim_ids.size());
+  w.leaf_blocks.reserve(bvh.prim_ids.size() / 2 + 1);
   w.nodes.reserve(bvh.nodes.size() / 4 + 1);
   struct Item { uint32_t wide, bvh2; int depth; };
   std::vector<Item> stack{{0, 0, 1}};
@@ -65,9 +67,14 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
       node.hi_x[c] = n.bounds.hi.x; node.hi_y[c] = n.bounds.hi.y; node.hi_z[c] = n.bounds.hi.z;
       if (n.is_leaf()) {
         const uint32_t first = uint32_t(w.prim_ids.size());
-        for (uint32_t p = n.first; p < n.first + n.count; ++p) {
-          w.prim_ids.push_back(bvh.prim_ids[p]);
-          w.leaf_tris.push_back(tris[bvh.prim_ids[p]]);
+        const uint32_t blocks = (n.count + kTriangleBlockWidth - 1) / kTriangleBlockWidth;
+        w.leaf_blocks.resize(w.leaf_blocks.size() + blocks);
+        w.prim_ids.resize(w.prim_ids.size() + blocks * kTriangleBlockWidth, kInvalidId);
+        for (uint32_t k = 0; k < blocks * kTriangleBlockWidth; ++k) {
+          // Padding lanes repeat the leaf's last triangle: finite values, masked off anyway.
+          const uint32_t id = bvh.prim_ids[n.first + std::min<uint32_t>(k, n.count - 1)];
+          if (k < n.count) w.prim_ids[first + k] = id;
+          w.leaf_blocks[(first + k) / kTriangleBlockWidth].set(int(k % kTriangleBlockWidth), tris[id]);
         }
         node.child[c] = WideRef::leaf(first, n.count);
       } else {
@@ -87,7 +94,7 @@ Bounds3 WideBvh::ref_bounds(uint32_t ref) const {
   Bounds3 b;
   if (WideRef::is_leaf(ref)) {
     for (uint32_t i = WideRef::leaf_first(ref); i < WideRef::leaf_first(ref) + WideRef::leaf_count(ref); ++i)
-      b.extend(leaf_tris[i].bounds());
+      b.extend(leaf_triangle(i).bounds());
   } else {
     for (uint32_t c = 0; c < nodes[ref].count; ++c) b.extend(nodes[ref].child_bounds(int(c)));
   }
@@ -97,10 +104,9 @@ Bounds3 WideBvh::ref_bounds(uint32_t ref) const {
 std::string WideBvh::validate(size_t triangle_count) const {
   if (nodes.empty())
     return triangle_count == 0 ? "" : "no nodes but " + std::to_string(triangle_count) + " triangles";
-  if (prim_ids.size() != triangle_count || leaf_tris.size() != triangle_count)
-    return "prim_ids/leaf_tris have " + std::to_string(prim_ids.size()) + "/" + std::to_string(leaf_tris.size()) +
-           " entries, expected " + std::to_string(triangle_count);
-  std::vector<uint8_t> node_seen(nodes.size(), 0), prim_seen(triangle_count, 0), slot_seen(triangle_count, 0);
+  if (prim_ids.size() != leaf_blocks.size() * kTriangleBlockWidth)
+    return "prim_ids has " + std::to_string(prim_ids.size()) + " slots for " + std::to_string(leaf_blocks.size()) + " blocks";
+  std::vector<uint8_t> node_seen(nodes.size(), 0), prim_seen(triangle_count, 0), slot_seen(prim_ids.size(), 0);
   std::vector<uint32_t> stack{0};
   node_seen[0] = 1;
   size_t leaf_prims = 0;
@@ -118,12 +124,15 @@ std::string WideBvh::validate(size_t triangle_count) const {
         const uint32_t first = WideRef::leaf_first(ref), count = WideRef::leaf_count(ref);
         if (count == 0) return slot + "empty leaf";
         if (size_t(first) + count > prim_ids.size()) return slot + "leaf range beyond prim_ids";
+        if (first % kTriangleBlockWidth != 0) return slot + "leaf does not start on a triangle block";
         for (uint32_t k = first; k < first + count; ++k) {
           const uint32_t p = prim_ids[k];
           if (p >= triangle_count) return slot + "triangle id " + std::to_string(p) + " out of range";
-          if (prim_seen[p]++) return slot + "triangle " + std::to_string(p) + " appears twice";
+          if (prim_seen[p]++ && !split_references) return slot + "triangle " + std::to_string(p) + " appears twice";
           if (slot_seen[k]++) return slot + "leaf slot " + std::to_string(k) + " shared by two leaves";
-          if (!box.contains(leaf_tris[k].bounds())) return slot + "triangle " + std::to_string(p) + " outside the child box";
+          const Bounds3 tb = leaf_triangle(k).bounds();
+          if (split_references ? Bounds3{max(tb.lo, box.lo), min(tb.hi, box.hi)}.empty() : !box.contains(tb))
+            return slot + "triangle " + std::to_string(p) + " outside the child box";
           ++leaf_prims;
         }
         continue;
@@ -137,8 +146,10 @@ std::string WideBvh::validate(size_t triangle_count) const {
       stack.push_back(ref);
     }
   }
-  if (leaf_prims != triangle_count)
+  if (!split_references && leaf_prims != triangle_count)
     return "leaves hold " + std::to_string(leaf_prims) + " triangles, expected " + std::to_string(triangle_count);
+  for (size_t p = 0; p < triangle_count; ++p)
+    if (!prim_seen[p]) return "triangle " + std::to_string(p) + " in no leaf";
   for (size_t i = 0; i < nodes.size(); ++i)
     if (!node_seen[i]) return "wide node " + std::to_string(i) + " unreachable";
   return "";

@@ -35,10 +35,25 @@ TEST(BvhBuild, NastyMeshesValidateForEveryLeafSizeAndBinCount) {
         const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
         EXPECT_EQ(wide.validate(m.triangles.size()), "") << m.name << " leaf " << leaf << " bins " << bins;
         for (const Bvh2Node& n : bvh.nodes) EXPECT_LE(n.count, leaf) << m.name;
-        for (size_t i = 0; i < wide.prim_ids.size(); ++i)
-          ASSERT_EQ(std::memcmp(&wide.leaf_tris[i], &m.triangles[wide.prim_ids[i]], sizeof(Triangle)), 0);
+        for (size_t i = 0; i < wide.prim_ids.size(); ++i) {
+          if (wide.prim_ids[i] == kInvalidId) continue;  // block padding
+          const Triangle t = wide.leaf_triangle(i);
+          ASSERT_EQ(std::memcmp(&t, &m.triangles[wide.prim_ids[i]], sizeof(Triangle)), 0);
+        }
       }
     }
+  }
+}
+
+TEST(BvhBuild, PresplitReferencesValidate) {
+  for (const auto& m : testing::nasty_meshes()) {
+    BvhBuildConfig c;
+    c.presplit = 1.0f;
+    const Bvh2 bvh = Bvh2::build(m.triangles, c);
+    EXPECT_EQ(bvh.validate(m.triangles.size()), "") << m.name;
+    const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
+    EXPECT_EQ(wide.validate(m.triangles.size()), "") << m.name;
+    if (m.triangles.size() > 100) EXPECT_GT(bvh.prim_ids.size(), m.triangles.size()) << m.name << ": nothing was split";
   }
 }
 
@@ -153,12 +168,14 @@ TEST(BvhValidate, DetectsCorruptedWideTrees) {
   w.nodes[0].hi_x[0] = w.nodes[0].lo_x[0];
   EXPECT_NE(w.validate(tris.size()).find("inside"), std::string::npos) << w.validate(tris.size());
 
-  w = good;
-  w.prim_ids[0] = w.prim_ids[1];
+  w = good;  // a triangle twice (the last real slot's id copied to slot 0), another lost
+  size_t last = w.prim_ids.size() - 1;
+  while (w.prim_ids[last] == kInvalidId) --last;
+  w.prim_ids[0] = w.prim_ids[last];
   EXPECT_NE(w.validate(tris.size()).find("twice"), std::string::npos) << w.validate(tris.size());
 
   w = good;  // a triangle moved out of its leaf's box
-  w.leaf_tris[0].v0 = w.leaf_tris[0].v0 + Vec3(10.0f);
+  w.leaf_blocks[0].v[0][0][0] += 10.0f;
   EXPECT_NE(w.validate(tris.size()).find("outside"), std::string::npos) << w.validate(tris.size());
 
   w = good;

@@ -17,6 +17,13 @@ struct BvhBuildConfig {
   float traversal_cost = 1.0f;
   /// Cost of one ray-triangle test (C_I in the SAH).
   float intersection_cost = 1.0f;
+  /// Triangles tested together in a leaf: the SAH leaf cost charges ceil(n / leaf_block)
+  /// tests. 1 for scalar leaf tests (Bvh2); the wide BVH tests blocks of 4 triangles.
+  int leaf_block = 1;
+  /// Extra references for pre-splitting large triangles, as a fraction of the triangle count
+  /// (Karras and Aila, HPG 2013, sec. 3; they use 0.3). 0 = off: every triangle in exactly
+  /// one leaf. On: a triangle may sit in several leaves, each with a tight box of its part.
+  float presplit = 0.0f;
   /// Nodes with at least this many triangles bin in parallel and recurse as parallel tasks;
   /// below it the subtree is built serially (the result does not depend on it).
   int parallel_threshold = 4096;

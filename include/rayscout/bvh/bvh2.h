@@ -33,6 +33,9 @@ class Bvh2 {
  public:
   std::vector<Bvh2Node> nodes;     ///< nodes[0] = root; empty for an empty triangle set
   std::vector<uint32_t> prim_ids;  ///< leaf ranges index this; values are triangle ids
+  /// Built with BvhBuildConfig::presplit > 0: a triangle may appear in several leaves (never
+  /// twice in one), and a leaf box may hold only part of a triangle.
+  bool split_references = false;
 
   /// Builds over tris (not kept). The same input gives the same tree for any thread count.
   static Bvh2 build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
@@ -51,8 +54,8 @@ class Bvh2 {
   bool occluded(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
                 TraceStats* stats) const;
 
-  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once, children
-  /// inside their parent, no empty leaf, every node reachable exactly once, child indices in
+  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once (at least
+  /// once and once per leaf with split_references), children inside their parent, no empty leaf, every node reachable exactly once, child indices in
   /// range. Returns "" when all hold, else a description of the first violation.
   std::string validate(size_t triangle_count) const;
   /// Edges on the longest root-to-leaf path (0 for a lone leaf).

@@ -21,7 +21,8 @@ inline constexpr int kWideWidth = 8;
 
 /// A child reference inside a WideBvh. Inner child: the wide node id, an index into
 /// WideBvh::nodes (bit 31 clear). Leaf: bit 31 set, bits 27..30 = triangle count (1..15),
-/// bits 0..26 = first index into WideBvh::prim_ids / leaf_tris.
+/// bits 0..26 = first leaf slot (a multiple of kTriangleBlockWidth): the leaf's triangles are
+/// the slots [first, first + count) of WideBvh::prim_ids and leaf_blocks.
 struct WideRef {
   static constexpr uint32_t kLeafBit = 0x80000000u;
   static constexpr uint32_t kMaxFirst = (1u << 27) - 1;
@@ -29,6 +30,26 @@ struct WideRef {
   static uint32_t leaf(uint32_t first, uint32_t count) { return kLeafBit | (count << 27) | first; }
   static uint32_t leaf_first(uint32_t ref) { return ref & kMaxFirst; }
   static uint32_t leaf_count(uint32_t ref) { return (ref >> 27) & 15u; }
+};
+
+/// Triangles per TriangleBlock: one SSE register.
+inline constexpr int kTriangleBlockWidth = 4;
+
+/// Four triangles as structure of arrays (v[vertex][axis][lane]), the unit of the SIMD
+/// watertight test; slot s of a WideBvh lives in block s / 4, lane s % 4. Unused lanes
+/// repeat a triangle of the block and are masked off.
+struct alignas(16) TriangleBlock {
+  float v[3][3][kTriangleBlockWidth];
+  Triangle get(int lane) const {
+    return {{v[0][0][lane], v[0][1][lane], v[0][2][lane]},
+            {v[1][0][lane], v[1][1][lane], v[1][2][lane]},
+            {v[2][0][lane], v[2][1][lane], v[2][2][lane]}};
+  }
+  void set(int lane, const Triangle& t) {
+    const Vec3* p[3] = {&t.v0, &t.v1, &t.v2};
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) v[k][a][lane] = (*p[k])[a];
+  }
 };
 
 /// One wide node, 256 bytes: the boxes of up to 8 children as structure of arrays (one SIMD
@@ -50,17 +71,18 @@ static_assert(sizeof(WideNode) == 256);
 
 /// 8-wide BVH made by collapsing a binned SAH Bvh2 (each wide node adopts the descendants of
 /// the largest-area children until it has 8, as in Wald et al., "Getting rid of packets",
-/// 2008, and Embree's BVH8). It keeps its own copy of the triangles in leaf order, so
-/// traversal reads leaves contiguously; hits report the original triangle ids and are
-/// bit-identical to BruteForce (core's robust box and watertight triangle tests, same
-/// float operations in the SIMD lanes).
+/// 2008, and Embree's BVH8). It keeps its own copy of the triangles in leaf order, four per
+/// TriangleBlock, so traversal reads leaves contiguously and tests four triangles at once;
+/// hits report the original triangle ids and are bit-identical to BruteForce (core's robust
+/// box and watertight triangle tests, the same float operations in every SIMD lane).
 class WideBvh {
  public:
   std::vector<WideNode> nodes;     ///< nodes[0] = root (empty when there are no triangles)
-  std::vector<uint32_t> prim_ids;  ///< leaf order -> original triangle id
-  std::vector<Triangle> leaf_tris; ///< leaf_tris[i] = tris[prim_ids[i]]
+  std::vector<uint32_t> prim_ids;  ///< leaf slot -> original triangle id (kInvalidId: padding)
+  std::vector<TriangleBlock> leaf_blocks;  ///< slot s = leaf_blocks[s / 4] lane s % 4 = tris[prim_ids[s]]
   std::vector<uint32_t> source_node; ///< wide node id -> the Bvh2 node it was collapsed from
   Bounds3 bounds;                  ///< box of every triangle (the root node's box)
+  bool split_references = false;   ///< as Bvh2::split_references
 
   /// Builds a Bvh2 with config, then collapses it.
   static WideBvh build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
@@ -79,18 +101,23 @@ class WideBvh {
   template <bool CaptureStats>
   bool occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
 
+  /// The triangle in leaf slot s.
+  Triangle leaf_triangle(size_t s) const {
+    return leaf_blocks[s / kTriangleBlockWidth].get(int(s % kTriangleBlockWidth));
+  }
   /// Box of a reference (a node: union of its children; a leaf: union of its triangles).
   Bounds3 ref_bounds(uint32_t ref) const;
-  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once, leaf_tris
-  /// consistent with prim_ids, child boxes containing their subtree, no empty leaf or node,
+  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once (at least
+  /// once with split_references), leaves starting on a block and their triangles inside the
+  /// child box (overlapping it with split_references), child boxes containing their subtree, no empty leaf or node,
   /// every node reachable exactly once. "" when all hold, else the first violation.
   std::string validate(size_t triangle_count) const;
   /// Wide nodes on the longest root-to-leaf path (edges; a root with only leaves is 1).
   int depth() const { return depth_; }
-  /// Bytes of nodes, prim_ids, leaf_tris and source_node.
+  /// Bytes of nodes, prim_ids, leaf_blocks and source_node.
   size_t memory_bytes() const {
     return nodes.capacity() * sizeof(WideNode) + prim_ids.capacity() * sizeof(uint32_t) +
-           leaf_tris.capacity() * sizeof(Triangle) + source_node.capacity() * sizeof(uint32_t);
+           leaf_blocks.capacity() * sizeof(TriangleBlock) + source_node.capacity() * sizeof(uint32_t);
   }
 
  private:

@@ -1,0 +1,136 @@
+// Triangle pre-splitting (Karras and Aila 2013, sec. 3) into tight reference boxes.
+#include "presplit.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_scan.h>
+
+namespace rayscout::detail {
+namespace {
+
+// Box of the part of tri on one side of the plane x[axis] = pos (left: <= pos), intersected
+// with clip. Crossing points are padded outward by a few ulps so the box stays conservative.
+Bounds3 clip_side(const Triangle& tri, int axis, float pos, bool left, const Bounds3& clip) {
+  Bounds3 b;
+  const Vec3 v[3] = {tri.v0, tri.v1, tri.v2};
+  for (int i = 0; i < 3; ++i) {
+    const Vec3& a = v[i];
+    const Vec3& c = v[(i + 1) % 3];
+    const bool a_in = left ? a[axis] <= pos : a[axis] >= pos;
+    const bool c_in = left ? c[axis] <= pos : c[axis] >= pos;
+    if (a_in) b.extend(a);
+    if (a_in != c_in && a[axis] != c[axis]) {
+      const float t = (pos - a[axis]) / (c[axis] - a[axis]);
+      Vec3 p = a + (c - a) * t;
+      for (int k = 0; k < 3; ++k) {
+        const float pad = 4.0f * 1.1920929e-07f * std::max(std::fabs(a[k]), std::fabs(c[k]));
+        Vec3 q = p;
+        q[k] = p[k] - pad;
+        b.extend(q);
+        q[k] = p[k] + pad;
+        b.extend(q);
+      }
+    }
+  }
+  if (b.empty()) return b;
+  b.lo[axis] = left ? b.lo[axis] : std::max(b.lo[axis], pos);
+  b.hi[axis] = left ? std::min(b.hi[axis], pos) : b.hi[axis];
+  Bounds3 r{max(b.lo, clip.lo), min(b.hi, clip.hi)};
+  return r;
+}
+
+// The coarsest plane of the power-of-two grid over the scene that cuts box strictly inside,
+// on the axis where that plane is coarsest (largest extent breaks ties). False when none.
+bool grid_plane(const Bounds3& box, const Bounds3& scene, int& axis, float& pos) {
+  int best_level = 64;
+  const Vec3 ext = scene.diagonal();
+  for (int a = 0; a < 3; ++a) {
+    if (!(ext[a] > 0.0f) || !(box.hi[a] > box.lo[a])) continue;
+    const float lo = (box.lo[a] - scene.lo[a]) / ext[a], hi = (box.hi[a] - scene.lo[a]) / ext[a];
+    for (int level = 1; level < std::min(best_level, 24); ++level) {
+      const float cell = std::ldexp(1.0f, -level);
+      const float k = std::floor(hi / cell);
+      const float p = scene.lo[a] + k * cell * ext[a];
+      if (p > box.lo[a] && p < box.hi[a]) {
+        if (level < best_level || (level == best_level && box.diagonal()[a] > box.diagonal()[axis])) {
+          best_level = level;
+          axis = a;
+          pos = p;
+        }
+        break;
+      }
+    }
+  }
+  return best_level < 64;
+}
+
+// Writes n boxes covering tri within box into out (recursive binary splitting).
+void split_into(const Triangle& tri, const Bounds3& box, uint32_t n, const Bounds3& scene, Bounds3* out) {
+  int axis = 0;
+  float pos = 0.0f;
+  if (n == 1 || !grid_plane(box, scene, axis, pos)) {
+    for (uint32_t i = 0; i < n; ++i) out[i] = box;  // no useful plane: repeat the box
+    return;
+  }
+  const Bounds3 l = clip_side(tri, axis, pos, true, box), r = clip_side(tri, axis, pos, false, box);
+  if (l.empty() || r.empty()) {
+    split_into(tri, l.empty() ? r : l, n, scene, out);
+    return;
+  }
+  const float wl = max_component(l.diagonal()), wr = max_component(r.diagonal());
+  const float share = wl + wr > 0.0f ? wl / (wl + wr) : 0.5f;
+  const uint32_t nl = std::clamp<uint32_t>(uint32_t(std::lround(float(n) * share)), 1u, n - 1);
+  split_into(tri, l, nl, scene, out);
+  split_into(tri, r, n - nl, scene, out + nl);
+}
+
+}  // namespace
+
+PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget) {
+  const size_t n = tris.size();
+  PrimReferences refs;
+  std::vector<Bounds3> boxes(n);
+  std::vector<float> priority(n, 0.0f);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      boxes[i] = tris[i].bounds();
+      if (budget > 0.0f) priority[i] = std::pow(std::max(0.0f, boxes[i].surface_area() - 2.0f * tris[i].area()), 0.3f);
+    }
+  });
+  if (!(budget > 0.0f) || n == 0) {
+    refs.boxes = std::move(boxes);
+    refs.ref_tri.resize(n);
+    for (size_t i = 0; i < n; ++i) refs.ref_tri[i] = uint32_t(i);
+    return refs;
+  }
+  struct Sum { double p = 0; Bounds3 scene; };
+  const Sum total = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 4096), Sum{},
+      [&](const auto& r, Sum s) {
+        for (size_t i = r.begin(); i != r.end(); ++i) { s.p += priority[i]; s.scene.extend(boxes[i]); }
+        return s;
+      },
+      [](Sum a, const Sum& b) { a.p += b.p; a.scene.extend(b.scene); return a; });
+  // Pieces per triangle; the sum is exact per index range, so the layout is deterministic.
+  const double scale = total.p > 0 ? double(budget) * double(n) / total.p : 0.0;
+  std::vector<uint32_t> count(n), offset(n + 1, 0);
+  for (size_t i = 0; i < n; ++i) {
+    count[i] = 1 + uint32_t(std::min(64.0, std::floor(double(priority[i]) * scale)));
+    offset[i + 1] = offset[i] + count[i];
+  }
+  refs.boxes.resize(offset[n]);
+  refs.ref_tri.resize(offset[n]);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      split_into(tris[i], boxes[i], count[i], total.scene, &refs.boxes[offset[i]]);
+      for (uint32_t k = offset[i]; k < offset[i + 1]; ++k) refs.ref_tri[k] = uint32_t(i);
+    }
+  });
+  return refs;
+}
+
+}  // namespace rayscout::detail
