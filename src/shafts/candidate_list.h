@@ -11,10 +11,14 @@
 
 namespace rayscout::detail {
 
-/// Sample rays of one shaft with their real closest-hit distances (occlusion counts).
+/// Sample rays of one shaft with their real closest-hit distances (occlusion counts), as
+/// structure of arrays so the 20-ray box test vectorises.
 struct ShaftSamples {
-  std::vector<Vec3> org, inv_dir;
-  std::vector<float> hit_t;
+  std::vector<float> ox, oy, oz, ix, iy, iz, hit_t;
+  void resize(size_t n) {
+    for (auto* v : {&ox, &oy, &oz, &ix, &iy, &iz, &hit_t}) v->resize(n);
+  }
+  size_t size() const { return hit_t.size(); }
 };
 
 /// Builds candidate lists of one shaft for a given threshold; scratch is reused.
@@ -24,14 +28,22 @@ class CandidateListBuilder {
       : tree_(tree), shaft_(shaft), samples_(samples) {}
 
   /// Fraction of sample rays that enter node's box before their hit (getHitProbability).
+  /// A plain slab test: this is an estimate, not a culling decision.
   double hit_probability(uint32_t node) const {
-    const size_t n = samples_.hit_t.size();
+    const size_t n = samples_.size();
     if (n == 0) return 1.0;
     const Bounds3& b = tree_.bounds[node];
-    size_t hits = 0;
+    const float* ox = samples_.ox.data(); const float* oy = samples_.oy.data(); const float* oz = samples_.oz.data();
+    const float* ix = samples_.ix.data(); const float* iy = samples_.iy.data(); const float* iz = samples_.iz.data();
+    const float* ht = samples_.hit_t.data();
+    int hits = 0;
     for (size_t i = 0; i < n; ++i) {
-      float tn;
-      hits += intersect_box(samples_.org[i], samples_.inv_dir[i], b, 0.0f, samples_.hit_t[i], tn);
+      const float x0 = (b.lo.x - ox[i]) * ix[i], x1 = (b.hi.x - ox[i]) * ix[i];
+      const float y0 = (b.lo.y - oy[i]) * iy[i], y1 = (b.hi.y - oy[i]) * iy[i];
+      const float z0 = (b.lo.z - oz[i]) * iz[i], z1 = (b.hi.z - oz[i]) * iz[i];
+      const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+      const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
+      hits += tn <= tf ? 1 : 0;
     }
     return double(hits) / double(n);
   }
@@ -50,7 +62,7 @@ class CandidateListBuilder {
     }
   }
 
-  /// Algorithm 1 with threshold min_prob. Appends tree refs to out, near first. Returns false
+  /// Algorithm 1 with threshold min_prob. Appends node indices to out, near first. Returns false
   /// (out then incomplete) as soon as the list exceeds max_len.
   bool build(double min_prob, int max_len, std::vector<uint32_t>& out) {
     out.clear();
@@ -68,7 +80,7 @@ class CandidateListBuilder {
         node = cull_subtree(node);
         if (node == kNone) continue;
       }
-      out.push_back(tree_.ref[node]);
+      out.push_back(node);
       if (int(out.size()) > max_len) return false;
     }
     return true;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
@@ -62,6 +64,86 @@ std::vector<uint8_t> occupied_voxels(const ShaftGrid& grid, std::span<const Tria
   return occ;
 }
 
+/// Which shafts get lists (paper sec. 4.4): voxel flags, and per shaft flags for "camera"
+/// (empty = every cell of a listed voxel).
+struct Selection {
+  std::vector<uint8_t> voxel_listed, shaft_selected;
+  size_t shafts = 0;
+};
+
+Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, const RayBatch& sample_rays,
+                        const ShaftConfig& config) {
+  const uint32_t cells = grid.cells_per_voxel();
+  const size_t nvox = grid.voxel_count();
+  Selection sel;
+  sel.voxel_listed.assign(nvox, 0);
+  if (config.select == "occupied") {
+    sel.voxel_listed = occupied_voxels(grid, tris);
+    sel.shafts = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1)) * cells;
+  } else if (config.select == "camera") {
+    std::unordered_map<uint64_t, uint32_t> counts;
+    size_t classified = 0;
+    for (size_t i = 0; i < sample_rays.size(); ++i) {
+      ShaftCoord c;
+      if (!grid.classify(sample_rays[i], c)) continue;
+      ++counts[uint64_t(c.voxel) * cells + c.cell];
+      ++classified;
+    }
+    std::vector<std::pair<uint32_t, uint64_t>> order;
+    for (const auto& [id, n] : counts) order.push_back({n, id});
+    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    sel.shaft_selected.assign(nvox * cells, 0);
+    size_t covered = 0;
+    for (const auto& [n, id] : order) {
+      if (double(covered) >= config.coverage * double(classified)) break;
+      covered += n;
+      sel.shaft_selected[id] = 1;
+      sel.voxel_listed[id / cells] = 1;
+      ++sel.shafts;
+    }
+  } else {
+    throw InputError("shafts: select must be 'occupied' or 'camera' (got '" + config.select + "')");
+  }
+  return sel;
+}
+
+/// Builds the list (node indices) of one shaft: 0 = nothing reachable (list empty), 1 = list in `list`.
+/// Counts threshold raises and fallbacks.
+int build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
+              const ShaftConfig& config, double min_prob, detail::ShaftSamples& samples,
+              std::vector<uint32_t>& list, size_t& retries, size_t& fallbacks) {
+  list.clear();
+  if (tree.size() == 0) return 0;
+  const Shaft shaft(grid, coord);
+  const uint64_t sid = uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell;
+  uint64_t rng = (uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull);
+  const int ns = std::max(0, config.samples);
+  samples.resize(size_t(ns));
+  for (int s = 0; s < ns; ++s) {
+    float rnd[5];
+    for (float& r : rnd) r = uniform01(rng);
+    const Ray ray = shaft.sample_ray(rnd);
+    samples.ox[s] = ray.org.x; samples.oy[s] = ray.org.y; samples.oz[s] = ray.org.z;
+    samples.ix[s] = 1.0f / ray.dir.x; samples.iy[s] = 1.0f / ray.dir.y; samples.iz[s] = 1.0f / ray.dir.z;
+    samples.hit_t[s] = trace(ray);
+  }
+  detail::CandidateListBuilder builder(tree, shaft, samples);
+  bool ok = builder.build(min_prob, config.max_list, list);
+  for (int i = 0; !ok && i < config.retries; ++i) {
+    ++retries;
+    ok = builder.build(min_prob + double(i + 1) / 20.0, config.max_list, list);
+  }
+  if (!ok) {
+    ++fallbacks;
+    list.clear();
+    const uint32_t n = builder.cull_subtree(tree.root);
+    if (n != detail::CandidateListBuilder::kNone) list.push_back(n);
+  }
+  return list.empty() ? 0 : 1;
+}
+
 }  // namespace
 
 std::string ShaftStats::summary() const {
@@ -78,6 +160,39 @@ std::string ShaftStats::summary() const {
   return s.str();
 }
 
+void ShaftCollection::init_quantization() {
+  const Bounds3& b = grid_.box();
+  for (int a = 0; a < 3; ++a) {
+    const double lo = b.lo[a], step = (double(b.hi[a]) - lo) / 255.0;
+    for (int q = 0; q < 256; ++q) {
+      const double x = q == 255 ? double(b.hi[a]) : lo + step * q;
+      float down = float(x), up = float(x);
+      if (double(down) > x) down = std::nextafter(down, -kInfinity);
+      if (double(up) < x) up = std::nextafter(up, kInfinity);
+      qlo_[a][q] = q == 0 ? std::min(down, b.lo[a]) : down;
+      qhi_[a][q] = q == 255 ? std::max(up, b.hi[a]) : up;
+    }
+  }
+}
+
+ShaftCollection::QBox ShaftCollection::quantize(const Bounds3& box) const {
+  QBox q{};
+  const Bounds3& g = grid_.box();
+  for (int a = 0; a < 3; ++a) {
+    const double ext = double(g.hi[a]) - g.lo[a];
+    int lo = 0, hi = 255;
+    if (ext > 0) {
+      lo = std::clamp(int(std::floor((double(box.lo[a]) - g.lo[a]) / ext * 255.0)), 0, 255);
+      hi = std::clamp(int(std::ceil((double(box.hi[a]) - g.lo[a]) / ext * 255.0)), 0, 255);
+    }
+    while (lo > 0 && qlo_[a][lo] > box.lo[a]) --lo;   // the stored box must contain the node's
+    while (hi < 255 && qhi_[a][hi] < box.hi[a]) ++hi;
+    q.lo[a] = uint8_t(lo);
+    q.hi[a] = uint8_t(hi);
+  }
+  return q;
+}
+
 ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGrid& grid,
                                             std::span<const Triangle> tris, const TraceFn& trace,
                                             const RayBatch& sample_rays, const ShaftConfig& config) {
@@ -86,42 +201,16 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     throw InputError("shafts: max_list must be in 1..31 (got " + std::to_string(config.max_list) + ")");
   ShaftCollection col;
   col.grid_ = grid;
+  col.boxed_ = config.entry_boxes > 0;
+  if (col.boxed_) col.init_quantization();
   const uint32_t cells = grid.cells_per_voxel();
   const size_t nvox = grid.voxel_count();
   if (nvox * cells >= (size_t(1) << 32) - 64)
     throw InputError("shafts: too many shafts (" + std::to_string(nvox * cells) + ")");
 
-  // Which shafts get lists: a bitmap per listed voxel.
-  std::vector<uint8_t> voxel_listed(nvox, 0);
-  std::vector<uint8_t> shaft_selected;  // empty = every cell of a listed voxel
-  if (config.select == "occupied") {
-    voxel_listed = occupied_voxels(grid, tris);
-  } else if (config.select == "camera") {
-    std::unordered_map<uint64_t, uint32_t> counts;
-    size_t classified = 0;
-    for (size_t i = 0; i < sample_rays.size(); ++i) {
-      ShaftCoord c;
-      if (!grid.classify(sample_rays[i], c)) continue;
-      ++counts[uint64_t(c.voxel) * cells + c.cell];
-      ++classified;
-    }
-    std::vector<std::pair<uint32_t, uint64_t>> order;
-    for (const auto& [id, n] : counts) order.push_back({n, id});
-    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-      return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-    shaft_selected.assign(nvox * cells, 0);
-    size_t covered = 0;
-    for (const auto& [n, id] : order) {
-      if (double(covered) >= config.coverage * double(classified)) break;
-      covered += n;
-      shaft_selected[id] = 1;
-      voxel_listed[id / cells] = 1;
-    }
-  } else {
-    throw InputError("shafts: select must be 'occupied' or 'camera' (got '" + config.select + "')");
-  }
-
+  Selection sel = select_shafts(grid, tris, sample_rays, config);
+  std::vector<uint8_t>& voxel_listed = sel.voxel_listed;
+  std::vector<uint8_t>& shaft_selected = sel.shaft_selected;
   std::vector<uint32_t> listed;
   for (uint32_t v = 0; v < nvox; ++v)
     if (voxel_listed[v]) listed.push_back(v);
@@ -136,7 +225,6 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   };
   std::vector<VoxelLists> out(listed.size());
   const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
-  const int ns = std::max(0, config.samples);
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
     detail::ShaftSamples samples;
@@ -149,32 +237,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
       for (uint32_t cell = 0; cell < cells; ++cell) {
         const uint64_t sid = uint64_t(voxel) * cells + cell;
         if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
-        if (tree.size() == 0) { vl.status[cell] = 2; continue; }
-        const Shaft shaft(grid, {voxel, cell});
-        uint64_t rng = (uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull);
-        samples.org.resize(ns);
-        samples.inv_dir.resize(ns);
-        samples.hit_t.resize(ns);
-        for (int s = 0; s < ns; ++s) {
-          float rnd[5];
-          for (float& r : rnd) r = uniform01(rng);
-          const Ray ray = shaft.sample_ray(rnd);
-          samples.org[s] = ray.org;
-          samples.inv_dir[s] = Vec3(1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z);
-          samples.hit_t[s] = trace(ray);
-        }
-        detail::CandidateListBuilder builder(tree, shaft, samples);
-        bool ok = builder.build(min_prob, config.max_list, list);
-        for (int i = 0; !ok && i < config.retries; ++i) {
-          ++vl.retries;
-          ok = builder.build(min_prob + double(i + 1) / 20.0, config.max_list, list);
-        }
-        if (!ok) {
-          ++vl.fallbacks;
-          list.clear();
-          const uint32_t n = builder.cull_subtree(tree.root);
-          if (n != detail::CandidateListBuilder::kNone) list.push_back(tree.ref[n]);
-        }
+        build_one(tree, grid, {voxel, cell}, trace, config, min_prob, samples, list, vl.retries, vl.fallbacks);
         if (list.empty()) {
           vl.status[cell] = 2;
           continue;
@@ -232,13 +295,15 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
       }
       const uint32_t len = vl.len[cell];
       const uint32_t offset = uint32_t(col.lists_.size());
-      col.lists_.insert(col.lists_.end(), vl.data.begin() + pos, vl.data.begin() + pos + len);
-      pos += len;
+      for (uint32_t k = 0; k < len; ++k) col.lists_.push_back(tree.ref[vl.data[pos + k]]);
       auto [it, inserted] = known.try_emplace({offset, len}, offset);
       if (!inserted) {
         col.lists_.resize(offset);
-        st.dedup_saved_bytes += len * sizeof(uint32_t);
+        st.dedup_saved_bytes += len * col.bytes_per_entry();
+      } else if (col.boxed_) {
+        for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(col.quantize(tree.bounds[vl.data[pos + k]]));
       }
+      pos += len;
       const uint32_t at = it->second;
       if (at >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
       col.entries_[base + cell] = (at << 5) | len;
@@ -249,10 +314,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     }
   }
   col.lists_.shrink_to_fit();
+  col.boxes_.shrink_to_fit();
   st.unique_lists = known.size();
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
   st.lookup_bytes = (col.voxel_base_.size() + col.entries_.size()) * sizeof(uint32_t);
-  st.list_bytes = col.lists_.size() * sizeof(uint32_t);
+  st.list_bytes = col.lists_.size() * col.bytes_per_entry();
   st.build_rounds = 1;
   st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
   return col;
@@ -278,40 +344,81 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     return finish(build_grid(tree, grid, tris, trace, sample_rays, config), 1);
   }
   const double cells = 6.0 * config.dir_res * config.dir_res;
-  // First guess: occupancy of a probe grid, scaled as a surface (n^(2/3)), and 16 bytes per
-  // listed shaft (4-byte entry + about 3 stored list entries after deduplication).
-  const double probe_n = 4096;
-  const ShaftGrid probe(box, ShaftGrid::cubical_resolution(box, probe_n), config.dir_res);
-  double listed_frac = 1.0;
-  if (config.select == "occupied") {
-    const auto occ = occupied_voxels(probe, tris);
-    listed_frac = double(std::count(occ.begin(), occ.end(), 1)) / double(probe.voxel_count());
-  } else {
-    listed_frac = 0.05;
-  }
-  double bytes_per_shaft = 16.0;
-  auto estimate = [&](double n) {
-    const double frac = std::min(1.0, listed_frac * std::pow(probe_n / n, 1.0 / 3.0));
-    return 4.0 * n + frac * n * cells * bytes_per_shaft;
+  const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
+  // Predicted memory of a grid of about n voxels: the voxel table, entry tables of the listed
+  // voxels and lists whose mean length a pilot of up to 192 random listed shafts measures
+  // (dedup assumed to save 5 %). Two pilot iterations settle the resolution before the one
+  // real build; the loop below only corrects a miss.
+  auto predict = [&](double n) {
+    const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, n), config.dir_res);
+    const Selection sel = select_shafts(grid, tris, sample_rays, config);
+    std::vector<uint64_t> ids;
+    for (uint32_t v = 0; v < grid.voxel_count(); ++v) {
+      if (!sel.voxel_listed[v]) continue;
+      for (uint32_t c = 0; c < grid.cells_per_voxel(); ++c) {
+        const uint64_t id = uint64_t(v) * grid.cells_per_voxel() + c;
+        if (sel.shaft_selected.empty() || sel.shaft_selected[id]) ids.push_back(id);
+      }
+    }
+    const size_t pilots = std::min<size_t>(192, ids.size());
+    std::vector<size_t> lengths(pilots, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pilots, 8), [&](const auto& range) {
+      detail::ShaftSamples samples;
+      std::vector<uint32_t> list;
+      size_t r = 0, f = 0;
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const uint64_t id = ids[i * ids.size() / pilots];
+        build_one(tree, grid, {uint32_t(id / grid.cells_per_voxel()), uint32_t(id % grid.cells_per_voxel())},
+                  trace, config, min_prob, samples, list, r, f);
+        lengths[i] = list.size();
+      }
+    });
+    double mean = 0.0;
+    for (size_t l : lengths) mean += double(l);
+    mean = pilots ? mean / double(pilots) : 0.0;
+    const size_t listed_voxels = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1));
+    return 4.0 * double(grid.voxel_count()) + 4.0 * double(listed_voxels) * cells +
+           (config.entry_boxes > 0 ? 10.0 : 4.0) * 0.95 * mean * double(sel.shafts);
   };
-  double lo = 1.0, hi = 1e8;
-  for (int i = 0; i < 60; ++i) {
-    const double mid = std::sqrt(lo * hi);
-    (estimate(mid) <= 0.95 * double(budget) ? lo : hi) = mid;
+  // Secant search in log-log space for the voxel count whose predicted memory is 80-97 % of
+  // the budget. Memory grows like n (entry tables) when most voxels are listed and like n^(2/3)
+  // for surfaces: the first step assumes exponent 1.2, later steps measure it. The grid
+  // quantises n, so every step predicts the grid actually built; the largest grid predicted
+  // within budget is kept.
+  double n = 4096, prev_n = 0, prev_mem = 0, feasible_n = 1;
+  bool settled = false;
+  for (int it = 0; it < 8 && !settled; ++it) {
+    const double real_n = double(ShaftGrid(box, ShaftGrid::cubical_resolution(box, n), 1).voxel_count());
+    const double mem = std::max(1.0, predict(n));
+    if (std::getenv("RAYSCOUT_SHAFTS_DEBUG"))
+      std::fprintf(stderr, "pilot n=%.0f voxels %.0f predicted %.0f budget %zu\n", n, real_n, mem, budget);
+    if (mem <= 0.97 * double(budget)) {
+      feasible_n = std::max(feasible_n, n);
+      settled = mem >= 0.8 * double(budget);
+      if (settled) break;
+    }
+    double slope = 1.2;
+    if (prev_n > 0 && std::fabs(std::log(real_n / prev_n)) > 1e-3)
+      slope = std::clamp(std::log(mem / prev_mem) / std::log(real_n / prev_n), 0.5, 1.5);
+    prev_n = real_n;
+    prev_mem = mem;
+    n = std::clamp(real_n * std::pow(0.9 * double(budget) / mem, 1.0 / slope), real_n / 64.0, real_n * 64.0);
+    n = std::clamp(n, 1.0, 2e8 / cells);
   }
-  double n = std::max(1.0, lo);
+  if (!settled) n = feasible_n;
   ShaftCollection best;
   bool have_best = false;
   for (int round = 1; round <= 6; ++round) {
     const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, n), config.dir_res);
     ShaftCollection col = build_grid(tree, grid, tris, trace, sample_rays, config);
     const double mem = double(col.memory_bytes());
+    if (std::getenv("RAYSCOUT_SHAFTS_DEBUG")) std::fprintf(stderr, "round %d n=%.0f voxels %zu mem %.0f\n", round, n, grid.voxel_count(), mem);
     if (mem <= double(budget)) {
-      // Well under budget (the guess was pessimistic): one finer round at most.
-      if (!have_best && mem < 0.6 * double(budget) && round == 1 && grid.voxel_count() > 1) {
+      // Far under budget (the pilot misjudged): one finer round at most.
+      if (!have_best && mem < 0.4 * double(budget) && round == 1 && grid.voxel_count() > 1) {
         best = std::move(col);
         have_best = true;
-        n *= std::pow(0.9 * double(budget) / std::max(mem, 1.0), 1.5);
+        n *= std::pow(0.9 * double(budget) / std::max(mem, 1.0), 1.2);
         continue;
       }
       return finish(std::move(col), round);

@@ -17,6 +17,9 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   c.coverage = o.get_double("coverage", c.coverage);
   c.prepass_width = int(o.get_int("prepass_width", c.prepass_width));
   c.seed = unsigned(o.get_int("seed", c.seed));
+  c.wide_sampling = o.get_bool("wide_sampling", c.wide_sampling);
+  if (o.has("entry_boxes")) c.entry_boxes = o.get_bool("entry_boxes", false) ? 1 : 0;
+  else o.get_bool("entry_boxes", false);  // marks the key as known
   auto bad = [](const std::string& what) { throw InputError("shafts option " + what); };
   if (c.budget_mib < 0) bad("budget_mib must be >= 0");
   if (!(c.budget_rel > 0)) bad("budget_rel must be > 0");

@@ -2,6 +2,7 @@
 #include "rayscout/shafts/shafts_accelerator.h"
 
 #include <chrono>
+#include <cmath>
 #include <mutex>
 
 #include <tbb/parallel_for.h>
@@ -10,9 +11,11 @@
 
 namespace rayscout {
 
-ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config,
+ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config_in,
                                      const BvhBuildConfig& bvh_config)
     : triangles_(scene.triangles), base_(base) {
+  ShaftConfig config = config_in;
+  if (config.entry_boxes < 0) config.entry_boxes = base == Base::Wide ? 1 : 0;
   const auto t0 = std::chrono::steady_clock::now();
   TreeView tree;
   Bounds3 box;
@@ -27,21 +30,66 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
     tree = TreeView::from_wide(wide_);
     box = wide_.bounds;
   }
-  auto hit = [this](const Ray& r) {
-    return base_ == Base::Binary ? bvh2_.intersect<false>(r, triangles_, {}, nullptr)
-                                 : wide_.intersect<false>(r, {}, nullptr);
+  // Sample rays only need their hit distance: trace them with the SIMD wide BVH, also when
+  // the lists index the binary one (a temporary collapse of it; same hits).
+  WideBvh sampling_bvh;
+  if (base_ == Base::Binary && config.wide_sampling) sampling_bvh = WideBvh::from_bvh2(bvh2_, triangles_);
+  const WideBvh* sampler = base_ == Base::Wide ? &wide_ : (config.wide_sampling ? &sampling_bvh : nullptr);
+  auto hit = [this, sampler](const Ray& r) {
+    return sampler ? sampler->intersect<false>(r, {}, nullptr) : bvh2_.intersect<false>(r, triangles_, {}, nullptr);
   };
   if (box.empty()) box = Bounds3{Vec3{0.0f}, Vec3{0.0f}};
   RayBatch prepass;
   if (config.select == "camera") prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
+  const Vec3 m = max(abs(box.lo), abs(box.hi));
+  scene_coord_ = max_component(m);
   info_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
 }
 
 size_t ShaftsAccelerator::bvh_memory_bytes() const {
   return base_ == Base::Binary ? bvh2_.memory_bytes() : wide_.memory_bytes();
+}
+
+template <bool Stats, bool Any>
+void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits,
+                                    std::vector<uint8_t>* occ, TraceStats& local) const {
+  // Box-test the entries on the BVH's widened interval (the slack of src/bvh/cull_distance.h:
+  // box distances and watertight t round differently), keep the hit ones sorted near first.
+  const RayPrecomp rp(ray.dir);
+  const float slack = (scene_coord_ + max_component(abs(ray.org))) * (1.0f / 1048576.0f) /
+                      max_component(abs(ray.dir));
+  auto far = [&](float t) { return t + t * (1.0f / 131072.0f) + slack; };
+  const float near = ray.tmin - std::fabs(ray.tmin) * (1.0f / 131072.0f) - slack;
+  uint32_t refs[32];
+  float dist[32];
+  int n = 0;
+  for (size_t k = 0; k < c.list.size(); ++k) {
+    float d;
+    if (!intersect_box(ray.org, rp.inv_dir, collection_.box_of(c.boxes[k]), near, far(ray.tmax), d)) continue;
+    int j = n++;
+    while (j > 0 && dist[j - 1] > d) { dist[j] = dist[j - 1]; refs[j] = refs[j - 1]; --j; }
+    dist[j] = d;
+    refs[j] = c.list[k];
+  }
+  if constexpr (Stats) local.ray_box_tests += c.list.size();
+  if (n == 0) return;
+  if constexpr (Any) {
+    (*occ)[i] = wide_.occluded<Stats>(ray, std::span<const uint32_t>(refs, size_t(n)), &local) ? 1 : 0;
+  } else {
+    // One subtree at a time, near first: an entry entered beyond the current hit is skipped.
+    Hit best;
+    Ray r = ray;
+    for (int k = 0; k < n; ++k) {
+      if (best.hit() && dist[k] > far(best.t)) break;
+      if (best.hit()) r.tmax = best.t;
+      const Hit h = wide_.intersect<Stats>(r, std::span<const uint32_t>(refs + k, 1), &local);
+      if (h.hit() && is_closer(h.t, h.prim, best.t, best.prim)) best = h;
+    }
+    if (best.hit()) hits->set(i, best);
+  }
 }
 
 template <bool Stats, bool Any>
@@ -54,6 +102,10 @@ void ShaftsAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<
       const Ray ray = rays[i];
       const Candidates c = use_lists ? collection_.lookup(ray) : Candidates{};
       if (c.nothing) continue;  // the shaft reaches no geometry: a miss
+      if (c.boxes && !c.list.empty()) {
+        trace_boxed<Stats, Any>(ray, c, i, hits, occ, local);
+        continue;
+      }
       if constexpr (Any) {
         const bool o = base_ == Base::Binary ? bvh2_.occluded<Stats>(ray, triangles_, c.list, &local)
                                              : wide_.occluded<Stats>(ray, c.list, &local);

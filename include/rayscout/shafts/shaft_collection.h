@@ -30,7 +30,7 @@ struct ShaftStats {
   size_t overflow_fallbacks = 0;     ///< lists that stayed too long: cullNodeSubtree(root)
   size_t unique_lists = 0;
   size_t lookup_bytes = 0;           ///< voxel table + shaft entry table
-  size_t list_bytes = 0;             ///< list area after deduplication
+  size_t list_bytes = 0;             ///< list area after deduplication (ids + entry boxes)
   size_t dedup_saved_bytes = 0;      ///< list bytes deduplication did not store
   size_t budget_bytes = 0;
   double mean_list = 0.0;            ///< mean length over non-empty listed shafts
@@ -41,10 +41,16 @@ struct ShaftStats {
   std::string summary() const;
 };
 
+/// A list entry's box, quantised outward to 1/255 of the grid box per axis (6 bytes).
+struct QBox {
+  uint8_t lo[3], hi[3];
+};
+
 /// What a lookup gives: a candidate list (empty = start at the root) or "nothing reachable".
 struct Candidates {
   std::span<const uint32_t> list;
-  bool nothing = false;  ///< the shaft provably reaches no geometry: the ray misses
+  const QBox* boxes = nullptr;  ///< boxes of the list entries (collections built with entry_boxes)
+  bool nothing = false;         ///< the shaft provably reaches no geometry: the ray misses
 };
 
 /// The collection (paper sec. 4.1, fig. 4): a per-voxel table (base index into the entry
@@ -79,8 +85,13 @@ class ShaftCollection {
     const uint32_t base = voxel_base_[c.voxel];
     if (base == kNoVoxel) return {};
     const uint32_t e = entries_[base + c.cell];
-    if (e == kEmptyList) return {{}, true};
-    return {{lists_.data() + (e >> 5), e & 31u}, false};
+    if (e == kEmptyList) return {{}, nullptr, true};
+    return {{lists_.data() + (e >> 5), e & 31u}, boxed_ ? boxes_.data() + (e >> 5) : nullptr, false};
+  }
+  /// A stored entry box as floats; it contains the node's exact box.
+  Bounds3 box_of(const QBox& q) const {
+    return {{qlo_[0][q.lo[0]], qlo_[1][q.lo[1]], qlo_[2][q.lo[2]]},
+            {qhi_[0][q.hi[0]], qhi_[1][q.hi[1]], qhi_[2][q.hi[2]]}};
   }
 
   const ShaftGrid& grid() const { return grid_; }
@@ -88,7 +99,15 @@ class ShaftCollection {
   size_t memory_bytes() const { return stats_.memory_bytes(); }
 
  private:
+  using QBox = rayscout::QBox;
+  void init_quantization();
+  QBox quantize(const Bounds3& box) const;
+  size_t bytes_per_entry() const { return sizeof(uint32_t) + (boxed_ ? sizeof(QBox) : 0); }
+
   ShaftGrid grid_;
+  bool boxed_ = false;
+  std::vector<QBox> boxes_;  ///< parallel to lists_ when boxed_
+  float qlo_[3][256] = {}, qhi_[3][256] = {};  ///< dequantisation: rounded down / up
   std::vector<uint32_t> voxel_base_;
   std::vector<uint32_t> entries_;
   std::vector<uint32_t> lists_;

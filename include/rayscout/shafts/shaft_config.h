@@ -36,6 +36,15 @@ struct ShaftConfig {
   /// "camera": pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
   /// plus one diffuse bounce and one shadow ray per point light at each hit.
   int prepass_width = 96;
+  /// Trace the sample rays with a temporary 8-wide BVH collapsed from the binary one (same
+  /// hits, faster); off = trace them with the binary BVH.
+  bool wide_sampling = true;
+  /// Store a 6-byte quantised box per list entry; the traversal then box-tests the entries,
+  /// drops the missed ones and visits the rest near first, skipping those beyond the current
+  /// hit. Needed for the wide BVH, whose start entries are entered without a box test.
+  /// -1 (default) = on for shafts-wide, off for shafts (Bvh2 tests its start entries itself);
+  /// 0 = off, 1 = on.
+  int entry_boxes = -1;
   /// Seed of the sample rays (the result is the same for any thread count).
   unsigned seed = 1;
 

@@ -51,8 +51,13 @@ class ShaftsAccelerator final : public Accelerator {
   void trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occ, TraceStats* stats,
              bool use_lists) const;
 
+  template <bool Stats, bool Any>
+  void trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits, std::vector<uint8_t>* occ,
+                   TraceStats& local) const;
+
   std::span<const Triangle> triangles_;
   Base base_;
+  float scene_coord_ = 0.0f;  ///< largest |coordinate| of the scene box (box-test slack)
   Bvh2 bvh2_;
   WideBvh wide_;
   ShaftCollection collection_;

@@ -1,0 +1,207 @@
+// shafts_bench: traversal steps and time of ray classification vs plain traversal of the same
+// BVH, per scene and workload, side by side in one run; plus a memory/direction sweep (CSV).
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <tbb/global_control.h>
+
+#include "rayscout/core/scenes_dir.h"
+#include "rayscout/render/renderer.h"
+#include "rayscout/render/workloads.h"
+#include "rayscout/scene/load_scene.h"
+#include "rayscout/shafts/shafts_accelerator.h"
+
+using namespace rayscout;
+
+namespace {
+
+struct RaySet {
+  std::string name;
+  RayBatch rays;
+  bool occlusion = false;
+};
+
+std::vector<RaySet> make_ray_sets(const Scene& scene, const Accelerator& accel, int width, int height,
+                                  const std::vector<std::string>& wanted) {
+  std::vector<RaySet> sets;
+  WorkloadConfig wc;
+  wc.width = width;
+  wc.height = height;
+  auto want = [&](const std::string& n) { return std::find(wanted.begin(), wanted.end(), n) != wanted.end(); };
+  for (Workload w : {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse}) {
+    if (!want(workload_name(w))) continue;
+    sets.push_back({workload_name(w), make_workload(scene, accel, w, wc), w == Workload::Shadow || w == Workload::Ao});
+  }
+  if (want("path")) {
+    // Path-tracing bounces 1..3 (closest hit), recorded from a low-resolution render.
+    RaySet path{"path", {}, false};
+    RenderConfig rc;
+    rc.width = width / 2;
+    rc.height = height / 2;
+    rc.spp = 1;
+    rc.max_depth = 3;
+    rc.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
+      if (info.kind != "path" || info.occlusion || info.bounce < 1) return;
+      for (size_t i = 0; i < rays.size(); ++i) path.rays.push_back(rays[i]);
+    };
+    make_path_integrator()->render(scene, accel, rc);
+    sets.push_back(std::move(path));
+  }
+  return sets;
+}
+
+bool g_cpu_clock = false;
+
+/// Milliseconds: the calling thread's CPU time with one thread (TBB then runs inline), else wall.
+double now_ms() {
+  if (g_cpu_clock) {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+  }
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct Measure {
+  TraceStats with, without;
+  double ms_with = 0, ms_without = 0;
+};
+
+Measure measure(const ShaftsAccelerator& acc, const RaySet& set, int reps) {
+  Measure m;
+  HitBatch hits;
+  std::vector<uint8_t> occ;
+  auto run = [&](bool lists, TraceStats* st) {
+    const double t0 = now_ms();
+    if (set.occlusion) acc.occluded(set.rays, occ, st, lists);
+    else acc.intersect(set.rays, hits, st, lists);
+    return now_ms() - t0;
+  };
+  run(true, &m.with);
+  run(false, &m.without);
+  run(true, nullptr);  // warm-up
+  run(false, nullptr);
+  std::vector<double> a, b;
+  for (int r = 0; r < reps; ++r) {
+    // Alternate the order so neither side always runs on a warmer cache.
+    if (r % 2) { a.push_back(run(true, nullptr)); b.push_back(run(false, nullptr)); }
+    else { b.push_back(run(false, nullptr)); a.push_back(run(true, nullptr)); }
+  }
+  m.ms_with = median(a);
+  m.ms_without = median(b);
+  return m;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Ray classification (shafts) vs plain traversal of the same BVH"};
+  const std::string dir = RAYSCOUT_BENCH_SCENES;
+  std::string scenes = dir + "/sibenik-a.json," + dir + "/sponza.json," + dir + "/conference.json";
+  std::string workloads = "primary,shadow,ao,diffuse,path";
+  std::string bases = "binary,wide";
+  std::vector<std::string> opts;
+  int width = 512, height = 384, reps = 5, threads = 1;
+  bool sweep = false;
+  std::string csv;
+  app.add_option("--scenes", scenes, "comma-separated scene files (relative to the scenes folder or absolute)");
+  app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path");
+  app.add_option("--base", bases, "binary,wide");
+  app.add_option("--accel-opt", opts, "shafts option key=value (docs/shafts.md)");
+  app.add_option("--width", width);
+  app.add_option("--height", height);
+  app.add_option("--reps", reps, "timed repetitions (median)");
+  app.add_option("--threads", threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine");
+  app.add_flag("--sweep", sweep, "sweep budget_rel and dir_res (shadow, ao, diffuse) instead of the table");
+  app.add_option("--csv", csv, "also write rows as CSV to this file");
+  CLI11_PARSE(app, argc, argv);
+
+  const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
+  g_cpu_clock = nthreads == 1;
+  fmt::print("# shafts_bench: {} thread(s), trace times = {}, {}x{} workloads, median of {} reps\n", nthreads,
+             g_cpu_clock ? "thread CPU time" : "wall clock", width, height, reps);
+  std::ofstream out;
+  if (!csv.empty()) {
+    out.open(csv);
+    out << "scene,base,budget_rel,dir_res,workload,rays,steps_bvh,steps_shafts,ms_bvh,ms_shafts,"
+           "bvh_build_ms,shaft_build_ms,bvh_mib,shaft_mib,mean_list\n";
+  }
+
+  for (const std::string& s : split(scenes)) {
+    std::filesystem::path path = s;
+    if (!std::filesystem::exists(path)) {
+      const auto found = find_scene_file(s);
+      if (!found) { fmt::print("skip {}: not found under {}\n", s, scenes_dir().string()); continue; }
+      path = *found;
+    }
+    const Scene scene = load_scene(path);
+    const std::string sname = path.extension() == ".json" ? path.stem().string() : path.parent_path().filename().string();
+    fmt::print("\n## {} ({} triangles)\n", sname, scene.triangles.size());
+
+    struct Variant { std::string base; double budget_rel; int dir_res; };
+    std::vector<Variant> variants;
+    for (const auto& b : split(bases)) {
+      if (!sweep) { variants.push_back({b, -1, -1}); continue; }
+      for (double r : {0.25, 0.5, 1.0, 2.0, 4.0}) variants.push_back({b, r, -1});
+      for (int d : {2, 3, 6, 8}) variants.push_back({b, -1, d});
+    }
+    std::vector<RaySet> sets;
+    for (const Variant& v : variants) {
+      AcceleratorOptions o;
+      for (const auto& kv : opts) o.set(kv);
+      ShaftConfig cfg = ShaftConfig::from_options(o);
+      if (v.budget_rel > 0) cfg.budget_rel = v.budget_rel;
+      if (v.dir_res > 0) cfg.dir_res = v.dir_res;
+      const auto base = v.base == "wide" ? ShaftsAccelerator::Base::Wide : ShaftsAccelerator::Base::Binary;
+      const ShaftsAccelerator acc(scene, base, cfg);
+      if (sets.empty())
+        sets = make_ray_sets(scene, acc, width, height, split(sweep ? std::string("shadow,ao,diffuse") : workloads));
+      const ShaftStats& st = acc.stats();
+      const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
+      fmt::print("\n### {} over {} (budget_rel {}, dir_res {})\n{}\n", acc.name(), v.base == "wide" ? "WideBvh" : "Bvh2",
+                 cfg.budget_mib > 0 ? -1.0 : cfg.budget_rel, cfg.dir_res, st.summary());
+      fmt::print("BVH build {:.1f} ms, {:.2f} MiB; collection build {:.1f} ms ({:.2f}x BVH), {:.2f} MiB ({:.2f}x BVH)\n\n",
+                 acc.bvh_build_ms(), bvh_mib, st.build_ms, st.build_ms / acc.bvh_build_ms(),
+                 st.memory_bytes() / 1048576.0, st.memory_bytes() / 1048576.0 / bvh_mib);
+      fmt::print("| workload | rays | steps/ray plain | steps/ray shafts | steps saved | ms plain | ms shafts | speedup |\n");
+      fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+      for (const RaySet& set : sets) {
+        const Measure m = measure(acc, set, reps);
+        const double n = double(std::max<size_t>(1, set.rays.size()));
+        fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.2f} | {:.2f} | {:.2f}x |\n", set.name, set.rays.size(),
+                   m.without.traversal_steps / n, m.with.traversal_steps / n,
+                   100.0 * (1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps))),
+                   m.ms_without, m.ms_with, m.ms_without / m.ms_with);
+        if (out.is_open())
+          out << sname << "," << v.base << "," << cfg.budget_rel << "," << cfg.dir_res << "," << set.name << ","
+              << set.rays.size() << "," << m.without.traversal_steps / n << "," << m.with.traversal_steps / n << ","
+              << m.ms_without << "," << m.ms_with << "," << acc.bvh_build_ms() << "," << st.build_ms << ","
+              << bvh_mib << "," << st.memory_bytes() / 1048576.0 << "," << st.mean_list << "\n";
+      }
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
