@@ -57,7 +57,8 @@ std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Acce
       if (dot(nrm, wo) < 0.0f) nrm = -nrm;
       const Vec3 p = ray.org + ray.dir * hits.t[k];
       Vec3& tp = throughput[active[k]];
-      if (m.emissive()) sp.emitted += tp * m.emission;
+      // Emitters are one-sided: they shine on the side of the geometric normal.
+      if (m.emissive() && dot(scene.triangles[prim].normal(), ray.dir) < 0.0f) sp.emitted += tp * m.emission;
       if (m.type == Material::Type::Mirror) {
         if (bounce >= config.max_mirror_bounces) continue;
         tp *= m.specular;

@@ -14,7 +14,7 @@ using manylight_detail::Rng;
 Vec3 vpl_intensity(const Vpl& vpl, const Scene& scene, const Vec3& w) {
   switch (vpl.kind) {
     case Vpl::Kind::Point: return vpl.power;
-    case Vpl::Kind::Emitter: return vpl.power * (std::fabs(dot(vpl.normal, w)) / (2.0f * kPi));
+    case Vpl::Kind::Emitter: return vpl.power * (std::max(0.0f, dot(vpl.normal, w)) / kPi);
     case Vpl::Kind::Surface: {
       const float c = dot(vpl.normal, w);
       if (c <= 0.0f) return Vec3(0.0f);
@@ -49,8 +49,8 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   for (uint32_t i = 0; i < scene.point_lights.size(); ++i)
     lights.push_back({true, i, 4.0f * kPi * luminance(scene.point_lights[i].intensity)});
   for (uint32_t id : scene.emissive_triangles) {
-    // Two-sided emitters: total power 2 pi Le A (see docs/manylight.md).
-    const float p = 2.0f * kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
+    // One-sided emitters (the side of the geometric normal, as in the render module): pi Le A.
+    const float p = kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
     if (p > 0) lights.push_back({false, id, p});
   }
   if (lights.empty() || config.vpl_count == 0) return out;
@@ -95,14 +95,13 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
         if (a + b > 1.0f) { a = 1.0f - a; b = 1.0f - b; }
         v.kind = Vpl::Kind::Emitter;
         v.position = tri.v0 + (tri.v1 - tri.v0) * a + (tri.v2 - tri.v0) * b;
-        Vec3 n = normalize(tri.normal());
-        if (rng.uniform() < 0.5f) n = -n;
+        const Vec3 n = normalize(tri.normal());
         v.normal = n;
         const Vec3 le = scene.material_of(ls.index).emission;
-        v.power = le * (2.0f * kPi * tri.area() / float(pdf));
+        v.power = le * (kPi * tri.area() / float(pdf));
         dir = manylight_detail::sample_cosine(n, rng.uniform(), rng.uniform());
         org = v.position + n * offset;
-        flux = v.power;  // per side pi Le A, chosen with probability 1/2
+        flux = v.power;  // Le cos / (pdf_area cos / pi) = pi Le A
       }
       out.vpls.push_back(v);
       if (config.max_vpl_bounces > 0) {

@@ -55,11 +55,11 @@ TEST(Vpls, PowerIsConservedAndPathsAreCounted) {
   const VplSet set = generate_vpls(scene, *accel, config);
   ASSERT_GE(set.vpls.size(), 2000u);
   ASSERT_GT(set.light_paths, 0u);
-  // The path starts carry the lights' total power (point: 4 pi I; area: 2 pi Le A).
+  // The path starts carry the lights' total power (point: 4 pi I; one-sided area: pi Le A).
   double expected = 0, got = 0;
   for (const auto& pl : scene.point_lights) expected += 4 * kPi * luminance(pl.intensity);
   for (uint32_t id : scene.emissive_triangles)
-    expected += 2 * kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
+    expected += kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
   for (const auto& v : set.vpls) {
     if (v.kind == Vpl::Kind::Point) got += 4 * kPi * luminance(v.power);
     if (v.kind == Vpl::Kind::Emitter) got += luminance(v.power);

@@ -51,6 +51,10 @@ struct ManylightConfig {
   double t_skip = 0.0;         ///< seconds per sample without it; 0 = calibrate
   int calibration_stride = 4;  ///< calibration renders every stride-th pixel row and column
 
+  /// Clock of time budgets and calibration: false = wall clock; true = process CPU time
+  /// (all threads), which a shared machine disturbs less.
+  bool cpu_clock = false;
+
   uint64_t seed = 1;           ///< all randomness derives from it (thread-count independent)
   /// Test hook: when in [0, 1], every cluster-pair visibility r is replaced by this value
   /// (to build cases where r is wrong, e.g. r = 1 for occluded pairs). -1 = off.

@@ -75,6 +75,8 @@ class ManylightRenderer {
 
  private:
   struct Sample;
+  /// Seconds on config.cpu_clock's clock.
+  double now() const;
   enum class Forced { None, Zero, One };
   /// One pass over the given shading clusters' point lists; forced q overrides (calibration).
   /// Returns the number of samples with a non-zero tentative contribution.

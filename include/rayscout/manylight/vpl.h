@@ -12,7 +12,8 @@ namespace rayscout {
 
 /// One VPL. Its radiant intensity towards direction w (unit, pointing away from it) is
 ///   Point:   intensity                          (an isotropic scene point light)
-///   Emitter: power * max(0, n.w) / pi           (a point sampled on an area light)
+///   Emitter: power * max(0, n.w) / pi           (a point on an area light, emitting on the
+///                                               side of its geometric normal)
 ///   Surface: power * f_r(wi, w) * max(0, n.w)   (a light-path vertex; power = incident flux)
 /// in W/sr; see vpl_intensity().
 struct Vpl {

@@ -1,0 +1,206 @@
+// manylight_bench: the experiments of Nabata & Iwasaki 2019 (probabilistic visibility for
+// many-light rendering): equal-time RMSE of exact / veach / conservative / proposed, the time
+// each needs to reach exact's equal-time RMSE (Table 2) with and without the VisibilityCluster
+// preprocess, mean skip rates (Table 3), t_skip / t_eval (Table 1), RMSE-over-time curves and
+// skip-rate images (Fig. 3). Prints markdown tables and writes JSON + CSV for the plots.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/image/image.h"
+#include "rayscout/manylight/manylight_renderer.h"
+#include "rayscout/scene/load_scene.h"
+
+using namespace rayscout;
+
+namespace {
+
+struct BenchScene {
+  std::string name, file;
+  size_t vpls;
+};
+
+struct Options {
+  std::vector<std::string> scenes{"sponza", "sibenik_glossy", "conference_large"};
+  int width = 1280, height = 720;
+  double budget = 8.0;        ///< CPU seconds of rendering per mode (the paper: 60 s wall on 36 threads)
+  double ref_factor = 6.0;    ///< reference budget = ref_factor * budget
+  double vpl_scale = 1.0;     ///< multiplies the paper's VPL counts
+  int threads = 2;
+  std::string accel = "bvh";
+  std::string out_dir = "docs/manylight";
+  std::string json = "docs/manylight/manylight_results.json";
+};
+
+const std::vector<BenchScene> kScenes = {
+    {"sponza", "sponza.json", 100000},
+    {"sibenik_glossy", "sibenik_glossy.json", 200000},
+    {"conference_large", "conference_large.json", 200000},
+};
+
+Image to_image(const std::vector<Vec3>& px, int w, int h) {
+  Image img(w, h);
+  for (size_t i = 0; i < px.size(); ++i) img.pixels[i] = max(px[i], Vec3(0.0f));  // display clamp (sec. 4.3)
+  return img;
+}
+
+Image skip_to_image(const std::vector<float>& s, int w, int h) {
+  Image img(w, h);
+  // Fig. 3 style: black = always traced, white = always skipped (linear; PNG encodes sRGB).
+  for (size_t i = 0; i < s.size(); ++i) img.pixels[i] = Vec3(srgb_to_linear(std::clamp(s[i], 0.0f, 1.0f)));
+  return img;
+}
+
+/// Time at which a curve's (corrected) RMSE first reaches target: linear interpolation of
+/// log MSE over time between passes; beyond the budget, extrapolated with MSE ~ 1 / t.
+double time_to_reach(const std::vector<ProgressRecord>& rec, const std::vector<double>& rmse, double target) {
+  for (size_t i = 0; i < rec.size(); ++i) {
+    if (rmse[i] > target) continue;
+    if (i == 0) return rec[0].seconds * (rmse[0] * rmse[0]) / (target * target);
+    const double a = std::log(rmse[i - 1]), b = std::log(rmse[i]), t = std::log(target);
+    const double f = (a - t) / (a - b);
+    return rec[i - 1].seconds + f * (rec[i].seconds - rec[i - 1].seconds);
+  }
+  return rec.back().seconds * (rmse.back() * rmse.back()) / (target * target);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"manylight_bench: the experiments of Nabata & Iwasaki 2019"};
+  app.add_option("--scenes", o.scenes, "sponza, sibenik_glossy, conference_large");
+  app.add_option("--width", o.width)->capture_default_str();
+  app.add_option("--height", o.height)->capture_default_str();
+  app.add_option("--budget", o.budget, "CPU seconds of rendering per mode")->capture_default_str();
+  app.add_option("--ref-factor", o.ref_factor, "reference budget / budget")->capture_default_str();
+  app.add_option("--vpl-scale", o.vpl_scale, "multiplies the VPL counts (1 = the paper's)")->capture_default_str();
+  app.add_option("--threads", o.threads)->capture_default_str();
+  app.add_option("--accel", o.accel)->capture_default_str();
+  app.add_option("--out-dir", o.out_dir)->capture_default_str();
+  app.add_option("--json", o.json)->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+  std::filesystem::create_directories(o.out_dir);
+
+  const std::vector<VisibilityMode> modes = {VisibilityMode::Exact, VisibilityMode::Veach,
+                                             VisibilityMode::Conservative, VisibilityMode::Proposed};
+  nlohmann::json results = nlohmann::json::array();
+  std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
+  csv << "scene,mode,seconds,passes,rmse_raw,rmse,skip_rate\n";
+  for (const std::string& name : o.scenes) {
+    auto it = std::find_if(kScenes.begin(), kScenes.end(), [&](const BenchScene& s) { return s.name == name; });
+    if (it == kScenes.end()) { fmt::print(stderr, "unknown scene {}\n", name); return 2; }
+    Scene scene;
+    try {
+      scene = load_scene(std::string(RAYSCOUT_BENCH_DIR) + "/scenes/" + it->file);
+    } catch (const std::exception& e) {
+      fmt::print("skipping {}: {}\n", name, e.what());
+      continue;
+    }
+    auto accel = make_accelerator(o.accel, scene);
+    ManylightConfig config;
+    config.width = o.width;
+    config.height = o.height;
+    config.vpl_count = size_t(double(it->vpls) * o.vpl_scale);
+    config.cpu_clock = true;
+    ManylightRenderer r(scene, *accel, config);
+    const auto& tm = r.timings();
+    fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, {} threads)\n", name,
+               scene.triangles.size(), r.vpls().vpls.size(), r.vpls().light_paths, o.width, o.height,
+               accel->name(), o.threads);
+    r.calibrate();
+    fmt::print("preprocess (CPU s): VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f} "
+               "({} rays, {} refined pairs), pmf {:.2f}; calibration {:.2f}; t_eval {:.3g} us, t_skip {:.3g} us, "
+               "t_skip/t_eval {:.3f}\n",
+               tm.vpl_ms * 1e-3, tm.shading_points_ms * 1e-3, tm.cluster_ms * 1e-3, tm.visibility_ms * 1e-3,
+               r.clusters().shadow_rays, r.clusters().refined_pairs, tm.pmf_ms * 1e-3, tm.calibration_ms * 1e-3,
+               tm.t_eval * 1e6, tm.t_skip * 1e6, tm.t_skip / tm.t_eval);
+    // Reference: exact visibility, many passes, its own seed.
+    r.reset(VisibilityMode::Exact);
+    r.set_seed(0xFEF);
+    r.render_for(o.budget * o.ref_factor, {});
+    const std::vector<Vec3> ref = r.image();
+    const double ref_seconds = o.budget * o.ref_factor;
+    write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
+    write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
+
+    std::map<VisibilityMode, std::vector<ProgressRecord>> curves;
+    for (size_t m = 0; m < modes.size(); ++m) {
+      r.reset(modes[m]);
+      r.set_seed(100 + m);
+      curves[modes[m]] = r.render_for(o.budget, ref);
+      write_image(to_image(r.image(), o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
+      if (modes[m] != VisibilityMode::Exact)
+        write_image(skip_to_image(r.skip_image(), o.width, o.height), o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");
+    }
+    // The reference's own noise adds MSE_ref to every measured MSE. Exact at time T has
+    // MSE_exact(T) = e + e T / T_ref (same estimator, T_ref / T times the samples), so
+    // MSE_ref = e T / T_ref; subtract it from every curve (reported raw too).
+    const auto& ex = curves[VisibilityMode::Exact];
+    const double m_exact = ex.back().rmse * ex.back().rmse;
+    const double ratio = ex.back().seconds / ref_seconds;
+    const double mse_ref = m_exact / (1.0 + ratio) * ratio;
+    std::map<VisibilityMode, std::vector<double>> corrected;
+    for (auto& [mode, rec] : curves) {
+      auto& c = corrected[mode];
+      for (const auto& p : rec) {
+        c.push_back(std::sqrt(std::max(1e-30, p.rmse * p.rmse - mse_ref)));
+        csv << name << "," << to_string(mode) << "," << p.seconds << "," << p.passes << "," << p.rmse << "," << c.back()
+            << "," << p.skip_rate << "\n";
+      }
+    }
+    // Exact's RMSE at exactly the budget (interpolated between its last passes).
+    const double target = [&] {
+      const auto& c = corrected[VisibilityMode::Exact];
+      for (size_t i = 1; i < ex.size(); ++i)
+        if (ex[i].seconds >= o.budget) {
+          const double f = (o.budget - ex[i - 1].seconds) / (ex[i].seconds - ex[i - 1].seconds);
+          return std::exp(std::log(c[i - 1]) + f * (std::log(c[i]) - std::log(c[i - 1])));
+        }
+      return c.back();
+    }();
+    const double pre = tm.preprocess_ms() * 1e-3;
+    fmt::print("\n| mode | passes in {:.0f} s | RMSE (raw) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time |\n", o.budget);
+    fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+    nlohmann::json js = {{"scene", name}, {"triangles", scene.triangles.size()}, {"vpls", r.vpls().vpls.size()},
+                         {"width", o.width}, {"height", o.height}, {"threads", o.threads}, {"accel", accel->name()},
+                         {"budget_cpu_s", o.budget}, {"reference_cpu_s", ref_seconds}, {"preprocess_cpu_s", pre},
+                         {"vpl_s", tm.vpl_ms * 1e-3}, {"shading_points_s", tm.shading_points_ms * 1e-3},
+                         {"cluster_s", tm.cluster_ms * 1e-3}, {"visibility_s", tm.visibility_ms * 1e-3},
+                         {"pmf_s", tm.pmf_ms * 1e-3}, {"calibration_s", tm.calibration_ms * 1e-3},
+                         {"t_eval_us", tm.t_eval * 1e6}, {"t_skip_us", tm.t_skip * 1e6},
+                         {"t_skip_over_t_eval", tm.t_skip / tm.t_eval}, {"rmse_ref_noise", std::sqrt(mse_ref)},
+                         {"target_rmse", target}};
+    for (VisibilityMode mode : modes) {
+      const auto& rec = curves[mode];
+      const auto& c = corrected[mode];
+      const double t_reach = time_to_reach(rec, c, target);
+      // With the preprocess: exact pays VisibilityCluster too (its pdf); the others also pay
+      // the calibration renders.
+      const double extra = mode == VisibilityMode::Exact ? 0.0 : tm.calibration_ms * 1e-3;
+      const double with = (o.budget + pre) / (t_reach + pre + extra);
+      const double speed = o.budget / t_reach;
+      fmt::print("| {} | {} | {:.5g} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x |\n", to_string(mode),
+                 rec.back().passes, rec.back().rmse, c.back(), 100 * rec.back().skip_rate, t_reach, speed, with);
+      js["modes"][to_string(mode)] = {{"passes", rec.back().passes}, {"seconds", rec.back().seconds},
+                                      {"rmse_raw", rec.back().rmse}, {"rmse", c.back()},
+                                      {"skip_rate", rec.back().skip_rate}, {"time_to_exact_rmse_s", t_reach},
+                                      {"speedup", speed}, {"speedup_with_preprocess", with}};
+    }
+    results.push_back(js);
+    std::ofstream(o.json) << results.dump(2) << "\n";
+  }
+  fmt::print("\nwrote {} and {}/rmse_over_time.csv\n", o.json, o.out_dir);
+  return 0;
+}
