@@ -1,0 +1,192 @@
+// core_bench: Mrays/s of bvh2, bvh and embree side by side (issue 2, item 8), plus build times.
+//
+// For every scene, thread count and workload: one warm-up trace per accelerator, then
+// `repeat` rounds in which every accelerator traces the same rays once (interleaved, so load
+// drift on a shared machine hits all alike); the median of the rounds is reported. Builds are
+// timed the same way. Work counters come from a separate, untimed run.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <tbb/global_control.h>
+
+#include "rayscout/accelerators.h"
+#include "rayscout/core/scenes_dir.h"
+#include "rayscout/render/workloads.h"
+#include "rayscout/scene/load_scene.h"
+
+namespace rayscout {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// One accelerator column: registry name plus options ("embree" with robust=off is Embree's fastest mode).
+struct Column {
+  std::string label, accel;
+  std::vector<std::string> options;
+};
+
+std::unique_ptr<Accelerator> build(const Column& c, const Scene& scene) {
+  AcceleratorOptions o;
+  for (const auto& kv : c.options) o.set(kv);
+  return make_accelerator(c.accel, scene, o);
+}
+
+// Shadow and AO rays are any-hit queries; primary and diffuse rays want the closest hit.
+bool any_hit(Workload w) { return w == Workload::Shadow || w == Workload::Ao; }
+
+double trace_ms(const Accelerator& a, const RayBatch& rays, bool occluded, TraceStats* stats = nullptr) {
+  HitBatch hits;
+  std::vector<uint8_t> occ;
+  const auto start = Clock::now();
+  if (occluded) a.occluded(rays, occ, stats);
+  else a.intersect(rays, hits, stats);
+  return ms_since(start);
+}
+
+struct Options {
+  std::vector<std::string> scenes;
+  std::vector<std::string> workloads = {"primary", "shadow", "ao", "diffuse"};
+  std::vector<int> threads = {1, 2};
+  int width = 1024, height = 1024, repeat = 5, build_repeat = 3;
+  bool embree_variants = true;  ///< also Embree robust=off and packet=16 columns
+};
+
+int run(const Options& opt) {
+  std::vector<Column> columns = {{"bvh2", "bvh2", {}}, {"bvh", "bvh", {}}, {"embree", "embree", {}}};
+  if (opt.embree_variants) {
+    columns.push_back({"embree-fast", "embree", {"robust=off"}});
+    columns.push_back({"embree-p16", "embree", {"packet=16"}});
+  }
+  const auto& known = accelerators();
+  for (const auto& c : columns)
+    if (std::none_of(known.begin(), known.end(), [&](const AcceleratorInfo& a) { return a.name == c.accel; })) {
+      fmt::print(stderr, "core_bench: accelerator '{}' is not registered in this build\n", c.accel);
+      return 2;
+    }
+
+  std::string trace_table, build_table, counter_table;
+  trace_table += "| scene | workload | rays | threads |";
+  for (const auto& c : columns) trace_table += fmt::format(" {} Mrays/s |", c.label);
+  trace_table += " bvh/embree | bvh/best embree | bvh2/embree |\n|---|---|---:|---:|";
+  for (size_t i = 0; i < columns.size() + 3; ++i) trace_table += "---:|";
+  trace_table += "\n";
+  build_table = "| scene | triangles | threads |";
+  for (const auto& c : columns) build_table += fmt::format(" {} build ms |", c.label);
+  build_table += " bvh/embree build | bvh MB | embree MB |\n|---|---:|---:|";
+  for (size_t i = 0; i < columns.size() + 3; ++i) build_table += "---:|";
+  build_table += "\n";
+  counter_table = "| scene | workload | bvh2 nodes/ray | bvh2 boxes/ray | bvh2 tris/ray | bvh nodes/ray | bvh boxes/ray | bvh tris/ray |\n"
+                  "|---|---|---:|---:|---:|---:|---:|---:|\n";
+
+  for (const std::string& scene_arg : opt.scenes) {
+    const std::string scene_name = std::filesystem::path(scene_arg).stem().string();
+    const auto load_start = Clock::now();
+    const Scene scene = resolve_scene(scene_arg);
+    fmt::print(stderr, "{}: {} triangles loaded in {:.0f} ms\n", scene_name, scene.triangles.size(), ms_since(load_start));
+
+    // Ray sets are made once (with all threads) and shared by every column and thread count.
+    std::map<std::string, RayBatch> ray_sets;
+    {
+      const auto gen = make_accelerator("bvh", scene);
+      for (const auto& w : opt.workloads)
+        ray_sets[w] = make_workload(scene, *gen, parse_workload(w), {.width = opt.width, .height = opt.height});
+    }
+
+    for (int threads : opt.threads) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+      // Builds: interleaved repetitions, median of the reported build_ms.
+      std::vector<std::vector<double>> build_ms(columns.size());
+      std::vector<std::unique_ptr<Accelerator>> accels(columns.size());
+      for (int r = 0; r < opt.build_repeat; ++r)
+        for (size_t c = 0; c < columns.size(); ++c) {
+          accels[c] = build(columns[c], scene);
+          build_ms[c].push_back(accels[c]->build_info().build_ms);
+        }
+      std::vector<double> build_med;
+      for (const auto& b : build_ms) build_med.push_back(median(b));
+      build_table += fmt::format("| {} | {} | {} |", scene_name, scene.triangles.size(), threads);
+      for (double b : build_med) build_table += fmt::format(" {:.0f} |", b);
+      build_table += fmt::format(" {:.2f} | {:.1f} | {:.1f} |\n", build_med[1] / build_med[2],
+                                 accels[1]->build_info().memory_bytes / 1048576.0,
+                                 accels[2]->build_info().memory_bytes / 1048576.0);
+      fmt::print(stderr, "  {} threads: builds done\n", threads);
+
+      for (const auto& w : opt.workloads) {
+        const RayBatch& rays = ray_sets[w];
+        const bool occluded = any_hit(parse_workload(w));
+        for (const auto& a : accels) trace_ms(*a, rays, occluded);  // warm-up
+        std::vector<std::vector<double>> times(columns.size());
+        for (int r = 0; r < opt.repeat; ++r)
+          for (size_t c = 0; c < columns.size(); ++c) times[c].push_back(trace_ms(*accels[c], rays, occluded));
+        std::vector<double> mrays;
+        for (const auto& t : times) mrays.push_back(double(rays.size()) / (median(t) * 1e3));
+        trace_table += fmt::format("| {} | {}{} | {} | {} |", scene_name, w, occluded ? " (any hit)" : "", rays.size(), threads);
+        for (double m : mrays) trace_table += fmt::format(" {:.2f} |", m);
+        double best = 0;
+        for (size_t c = 0; c < columns.size(); ++c)
+          if (columns[c].accel == "embree") best = std::max(best, mrays[c]);
+        trace_table += fmt::format(" **{:.2f}** | {:.2f} | {:.2f} |\n", mrays[1] / mrays[2], mrays[1] / best, mrays[0] / mrays[2]);
+        fmt::print(stderr, "  {} {} threads: bvh {:.2f}, embree {:.2f} Mrays/s\n", w, threads, mrays[1], mrays[2]);
+
+        if (threads == opt.threads.back()) {
+          TraceStats s2, sw;
+          trace_ms(*accels[0], rays, occluded, &s2);
+          trace_ms(*accels[1], rays, occluded, &sw);
+          const double n = double(std::max<size_t>(1, rays.size()));
+          counter_table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | {:.2f} |\n", scene_name, w,
+                                       s2.traversal_steps / n, s2.ray_box_tests / n, s2.ray_tri_tests / n,
+                                       sw.traversal_steps / n, sw.ray_box_tests / n, sw.ray_tri_tests / n);
+        }
+      }
+    }
+  }
+  fmt::print("### Trace throughput (median of {} interleaved repetitions after a warm-up, {}x{})\n\n{}\n", opt.repeat,
+             opt.width, opt.height, trace_table);
+  fmt::print("### Build time (median of {} builds) and memory\n\n{}\n", opt.build_repeat, build_table);
+  fmt::print("### Work counters (exact, separate untimed run; Embree has none)\n\n{}", counter_table);
+  return 0;
+}
+
+}  // namespace
+}  // namespace rayscout
+
+int main(int argc, char** argv) {
+  rayscout::Options opt;
+  const std::string dir = std::string(RAYSCOUT_SOURCE_DIR) + "/bench/scenes/";
+  opt.scenes = {dir + "sponza.json", dir + "sibenik-a.json", dir + "conference.json"};
+  CLI::App app{"core_bench: bvh2, bvh and embree side by side"};
+  app.add_option("--scene", opt.scenes, "Scene files (repeatable)")->capture_default_str();
+  app.add_option("--workload", opt.workloads, "primary, shadow, ao, diffuse (repeatable)")->capture_default_str();
+  app.add_option("--threads", opt.threads, "Thread counts (repeatable)")->capture_default_str();
+  app.add_option("--width", opt.width)->capture_default_str();
+  app.add_option("--height", opt.height)->capture_default_str();
+  app.add_option("--repeat", opt.repeat, "Timed repetitions per row (median)")->capture_default_str();
+  app.add_option("--build-repeat", opt.build_repeat, "Builds per accelerator (median)")->capture_default_str();
+  bool no_variants = false;
+  app.add_flag("--no-embree-variants", no_variants, "Leave out the embree robust=off and packet=16 columns");
+  CLI11_PARSE(app, argc, argv);
+  opt.embree_variants = !no_variants;
+  try {
+    return rayscout::run(opt);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "core_bench: {}\n", e.what());
+    return 1;
+  }
+}
