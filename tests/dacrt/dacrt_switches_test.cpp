@@ -1,0 +1,73 @@
+// Every switch combination of dacrt gives brute force's hits, closest and any, ray by ray.
+#include <gtest/gtest.h>
+
+#include "dacrt_rays.h"
+#include "generated_scenes.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/core/hit_compare.h"
+#include "rayscout/dacrt/dacrt.h"
+
+namespace rayscout {
+namespace {
+
+using testing::TestMesh;
+
+class DacrtSwitches : public ::testing::TestWithParam<TestMesh> {};
+
+TEST_P(DacrtSwitches, EveryCombinationMatchesBruteForce) {
+  const Scene scene = testing::scene_from_triangles(GetParam().triangles);
+  const RayBatch rays = testing::nasty_rays(scene.triangles, 21);
+  HitBatch ref;
+  std::vector<uint8_t> ref_occ;
+  BruteForce(scene.triangles).intersect(rays, ref);
+  BruteForce(scene.triangles).occluded(rays, ref_occ);
+  for (const auto& combo : testing::switch_combinations()) {
+    for (const char* name : {"dacrt", "dacrt-rs"}) {
+      auto accel = make_accelerator(name, scene, testing::options_of(combo));
+      HitBatch got;
+      std::vector<uint8_t> occ;
+      TraceStats stats;
+      accel->intersect(rays, got, &stats);
+      const HitDiff d = compare_hits(ref, got, 0.0f);
+      EXPECT_TRUE(d.ok()) << name << " " << testing::label_of(combo) << ": " << d.first;
+      EXPECT_GT(stats.ray_box_tests, 0u);
+      accel->occluded(rays, occ);
+      size_t differ = 0;
+      for (size_t i = 0; i < occ.size(); ++i) differ += occ[i] != ref_occ[i];
+      EXPECT_EQ(occ.size(), ref_occ.size());
+      EXPECT_EQ(differ, 0u) << name << " occluded, " << testing::label_of(combo);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Nasty, DacrtSwitches, ::testing::ValuesIn(testing::nasty_meshes()),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(DacrtOptions, BadValuesAreInputErrors) {
+  const Scene scene = testing::scene_from_triangles(testing::grid(2));
+  for (const char* bad : {"cost=maybe", "order=two-rays", "skip=sometimes", "strategy=zigzag", "bins=1",
+                          "bins=1000", "samples=0", "fraction=2", "delta_t=0", "C_bv=0", "unknown=1"})
+    EXPECT_THROW(make_accelerator("dacrt-rs", scene, testing::options_of({bad})), InputError) << bad;
+}
+
+TEST(DacrtOptions, DefaultsAreThePapers) {
+  const DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
+  EXPECT_FALSE(afra.sampled_cost || afra.sampled_order || afra.skip_partitioning);
+  EXPECT_TRUE(rs.sampled_cost && rs.sampled_order && rs.skip_partitioning);
+  EXPECT_EQ(rs.samples, 100);
+  EXPECT_EQ(rs.min_rays_sampling, 1000u);
+  EXPECT_EQ(rs.bins, 32);
+  EXPECT_EQ(rs.delta_r, 8u);
+  EXPECT_EQ(rs.delta_t, 8u);
+  EXPECT_DOUBLE_EQ(rs.midpoint_ratio, 1.5);
+  // Eq. (6): an inner child is skipped when alpha > 0.5 (C_child = C_bv, n_child = 2).
+  EXPECT_DOUBLE_EQ(1.0 - rs.c_bv / (rs.c_bv * 2.0), 0.5);
+  EXPECT_EQ(rs.sample_count(5000), 100u);
+  DacrtConfig f = rs;
+  f.fraction = 0.001;
+  EXPECT_EQ(f.sample_count(2'000'000), 2000u);
+  EXPECT_EQ(f.sample_count(10), 1u);
+}
+
+}  // namespace
+}  // namespace rayscout
