@@ -9,8 +9,9 @@
 
 namespace rayscout {
 
-Camera framing_camera(const Bounds3& b) {
+Camera framing_camera(const Bounds3& b, float fov_deg) {
   Camera c;
+  c.fov_deg = fov_deg;
   const Vec3 center = b.center();
   const float radius = std::max(0.5f * length(b.diagonal()), 1e-6f);
   const float half_fov = 0.5f * c.fov_deg * std::numbers::pi_v<float> / 180.0f;

@@ -223,7 +223,7 @@ class JsonSceneLoader {
     // Materials: the meshes' own (first definition of a name wins), then the overrides.
     std::vector<std::vector<uint32_t>> maps(placements.size());
     for (size_t i = 0; i < placements.size(); ++i)
-      if (!placements[i].material) maps[i] = builder.intern_all(*placements[i].mesh);
+      if (!placements[i].material) maps[i] = builder.intern_all(*placements[i].mesh, placements[i].source, &scene.warnings);
     if (root.contains("materials")) {
       const Json& mats = root["materials"];
       f_.expect_object(mats, "materials");
@@ -272,7 +272,7 @@ class JsonSceneLoader {
     builder.finish(f_.file());
 
     const Bounds3 bounds = scene.bounds();
-    scene.camera = framing_camera(bounds);
+    scene.camera = framing_camera(bounds, camera && camera->fov_deg ? *camera->fov_deg : 60.0f);
     if (camera) apply_camera(*camera, scene.camera);
     if (scene.point_lights.empty() && scene.emissive_triangles.empty()) {
       scene.point_lights.push_back(framing_light(bounds, scene.camera));

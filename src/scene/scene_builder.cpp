@@ -34,10 +34,24 @@ std::optional<uint32_t> SceneBuilder::find(const std::string& name) const {
   return it->second;
 }
 
-std::vector<uint32_t> SceneBuilder::intern_all(const Mesh& mesh) {
+namespace {
+bool same_values(const Material& a, const Material& b) {
+  return a.type == b.type && a.diffuse == b.diffuse && a.specular == b.specular && a.exponent == b.exponent &&
+         a.emission == b.emission;
+}
+}  // namespace
+
+std::vector<uint32_t> SceneBuilder::intern_all(const Mesh& mesh, const std::string& source,
+                                               std::vector<std::string>* warnings) {
   std::vector<uint32_t> map;
   map.reserve(mesh.materials.size());
-  for (const auto& m : mesh.materials) map.push_back(intern(m));
+  for (const auto& m : mesh.materials) {
+    const auto existing = find(m.name);
+    if (existing && warnings && !same_values(scene_.materials[*existing], m))
+      warnings->push_back(source + ": material '" + m.name +
+                          "' differs from an earlier definition of that name; the first one is used");
+    map.push_back(existing ? *existing : define(m));
+  }
   return map;
 }
 

@@ -25,8 +25,11 @@ class SceneBuilder {
   std::optional<uint32_t> find(const std::string& name) const;
   Material& material(uint32_t index) { return scene_.materials[index]; }
 
-  /// Scene material indices of the mesh's own materials (interned by name).
-  std::vector<uint32_t> intern_all(const Mesh& mesh);
+  /// Scene material indices of the mesh's own materials (interned by name). A material
+  /// whose name exists with other values keeps the first definition; that adds a warning
+  /// naming `source` to `warnings` when given.
+  std::vector<uint32_t> intern_all(const Mesh& mesh, const std::string& source = {},
+                                   std::vector<std::string>* warnings = nullptr);
 
   /// Appends the mesh's faces through xf. material_map[i] is the scene material of mesh
   /// material i. Zero-area triangles (after the transform) are dropped and counted under

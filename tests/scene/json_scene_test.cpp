@@ -186,6 +186,32 @@ TEST(JsonScene, RepeatedFilesAndScenesDirPrefix) {
   }
 }
 
+TEST(JsonScene, ConflictingMaterialNamesKeepTheFirstAndWarn) {
+  TempDir dir;
+  dir.write("a.mtl", "newmtl paint\nKd 1 0 0\n");
+  dir.write("b.mtl", "newmtl paint\nKd 0 0 1\n");
+  dir.write("a.obj", "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl paint\nf 1 2 3\n");
+  dir.write("b.obj", "mtllib b.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl paint\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("c.json", R"({"meshes": [{"file": "a.obj"}, {"file": "b.obj"}, {"file": "a.obj"}],
+                                                     "lights": [{"type": "point", "position": [0, 0, 3]}]})"));
+  ASSERT_EQ(s.triangles.size(), 3u);
+  EXPECT_EQ(s.material_ids, (std::vector<uint32_t>{0, 0, 0}));
+  expect_near(s.materials[0].diffuse, {1, 0, 0}, 0);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("b.obj: material 'paint' differs from an earlier definition"), std::string::npos)
+      << s.warnings[0];
+}
+
+TEST(JsonScene, FramingCameraUsesTheGivenFieldOfView) {
+  TempDir dir;
+  dir.write("tri.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene wide = load_scene(dir.write("w.json", R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": 90}})"));
+  const Scene narrow = load_scene(dir.write("n.json", R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": 30}})"));
+  EXPECT_EQ(wide.camera.fov_deg, 90.0f);
+  EXPECT_LT(wide.camera.eye.z, narrow.camera.eye.z);  // a narrower view stands further back
+  EXPECT_NEAR(wide.camera.eye.z, std::sqrt(2.0f) * std::sqrt(2.0f), 1e-5f);  // radius sqrt(2) / sin(45 deg)
+}
+
 TEST(JsonScene, PathsAreRelativeToTheJsonFile) {
   TempDir dir;
   std::filesystem::create_directories(dir.path() / "sub" / "meshes");

@@ -27,8 +27,8 @@ Scene default_scene();
 Scene resolve_scene(const std::string& arg);
 
 /// The camera given to a bare mesh: looks at the centre of b along -z from where the
-/// bounding sphere just fills a 60 degree vertical field of view (Y up).
-Camera framing_camera(const Bounds3& b);
+/// bounding sphere just fills a vertical field of view of fov_deg degrees (Y up).
+Camera framing_camera(const Bounds3& b, float fov_deg = 60.0f);
 
 /// The point light given to a bare mesh: above and behind the camera by a quarter of the
 /// bounds' radius, with intensity (d^2, d^2, d^2) W/sr for its distance d to the centre,
