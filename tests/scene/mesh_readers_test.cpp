@@ -228,5 +228,34 @@ TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
   EXPECT_NE(msg.find("bad.gltf"), std::string::npos) << msg;
 }
 
+TEST(GltfReader, BinaryGlb) {
+  TempDir dir;
+  std::string bin;
+  for (float f : {0.f, 0.f, 0.f, 2.f, 0.f, 0.f, 2.f, 2.f, 0.f, 0.f, 2.f, 0.f}) put<float>(bin, f, false);
+  for (uint16_t i : {0, 1, 2, 0, 2, 3}) put<uint16_t>(bin, i, false);
+  std::string json = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "buffers": [{"byteLength": 60}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0,0,0], "max": [2,2,0]},
+                  {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
+  while (json.size() % 4) json += ' ';
+  while (bin.size() % 4) bin += '\0';
+  std::string glb;
+  put<uint32_t>(glb, 0x46546C67u, false);  // "glTF"
+  put<uint32_t>(glb, 2, false);
+  put<uint32_t>(glb, uint32_t(12 + 8 + json.size() + 8 + bin.size()), false);
+  put<uint32_t>(glb, uint32_t(json.size()), false);
+  put<uint32_t>(glb, 0x4E4F534Au, false);  // "JSON"
+  glb += json;
+  put<uint32_t>(glb, uint32_t(bin.size()), false);
+  put<uint32_t>(glb, 0x004E4942u, false);  // "BIN"
+  glb += bin;
+  const Scene s = load_scene(dir.write("q.glb", glb));
+  ASSERT_EQ(s.triangles.size(), 2u);
+  expect_triangle(s.triangles[0], {0, 0, 0}, {2, 0, 0}, {2, 2, 0});
+  expect_triangle(s.triangles[1], {0, 0, 0}, {2, 2, 0}, {0, 2, 0});
+}
+
 }  // namespace
 }  // namespace rayscout
