@@ -94,8 +94,8 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out) {
     size_t line = 0;
   };
   std::vector<Pending> defs;
-  const char* p = data.data();
-  const char* const end = p + data.size();
+  const char* p = detail::skip_bom(data);
+  const char* const end = data.data() + data.size();
   size_t line = 0;
   while (p < end) {
     const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
@@ -159,8 +159,8 @@ Mesh read_obj(const std::filesystem::path& path) {
   mesh.positions.reserve(data.size() / 64);
   mesh.faces.reserve(data.size() / 64);
 
-  const char* p = data.data();
-  const char* const end = p + data.size();
+  const char* p = detail::skip_bom(data);
+  const char* const end = data.data() + data.size();
   size_t line = 0;
   while (p < end) {
     const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));

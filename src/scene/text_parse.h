@@ -14,6 +14,11 @@ namespace rayscout::detail {
 /// The whole file; throws InputError "path: cannot open ..." when it cannot be read.
 std::string read_file(const std::filesystem::path& path);
 
+/// Start of the text after a UTF-8 byte order mark, if any.
+inline const char* skip_bom(const std::string& data) {
+  return data.size() >= 3 && data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? data.data() + 3 : data.data();
+}
+
 /// Throws InputError "file:line: message".
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 

@@ -53,6 +53,12 @@ TEST(ObjReader, ExactCoordinatesAndFanOrder) {
   expect_vec(s.camera.look_at, s.bounds().center());
 }
 
+TEST(ObjReader, Utf8ByteOrderMarkIsSkipped) {
+  TempDir dir;
+  const Scene s = load_scene(dir.write("bom.obj", "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  EXPECT_EQ(s.triangles.size(), 1u);
+}
+
 TEST(ObjReader, ForwardReferencesAreAllowed) {
   TempDir dir;
   const Scene s = load_scene(dir.write("fwd.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"));
