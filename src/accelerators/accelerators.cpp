@@ -8,6 +8,10 @@
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/shafts/shafts_accelerator.h"
 
+#if RAYSCOUT_WITH_EMBREE
+#include "rayscout/embree/embree_accelerator.h"
+#endif
+
 namespace rayscout {
 namespace {
 
@@ -34,9 +38,9 @@ const std::vector<Entry>& registry() {
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<Bvh2Accelerator>(s.triangles, bvh_config_from_options(o));
        }},
-      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2)"},
+      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2, plus leaf_block, presplit)"},
        [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<WideBvhAccelerator>(s.triangles, bvh_config_from_options(o));
+         return std::make_unique<WideBvhAccelerator>(s.triangles, bvh_config_from_options(o, wide_bvh_default_config()));
        }},
       {{"shafts", "ray classification, Hendrich et al. 2019: shaft candidate lists seed the binary BVH (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
@@ -48,6 +52,12 @@ const std::vector<Entry>& registry() {
          return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o),
                                                     bvh_config_from_options(o));
        }},
+#if RAYSCOUT_WITH_EMBREE
+      {{"embree", "Intel Embree 3, high-quality build, robust mode (peer; options robust, quality, packet)"},
+       [](const Scene& s, const AcceleratorOptions& o) {
+         return std::make_unique<EmbreeAccelerator>(s.triangles, EmbreeConfig::from_options(o));
+       }},
+#endif
   };
   return entries;
 }

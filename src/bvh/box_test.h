@@ -69,8 +69,9 @@ struct WideRay {
 /// Tests the used slots of node against [tmin, tmax]; returns a bit mask of the hit slots and
 /// writes every slot's entry distance to dist. The same float operations in the same order
 /// as intersect_box_robust, lane by lane, so the result is identical to the scalar test.
+/// Unused slots hold empty boxes (lo = +inf, hi = -inf): with sign-selected planes their
+/// entry is +inf and exit -inf, so they never hit and the SIMD path needs no slot count.
 inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float tmax, float* dist) {
-  const uint32_t used = (1u << node.count) - 1u;
 #if defined(__AVX2__)
   const char* base = reinterpret_cast<const char*>(&node);
   const __m256 k = _mm256_set1_ps(kRobustScale), k_neg = _mm256_set1_ps(kRobustScaleNegative);
@@ -88,7 +89,7 @@ inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float
   axis(1, r.oy, r.iy);
   axis(2, r.oz, r.iz);
   _mm256_store_ps(dist, tnear);
-  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ))) & used;
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ)));
 #else
   uint32_t mask = 0;
   for (uint32_t c = 0; c < node.count; ++c) {
@@ -96,7 +97,7 @@ inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float
     if (intersect_box_robust(r.org, r.inv_dir, node.child_bounds(int(c)), r.t_min, tmax, tnear)) mask |= 1u << c;
     dist[c] = tnear;
   }
-  return mask & used;
+  return mask;
 #endif
 }
 

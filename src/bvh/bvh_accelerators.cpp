@@ -46,12 +46,26 @@ void for_each_ray(size_t n, TraceStats* stats, Trace&& trace) {
 
 }  // namespace
 
-BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options) {
+BvhBuildConfig wide_bvh_default_config() {
   BvhBuildConfig c;
+  c.max_leaf_size = 8;
+  c.leaf_block = kTriangleBlockWidth;
+  c.presplit = 0.3f;
+  return c;
+}
+
+BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const BvhBuildConfig& defaults) {
+  BvhBuildConfig c = defaults;
   c.bins = int(options.get_int("bins", c.bins));
   c.max_leaf_size = int(options.get_int("max_leaf_size", c.max_leaf_size));
   c.traversal_cost = float(options.get_double("traversal_cost", c.traversal_cost));
   c.intersection_cost = float(options.get_double("intersection_cost", c.intersection_cost));
+  c.leaf_block = int(options.get_int("leaf_block", c.leaf_block));
+  c.presplit = float(options.get_double("presplit", c.presplit));
+  if (c.leaf_block < 1 || c.leaf_block > 15)
+    throw InputError("bvh option leaf_block=" + std::to_string(c.leaf_block) + ": must be in [1, 15]");
+  if (!(c.presplit >= 0.0f && c.presplit <= 4.0f))
+    throw InputError("bvh option presplit=" + std::to_string(c.presplit) + ": must be in [0, 4]");
   if (c.bins < 2 || c.bins > 256) throw InputError("bvh option bins=" + std::to_string(c.bins) + ": must be in [2, 256]");
   if (c.max_leaf_size < 1 || c.max_leaf_size > 15)
     throw InputError("bvh option max_leaf_size=" + std::to_string(c.max_leaf_size) + ": must be in [1, 15]");

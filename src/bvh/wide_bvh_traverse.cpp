@@ -77,6 +77,17 @@ Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceSta
         e = {node.child[c], dist[c]};
         continue;
       }
+      const int c0 = std::countr_zero(mask);
+      mask &= mask - 1;
+      if ((mask & (mask - 1)) == 0) {  // two children: the farther one waits on the stack
+        const int c1 = std::countr_zero(mask);
+        const Entry a{node.child[c0], dist[c0]}, b{node.child[c1], dist[c1]};
+        const bool b_first = b.dist < a.dist;
+        stack.push(b_first ? a : b);
+        e = b_first ? b : a;
+        continue;
+      }
+      mask |= 1u << c0;
       // Several: sort far to near (insertion sort, stable), push all but the nearest.
       Entry hits[kWideWidth];
       int n = 0;
