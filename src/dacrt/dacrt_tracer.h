@@ -7,6 +7,7 @@
 
 #include "box_kernels.h"
 #include "leaf_kernels.h"
+#include "leaf_simd.h"
 #include "rayscout/core/trace_stats.h"
 #include "rayscout/dacrt/dacrt.h"
 #include "ray_record.h"
@@ -61,6 +62,12 @@ class DacrtTracer {
 
   void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
     uint64_t tests;
+#if defined(__AVX512F__)
+    // 16 rays per triangle test; a handful of rays against many triangles stays scalar.
+    if (nr >= 8)
+      tests = leaf_simd<kOccluded>(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits, ctx_.occ);
+    else
+#endif
     if constexpr (kOccluded)
       tests = leaf_occluded(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.occ);
     else

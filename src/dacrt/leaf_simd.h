@@ -1,0 +1,157 @@
+// AVX-512 leaf kernel: 16 rays against one triangle at a time, the same float operations in
+// the same order as core's intersect_triangle (watertight, Woop et al. 2013), so hits are
+// bit-identical; lanes with an exactly-zero edge function take the scalar path (its double
+// recomputation).
+#pragma once
+
+#if defined(__AVX512F__)
+
+#include <immintrin.h>
+
+#include <cstddef>
+#include <cstdint>
+
+#include "leaf_kernels.h"
+#include "ray_record.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+namespace rayscout::dacrt {
+
+static_assert(sizeof(RayPrecomp) == 36, "leaf_simd gathers RayPrecomp as 9 words");
+
+/// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
+/// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
+template <bool kAny>
+__attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+                                             const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out,
+                                             uint8_t* occ) {
+  const float* rbase = reinterpret_cast<const float*>(rays);
+  const float* pbase = reinterpret_cast<const float*>(pre);
+  const int* pibase = reinterpret_cast<const int*>(pre);
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512i izero = _mm512_setzero_si512(), ione = _mm512_set1_epi32(1);
+  uint64_t tests = 0;
+  for (size_t i = 0; i < nr; i += 16) {
+    const __mmask16 valid = nr - i >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (nr - i)) - 1u);
+    const __m512i id = _mm512_maskz_loadu_epi32(valid, rid + i);
+    const __m512i off8 = _mm512_slli_epi32(id, 3);
+    const __m512i off9 = _mm512_add_epi32(off8, id);
+    const __m512 ox = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 0, 4);
+    const __m512 oy = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 1, 4);
+    const __m512 oz = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 2, 4);
+    const __m512 tmin = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 3, 4);
+    __m512 best_t = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 7, 4);
+    const __m512i kx = _mm512_mask_i32gather_epi32(izero, valid, off9, pibase + 0, 4);
+    const __m512i ky = _mm512_mask_i32gather_epi32(izero, valid, off9, pibase + 1, 4);
+    const __m512i kz = _mm512_mask_i32gather_epi32(izero, valid, off9, pibase + 2, 4);
+    const __m512 sx = _mm512_mask_i32gather_ps(zero, valid, off9, pbase + 3, 4);
+    const __m512 sy = _mm512_mask_i32gather_ps(zero, valid, off9, pbase + 4, 4);
+    const __m512 sz = _mm512_mask_i32gather_ps(zero, valid, off9, pbase + 5, 4);
+    __m512i best_p = kAny ? izero
+                          : _mm512_mask_i32gather_epi32(izero, valid, id, reinterpret_cast<const int*>(out.prim), 4);
+    __m512 best_u = zero, best_v = zero;
+    __mmask16 changed = 0;
+    // Retired any-hit rays (t = -inf) cost no tests, as in the scalar kernel.
+    __mmask16 active = kAny ? _mm512_mask_cmp_ps_mask(valid, best_t, _mm512_set1_ps(-kInfinity), _CMP_NEQ_OQ) : valid;
+    const __mmask16 x0 = _mm512_cmpeq_epi32_mask(kx, izero), x1 = _mm512_cmpeq_epi32_mask(kx, ione);
+    const __mmask16 y0 = _mm512_cmpeq_epi32_mask(ky, izero), y1 = _mm512_cmpeq_epi32_mask(ky, ione);
+    const __mmask16 z0 = _mm512_cmpeq_epi32_mask(kz, izero), z1 = _mm512_cmpeq_epi32_mask(kz, ione);
+    auto pick = [](__mmask16 m0, __mmask16 m1, __m512 x, __m512 y, __m512 z) {
+      return _mm512_mask_blend_ps(m0, _mm512_mask_blend_ps(m1, z, y), x);
+    };
+    for (size_t j = 0; j < nt && active; ++j) {
+      const uint32_t p = tid[j];
+      const Triangle& tri = tris[p];
+      tests += uint64_t(__builtin_popcount(active));
+      auto rel = [&](const Vec3& w, __m512& rx, __m512& ry, __m512& rz) {
+        const __m512 wx = _mm512_sub_ps(_mm512_set1_ps(w.x), ox);
+        const __m512 wy = _mm512_sub_ps(_mm512_set1_ps(w.y), oy);
+        const __m512 wz = _mm512_sub_ps(_mm512_set1_ps(w.z), oz);
+        const __m512 k = pick(z0, z1, wx, wy, wz);
+        rx = _mm512_sub_ps(pick(x0, x1, wx, wy, wz), _mm512_mul_ps(sx, k));
+        ry = _mm512_sub_ps(pick(y0, y1, wx, wy, wz), _mm512_mul_ps(sy, k));
+        rz = _mm512_mul_ps(sz, k);
+      };
+      __m512 ax, ay, az, bx, by, bz, cx, cy, cz;
+      rel(tri.v0, ax, ay, az);
+      rel(tri.v1, bx, by, bz);
+      rel(tri.v2, cx, cy, cz);
+      const __m512 eu = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
+      const __m512 ev = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
+      const __m512 ew = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
+      const __mmask16 zero_edge = active & (_mm512_cmp_ps_mask(eu, zero, _CMP_EQ_OQ) |
+                                            _mm512_cmp_ps_mask(ev, zero, _CMP_EQ_OQ) |
+                                            _mm512_cmp_ps_mask(ew, zero, _CMP_EQ_OQ));
+      const __mmask16 neg = _mm512_cmp_ps_mask(eu, zero, _CMP_LT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_LT_OQ) |
+                            _mm512_cmp_ps_mask(ew, zero, _CMP_LT_OQ);
+      const __mmask16 pos = _mm512_cmp_ps_mask(eu, zero, _CMP_GT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_GT_OQ) |
+                            _mm512_cmp_ps_mask(ew, zero, _CMP_GT_OQ);
+      const __m512 det = _mm512_add_ps(_mm512_add_ps(eu, ev), ew);
+      __mmask16 hit = active & ~zero_edge & ~(neg & pos) & _mm512_cmp_ps_mask(det, zero, _CMP_NEQ_UQ);
+      __m512 tt = zero, u = zero, v = zero;
+      if (hit) {
+        tt = _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(eu, az), _mm512_mul_ps(ev, bz)), _mm512_mul_ps(ew, cz)), det);
+        hit &= _mm512_cmp_ps_mask(tt, tmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(tt, best_t, _CMP_LE_OQ);
+        if (!kAny) {
+          // is_closer: nearer, or equally near with a smaller triangle id.
+          const __mmask16 nearer = _mm512_cmp_ps_mask(tt, best_t, _CMP_LT_OQ);
+          const __mmask16 tie = _mm512_cmp_ps_mask(tt, best_t, _CMP_EQ_OQ) &
+                                _mm512_cmplt_epu32_mask(_mm512_set1_epi32(int(p)), best_p);
+          hit &= nearer | tie;
+          u = _mm512_div_ps(ev, det);
+          v = _mm512_div_ps(ew, det);
+        }
+      }
+      if (zero_edge) {
+        alignas(64) float lt[16], lu[16], lv[16], bt[16], lox[16], loy[16], loz[16], ltmin[16];
+        alignas(64) uint32_t lid[16], lp[16];
+        _mm512_store_ps(lt, tt); _mm512_store_ps(lu, u); _mm512_store_ps(lv, v); _mm512_store_ps(bt, best_t);
+        _mm512_store_ps(lox, ox); _mm512_store_ps(loy, oy); _mm512_store_ps(loz, oz); _mm512_store_ps(ltmin, tmin);
+        _mm512_store_si512(lid, id); _mm512_store_si512(lp, best_p);
+        for (int l = 0; l < 16; ++l) {
+          if (!((zero_edge >> l) & 1)) continue;
+          float t1, u1, v1;
+          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), pre[lid[l]], tri, ltmin[l], bt[l], t1, u1, v1) &&
+                         (kAny || is_closer(t1, p, bt[l], lp[l]));
+          if (h) { hit |= __mmask16(1u << l); lt[l] = t1; lu[l] = u1; lv[l] = v1; }
+        }
+        tt = _mm512_load_ps(lt); u = _mm512_load_ps(lu); v = _mm512_load_ps(lv);
+      }
+      if (!hit) continue;
+      if (kAny) {
+        active &= ~hit;
+        changed |= hit;
+      } else {
+        best_t = _mm512_mask_blend_ps(hit, best_t, tt);
+        best_u = _mm512_mask_blend_ps(hit, best_u, u);
+        best_v = _mm512_mask_blend_ps(hit, best_v, v);
+        best_p = _mm512_mask_blend_epi32(hit, best_p, _mm512_set1_epi32(int(p)));
+        changed |= hit;
+      }
+    }
+    if (!changed) continue;
+    alignas(64) float lt[16], lu[16], lv[16];
+    alignas(64) uint32_t lid[16], lp[16];
+    _mm512_store_ps(lt, best_t); _mm512_store_ps(lu, best_u); _mm512_store_ps(lv, best_v);
+    _mm512_store_si512(lid, id); _mm512_store_si512(lp, best_p);
+    for (int l = 0; l < 16; ++l) {
+      if (!((changed >> l) & 1)) continue;
+      const uint32_t r = lid[l];
+      if (kAny) {
+        occ[r] = 1;
+        retire(rays[r]);
+      } else {
+        rays[r].t = lt[l]; out.prim[r] = lp[l]; out.u[r] = lu[l]; out.v[r] = lv[l];
+      }
+    }
+  }
+  return tests;
+}
+
+}  // namespace rayscout::dacrt
+
+#pragma GCC diagnostic pop
+
+#endif  // __AVX512F__
