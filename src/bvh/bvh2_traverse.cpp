@@ -1,6 +1,6 @@
 // Bvh2 single-ray traversal: ordered closest hit and early-exit any hit.
 #include "rayscout/bvh/bvh2.h"
-#include "cull_distance.h"
+#include "cull_interval.h"
 #include "traversal_stack.h"
 #include "box_test.h"
 

@@ -7,7 +7,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_scan.h>
 
 namespace rayscout::detail {
 namespace {
@@ -50,7 +49,7 @@ bool grid_plane(const Bounds3& box, const Bounds3& scene, int& axis, float& pos)
   const Vec3 ext = scene.diagonal();
   for (int a = 0; a < 3; ++a) {
     if (!(ext[a] > 0.0f) || !(box.hi[a] > box.lo[a])) continue;
-    const float lo = (box.lo[a] - scene.lo[a]) / ext[a], hi = (box.hi[a] - scene.lo[a]) / ext[a];
+    const float hi = (box.hi[a] - scene.lo[a]) / ext[a];
     for (int level = 1; level < std::min(best_level, 24); ++level) {
       const float cell = std::ldexp(1.0f, -level);
       const float k = std::floor(hi / cell);
@@ -108,7 +107,8 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget) 
     return refs;
   }
   struct Sum { double p = 0; Bounds3 scene; };
-  const Sum total = tbb::parallel_reduce(
+  // Deterministic reduction: the floating-point sum must not depend on the thread count.
+  const Sum total = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<size_t>(0, n, 4096), Sum{},
       [&](const auto& r, Sum s) {
         for (size_t i = r.begin(); i != r.end(); ++i) { s.p += priority[i]; s.scene.extend(boxes[i]); }

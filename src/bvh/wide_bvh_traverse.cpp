@@ -2,7 +2,7 @@
 #include <bit>
 
 #include "rayscout/bvh/wide_bvh.h"
-#include "cull_distance.h"
+#include "cull_interval.h"
 #include "traversal_stack.h"
 #include "triangle_block_test.h"
 #include "box_test.h"

@@ -119,11 +119,14 @@ TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     return Bvh2::build(tris, c);
   };
-  const Bvh2 a = build_with(1), b = build_with(2);
-  ASSERT_EQ(a.nodes.size(), b.nodes.size());
-  EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Bvh2Node)), 0);
-  EXPECT_EQ(a.prim_ids, b.prim_ids);
-  EXPECT_EQ(a.depth(), b.depth());
+  for (float presplit : {0.0f, 0.3f}) {
+    c.presplit = presplit;
+    const Bvh2 a = build_with(1), b = build_with(2);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Bvh2Node)), 0);
+    EXPECT_EQ(a.prim_ids, b.prim_ids);
+    EXPECT_EQ(a.depth(), b.depth());
+  }
 }
 
 TEST(BvhValidate, DetectsCorruptedBinaryTrees) {
