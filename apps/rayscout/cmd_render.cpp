@@ -48,11 +48,11 @@ std::string default_accelerator() {
 
 // One line on stderr, redrawn in place; only on a terminal.
 void draw_progress(const RenderProgress& p) {
-  const double done = double(p.bounce + 1) / double(p.max_depth + 1);
+  const double done = (double(p.pass) + double(p.bounce + 1) / double(p.max_depth + 1)) / double(p.passes);
   const int width = 24, filled = int(done * width + 0.5);
   const double left = done > 0 ? p.elapsed_s * (1.0 - done) / done : 0.0;
-  fmt::print(stderr, "\r[{}{}] bounce {}/{}  {:.2f} Mrays traced  {:.1f} s  ~{:.1f} s left   ",
-             std::string(filled, '#'), std::string(width - filled, '.'), p.bounce, p.max_depth,
+  fmt::print(stderr, "\r[{}{}] pass {}/{} bounce {}/{}  {:.2f} Mrays traced  {:.1f} s  ~{:.1f} s left   ",
+             std::string(filled, '#'), std::string(width - filled, '.'), p.pass + 1, p.passes, p.bounce, p.max_depth,
              double(p.rays_traced) * 1e-6, p.elapsed_s, left);
   std::fflush(stderr);
 }
@@ -127,6 +127,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str();
   cmd->add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")->capture_default_str();
   cmd->add_option("--ray-epsilon", c.ray_epsilon, "tmin of secondary rays (0 = 1e-5 x scene size)")->capture_default_str();
+  cmd->add_option("--max-batch", c.max_batch_rays, "largest camera batch; more samples run in passes (0 = 2^24)")->capture_default_str();
   cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower)");
   cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout)");
@@ -134,6 +135,7 @@ CommandRegistration registration{[](CLI::App& app) {
 
   // ---- Integrator-specific options: one call per integrator module below, e.g.
   //      add_manylight_options(*cmd); ----
+  add_manylight_options(*cmd);
   // ---- end of integrator-specific options ----
 
   cmd->callback([opts] { run(*opts); });

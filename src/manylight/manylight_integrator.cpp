@@ -1,0 +1,108 @@
+// ManylightIntegrator: ManylightRenderer as an Integrator, with time budget, RMSE log and skip image.
+#include "rayscout/manylight/manylight_integrator.h"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "rayscout/core/accelerator_options.h"
+#include "rayscout/image/image.h"
+#include "rayscout/manylight/manylight_renderer.h"
+
+namespace rayscout {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class ManylightIntegrator final : public Integrator {
+ public:
+  explicit ManylightIntegrator(ManylightRunOptions o) : o_(std::move(o)) {}
+  std::string name() const override { return "manylight"; }
+
+  Image render(const Scene& scene, const Accelerator& accel, const RenderConfig& rc, RenderStats* stats) const override {
+    const auto start = Clock::now();
+    ManylightConfig config = o_.config;
+    config.width = rc.width;
+    config.height = rc.height;
+    config.spp = rc.spp;
+    config.seed = rc.seed;
+    std::vector<Vec3> reference;
+    if (!o_.reference.empty()) {
+      Image ref = read_image(o_.reference);
+      if (ref.width != rc.width || ref.height != rc.height)
+        throw InputError(fmt::format("--reference {}: {}x{} but rendering {}x{}", o_.reference, ref.width, ref.height,
+                                     rc.width, rc.height));
+      reference = std::move(ref.pixels);
+    }
+    ManylightRenderer r(scene, accel, config);
+    if (config.mode != VisibilityMode::Exact) r.calibrate();
+    const auto& tm = r.timings();
+    const auto records = o_.time_budget > 0 ? r.render_for(o_.time_budget, reference)
+                                            : r.render_for(1e300, reference, std::max<size_t>(1, o_.passes));
+    Image image(rc.width, rc.height);
+    image.pixels = r.image();
+    if (!o_.skip_image.empty()) {
+      Image skip(rc.width, rc.height);
+      const auto s = r.skip_image();
+      for (size_t i = 0; i < s.size(); ++i) skip.pixels[i] = Vec3(srgb_to_linear(s[i]));
+      write_image(skip, o_.skip_image);
+    }
+    if (!o_.rmse_log.empty()) write_log(r, records);
+    if (o_.verbose) {
+      fmt::print(stderr,
+                 "manylight: {} VPLs ({} light paths), {} shading clusters x {} VPL clusters; preprocess {:.2f} s "
+                 "(VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f}, pmf {:.2f}); "
+                 "calibration {:.2f} s, t_eval {:.3g} us, t_skip {:.3g} us\n",
+                 r.vpls().vpls.size(), r.vpls().light_paths, r.clusters().shading.size(),
+                 r.clusters().vpl_cluster_count(), tm.preprocess_ms() * 1e-3, tm.vpl_ms * 1e-3,
+                 tm.shading_points_ms * 1e-3, tm.cluster_ms * 1e-3, tm.visibility_ms * 1e-3, tm.pmf_ms * 1e-3,
+                 tm.calibration_ms * 1e-3, tm.t_eval * 1e6, tm.t_skip * 1e6);
+      fmt::print(stderr, "manylight: visibility {}, {} passes in {:.2f} s, mean skip rate {:.1f} %, {} shadow rays{}\n",
+                 to_string(config.mode), r.passes(), records.back().seconds, 100 * r.skip_rate(),
+                 r.shadow_rays_traced(),
+                 records.back().rmse >= 0 ? fmt::format(", RMSE {:.6g}", records.back().rmse) : std::string());
+    }
+    if (stats) {
+      stats->total_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      stats->shading_ms = stats->total_ms;
+    }
+    return image;
+  }
+
+ private:
+  void write_log(const ManylightRenderer& r, const std::vector<ProgressRecord>& records) const {
+    std::ofstream f(o_.rmse_log);
+    const bool csv = o_.rmse_log.size() >= 4 && o_.rmse_log.substr(o_.rmse_log.size() - 4) == ".csv";
+    if (csv) {
+      f << "seconds,passes,rmse,skip_rate\n";
+      for (const auto& p : records) f << p.seconds << "," << p.passes << "," << p.rmse << "," << p.skip_rate << "\n";
+    } else {
+      nlohmann::json j;
+      const auto& tm = r.timings();
+      j["visibility"] = to_string(r.config().mode);
+      j["vpls"] = r.vpls().vpls.size();
+      j["preprocess_s"] = tm.preprocess_ms() * 1e-3;
+      j["calibration_s"] = tm.calibration_ms * 1e-3;
+      j["t_eval_us"] = tm.t_eval * 1e6;
+      j["t_skip_us"] = tm.t_skip * 1e6;
+      j["skip_rate"] = r.skip_rate();
+      for (const auto& p : records)
+        j["records"].push_back({{"seconds", p.seconds}, {"passes", p.passes}, {"rmse", p.rmse}, {"skip_rate", p.skip_rate}});
+      f << j.dump(2) << "\n";
+    }
+    if (!f) throw InputError("--rmse-log: cannot write " + o_.rmse_log);
+  }
+
+  ManylightRunOptions o_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_manylight_integrator(const ManylightRunOptions& options) {
+  return std::make_unique<ManylightIntegrator>(options);
+}
+
+}  // namespace rayscout
