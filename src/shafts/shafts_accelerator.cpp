@@ -61,14 +61,14 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   const RayPrecomp rp(ray.dir);
   const float slack = (scene_coord_ + max_component(abs(ray.org))) * (1.0f / 1048576.0f) /
                       max_component(abs(ray.dir));
-  auto far = [&](float t) { return t + t * (1.0f / 131072.0f) + slack; };
   const float near = ray.tmin - std::fabs(ray.tmin) * (1.0f / 131072.0f) - slack;
   uint32_t refs[32];
   float dist[32];
   int n = 0;
   for (size_t k = 0; k < c.list.size(); ++k) {
     float d;
-    if (!intersect_box(ray.org, rp.inv_dir, collection_.box_of(c.boxes[k]), near, far(ray.tmax), d)) continue;
+    if (!intersect_box(ray.org, rp.inv_dir, collection_.box_of(c.boxes[k]), near,
+                       ray.tmax + ray.tmax * (1.0f / 131072.0f) + slack, d)) continue;
     int j = n++;
     while (j > 0 && dist[j - 1] > d) { dist[j] = dist[j - 1]; refs[j] = refs[j - 1]; --j; }
     dist[j] = d;
@@ -76,19 +76,14 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   }
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
+  // One traversal seeded with the surviving entries, nearest first. (Seeding one subtree at a
+  // time and skipping entries beyond the current hit was measured slower: per-call overhead.)
+  const std::span<const uint32_t> start(refs, size_t(n));
   if constexpr (Any) {
-    (*occ)[i] = wide_.occluded<Stats>(ray, std::span<const uint32_t>(refs, size_t(n)), &local) ? 1 : 0;
+    (*occ)[i] = wide_.occluded<Stats>(ray, start, &local) ? 1 : 0;
   } else {
-    // One subtree at a time, near first: an entry entered beyond the current hit is skipped.
-    Hit best;
-    Ray r = ray;
-    for (int k = 0; k < n; ++k) {
-      if (best.hit() && dist[k] > far(best.t)) break;
-      if (best.hit()) r.tmax = best.t;
-      const Hit h = wide_.intersect<Stats>(r, std::span<const uint32_t>(refs + k, 1), &local);
-      if (h.hit() && is_closer(h.t, h.prim, best.t, best.prim)) best = h;
-    }
-    if (best.hit()) hits->set(i, best);
+    const Hit h = wide_.intersect<Stats>(ray, start, &local);
+    if (h.hit()) hits->set(i, h);
   }
 }
 
