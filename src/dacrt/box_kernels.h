@@ -90,9 +90,10 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
   for (; i + 16 <= n; i += 16) {
     const __m512i id = _mm512_loadu_si512(rid + i);
     const __mmask16 hit = test(id, 0xFFFF);
-    // w <= i: the compressed store never overwrites ids not yet loaded.
-    _mm512_mask_compressstoreu_epi32(rid + w, hit, id);
-    _mm512_mask_compressstoreu_epi32(scratch + m, static_cast<__mmask16>(~hit), id);
+    // Full-width stores of the compressed ids: w, m <= i, so they end inside the chunk just
+    // loaded (never past ids not yet read, never past the end of scratch).
+    _mm512_storeu_si512(rid + w, _mm512_maskz_compress_epi32(hit, id));
+    _mm512_storeu_si512(scratch + m, _mm512_maskz_compress_epi32(static_cast<__mmask16>(~hit), id));
     const int h = __builtin_popcount(hit);
     w += h;
     m += 16 - h;
