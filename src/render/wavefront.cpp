@@ -1,6 +1,7 @@
 // The wavefront loop: whole batches per bounce, shading in fixed-size chunks, ordered accumulation.
 #include "rayscout/render/wavefront.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -34,20 +35,22 @@ void check_config(const RenderConfig& c) {
 }  // namespace
 
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
-                          RayBatch& rays, std::vector<PathState>* paths) {
+                          RayBatch& rays, std::vector<PathState>* paths, int sample_begin, int sample_end) {
   const CameraRays camera(scene.camera, width, height);
-  const size_t n = size_t(width) * size_t(height) * size_t(spp);
+  if (sample_end < 0 || sample_end > spp) sample_end = spp;
+  const int per_pixel = sample_end - sample_begin;
+  const size_t n = size_t(width) * size_t(height) * size_t(per_pixel);
   rays.resize(n);
   if (paths) paths->resize(n);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-        for (int s = 0; s < spp; ++s) {
+        for (int s = sample_begin; s < sample_end; ++s) {
           const PathSampler sampler{seed, pixel, uint32_t(s), 0};
           float fx, fy;
           pixel_sample_position(sampler, x, y, s, spp, fx, fy);
-          const size_t i = size_t(pixel) * size_t(spp) + size_t(s);
+          const size_t i = size_t(pixel) * size_t(per_pixel) + size_t(s - sample_begin);
           rays.set(i, camera.generate(fx, fy, sampler.get(kDimLens), sampler.get(kDimLens + 1)));
           if (paths) (*paths)[i] = PathState{pixel, uint32_t(s), Vec3{1.0f}, true};
         }
@@ -70,14 +73,18 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   ctx.ao_radius = config.ao_radius > 0 ? config.ao_radius
                                        : (bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal()));
 
-  std::vector<Vec3> film(size_t(config.width) * size_t(config.height));
+  const size_t n_pixels = size_t(config.width) * size_t(config.height);
+  std::vector<Vec3> film(n_pixels);
+  // Samples per pass: all of them unless the camera batch would exceed max_batch_rays.
+  const size_t max_rays = config.max_batch_rays > 0 ? size_t(config.max_batch_rays) : size_t(1) << 24;
+  const int per_pass = int(std::clamp<size_t>(max_rays / n_pixels, 1, size_t(config.spp)));
+  const int passes = (config.spp + per_pass - 1) / per_pass;
   RayBatch rays;
   std::vector<PathState> paths;
   auto t0 = Clock::now();
-  generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, rays, &paths);
-  stats.raygen_ms = ms_since(t0);
 
   uint64_t rays_traced = 0;
+  int pass = 0;
   auto trace = [&](const BatchInfo& info, const RayBatch& batch, HitBatch* hits, std::vector<uint8_t>* occluded) {
     if (config.on_batch) config.on_batch(info, batch);
     BatchStats bs;
@@ -92,7 +99,8 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
     stats.batches.push_back(bs);
     rays_traced += batch.size();
     if (config.on_progress)
-      config.on_progress({info.bounce, max_bounce(config), rays_traced, std::chrono::duration<double>(Clock::now() - start).count()});
+      config.on_progress({info.bounce, max_bounce(config), pass, passes, rays_traced,
+                          std::chrono::duration<double>(Clock::now() - start).count()});
   };
 
   // Buffers live across bounces: their capacity is reused, so later bounces do not page-fault.
@@ -102,58 +110,64 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   RayBatch occlusion_rays, next_rays;
   std::vector<ShadeOutput::Contribution> occlusion;
   std::vector<PathState> next_paths;
-  for (int bounce = 0; !paths.empty(); ++bounce) {
-    ctx.bounce = bounce;
-    trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, rays, &hits, nullptr);
-
+  for (pass = 0; pass < passes; ++pass) {
     t0 = Clock::now();
-    const size_t n = paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
-    outs.resize(chunks);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-      ShadeOutput& out = outs[c];
-      for (size_t i = c * kShadeChunk, end = std::min(n, i + kShadeChunk); i < end; ++i) {
-        const Ray ray = rays[i];
-        const Hit hit = hits[i];
-        if (!hit.hit()) { miss(ctx, paths[i], ray, out); continue; }
-        const Hit refined = refine_hit(scene, ray, hit);
-        shade(ctx, paths[i], ray, surface_point(scene, ray, refined), out);
-      }
-    });
-    // Merge in chunk order: the fixed order of every per-pixel sum. Chunk offsets first, so
-    // the copies can run in parallel.
-    std::vector<size_t> occ_at(chunks + 1, 0), next_at(chunks + 1, 0);
-    for (size_t c = 0; c < chunks; ++c) {
-      occ_at[c + 1] = occ_at[c] + outs[c].occlusion_.size();
-      next_at[c + 1] = next_at[c] + outs[c].next_.size();
-      for (const auto& r : outs[c].radiance_) film[r.pixel] += r.value;
-    }
-    occlusion.resize(occ_at[chunks]);
-    next_paths.resize(next_at[chunks]);
-    occlusion_rays.resize(occ_at[chunks]);
-    next_rays.resize(next_at[chunks]);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-      ShadeOutput& out = outs[c];
-      for (size_t k = 0; k < out.occlusion_.size(); ++k) {
-        occlusion_rays.set(occ_at[c] + k, out.occlusion_rays_[k]);
-        occlusion[occ_at[c] + k] = out.occlusion_[k];
-      }
-      for (size_t k = 0; k < out.next_.size(); ++k) {
-        next_rays.set(next_at[c] + k, out.next_rays_[k]);
-        next_paths[next_at[c] + k] = out.next_[k];
-      }
-      out.clear();
-    });
-    stats.shading_ms += ms_since(t0);
+    generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, rays, &paths, pass * per_pass,
+                         std::min(config.spp, (pass + 1) * per_pass));
+    stats.raygen_ms += ms_since(t0);
+    for (int bounce = 0; !paths.empty(); ++bounce) {
+      ctx.bounce = bounce;
+      trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, rays, &hits, nullptr);
 
-    if (!occlusion_rays.empty()) {
-      trace({bounce, occlusion_kind(), true}, occlusion_rays, nullptr, &occluded);
       t0 = Clock::now();
-      for (size_t i = 0; i < occlusion.size(); ++i)
-        if (!occluded[i]) film[occlusion[i].pixel] += occlusion[i].value;
+      const size_t n = paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
+      outs.resize(chunks);
+      tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        ShadeOutput& out = outs[c];
+        for (size_t i = c * kShadeChunk, end = std::min(n, i + kShadeChunk); i < end; ++i) {
+          const Ray ray = rays[i];
+          const Hit hit = hits[i];
+          if (!hit.hit()) { miss(ctx, paths[i], ray, out); continue; }
+          const Hit refined = refine_hit(scene, ray, hit);
+          shade(ctx, paths[i], ray, surface_point(scene, ray, refined), out);
+        }
+      });
+      // Merge in chunk order: the fixed order of every per-pixel sum. Chunk offsets first, so
+      // the copies can run in parallel.
+      std::vector<size_t> occ_at(chunks + 1, 0), next_at(chunks + 1, 0);
+      for (size_t c = 0; c < chunks; ++c) {
+        occ_at[c + 1] = occ_at[c] + outs[c].occlusion_.size();
+        next_at[c + 1] = next_at[c] + outs[c].next_.size();
+        for (const auto& r : outs[c].radiance_) film[r.pixel] += r.value;
+      }
+      occlusion.resize(occ_at[chunks]);
+      next_paths.resize(next_at[chunks]);
+      occlusion_rays.resize(occ_at[chunks]);
+      next_rays.resize(next_at[chunks]);
+      tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        ShadeOutput& out = outs[c];
+        for (size_t k = 0; k < out.occlusion_.size(); ++k) {
+          occlusion_rays.set(occ_at[c] + k, out.occlusion_rays_[k]);
+          occlusion[occ_at[c] + k] = out.occlusion_[k];
+        }
+        for (size_t k = 0; k < out.next_.size(); ++k) {
+          next_rays.set(next_at[c] + k, out.next_rays_[k]);
+          next_paths[next_at[c] + k] = out.next_[k];
+        }
+        out.clear();
+      });
       stats.shading_ms += ms_since(t0);
+
+      if (!occlusion_rays.empty()) {
+        trace({bounce, occlusion_kind(), true}, occlusion_rays, nullptr, &occluded);
+        t0 = Clock::now();
+        for (size_t i = 0; i < occlusion.size(); ++i)
+          if (!occluded[i]) film[occlusion[i].pixel] += occlusion[i].value;
+        stats.shading_ms += ms_since(t0);
+      }
+      std::swap(rays, next_rays);
+      std::swap(paths, next_paths);
     }
-    std::swap(rays, next_rays);
-    std::swap(paths, next_paths);
   }
 
   Image image(config.width, config.height);

@@ -106,6 +106,28 @@ TEST(Determinism, SeedSelectsTheImage) {
   EXPECT_NE(first_difference(a, path->render(scene, *accel, cfg)), -1);
 }
 
+// Passes of whole samples (max_batch_rays) give the same image up to float summation order,
+// and each pass traces one camera batch.
+TEST(Batches, SamplePassesBoundTheBatchSize) {
+  const Scene scene = test_scene();
+  RenderConfig cfg = small_config();
+  cfg.spp = 5;
+  const auto accel = make_accelerator("brute", scene);
+  const auto path = make_path_integrator();
+  const Image whole = path->render(scene, *accel, cfg);
+  size_t primaries = 0, largest = 0;
+  cfg.max_batch_rays = long(cfg.width) * cfg.height * 2;  // 2 samples per pass: 3 passes
+  cfg.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
+    if (info.kind == "primary") ++primaries, largest = std::max(largest, rays.size());
+  };
+  const Image passes = path->render(scene, *accel, cfg);
+  EXPECT_EQ(primaries, 3u);
+  EXPECT_EQ(largest, size_t(cfg.max_batch_rays));
+  for (size_t i = 0; i < whole.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(passes.pixels[i][c], whole.pixels[i][c], 1e-5f * std::max(1.0f, whole.pixels[i][c]));
+}
+
 TEST(Batches, KindsBouncesAndStats) {
   const Scene scene = test_scene();
   RenderConfig cfg = small_config();

@@ -26,6 +26,7 @@ struct BatchInfo {
 struct RenderProgress {
   int bounce = 0;            ///< bounce of the batch just traced
   int max_depth = 0;         ///< the last bounce that can occur
+  int pass = 0, passes = 1;  ///< sample pass (see RenderConfig::max_batch_rays)
   uint64_t rays_traced = 0;  ///< all rays so far
   double elapsed_s = 0;
 };
@@ -42,6 +43,10 @@ struct RenderConfig {
   float ao_radius = 0;     ///< ao: ray length; 0 = 10% of the scene diagonal
   float ray_epsilon = 0;   ///< tmin of secondary rays; 0 = scene_ray_epsilon(scene bounds)
   bool count = false;      ///< collect TraceStats per batch (slower)
+  /// Largest camera batch: above it the samples of each pixel are rendered in passes of whole
+  /// samples (each pass a full wavefront), which bounds memory (~100 bytes per path).
+  /// 0 = 2^24 rays. The image depends on it only through float summation order.
+  long max_batch_rays = 0;
   /// Called with every ray batch before it is traced (benchmarks record the per-bounce ray
   /// sets of the papers' workloads with it).
   std::function<void(const BatchInfo&, const RayBatch&)> on_batch;

@@ -60,7 +60,8 @@ class ShadeOutput {
   std::vector<PathState> next_;
 };
 
-/// The wavefront loop (issue 3, item 1): camera rays for every pixel sample as one batch;
+/// The wavefront loop (issue 3, item 1): camera rays for every pixel sample as one batch
+/// (split into passes of whole samples when above RenderConfig::max_batch_rays);
 /// trace the whole batch; shade every hit (chunks in parallel); trace the batch of occlusion
 /// rays; continue with the batch of next rays. Contributions are added per pixel in a fixed
 /// order (bounce, then path order), so images do not depend on the thread count.
@@ -83,9 +84,11 @@ class WavefrontIntegrator : public Integrator {
   virtual void miss(const ShadeContext&, const PathState&, const Ray&, ShadeOutput&) const {}
 };
 
-/// Camera rays of every pixel sample, pixel-major with samples inner; paths gets the matching
-/// states. Shared with make_workload.
+/// Camera rays of samples [sample_begin, sample_end) of spp (sample_end < 0: to spp) of every
+/// pixel, pixel-major with samples inner; paths gets the matching states. Shared with
+/// make_workload.
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
-                          RayBatch& rays, std::vector<PathState>* paths);
+                          RayBatch& rays, std::vector<PathState>* paths, int sample_begin = 0,
+                          int sample_end = -1);
 
 }  // namespace rayscout
