@@ -40,6 +40,7 @@ struct Options {
   std::string json = "docs/dacrt_results.json";
   int study_res = 2048;
   std::vector<std::string> study_views{"sibenik-a", "sponza-a"};
+  std::string source = "render";
 };
 
 // The machine is shared: with one thread the process CPU time measures the work without the
@@ -110,6 +111,8 @@ int main(int argc, char** argv) {
   app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers");
   app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
   app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)");
+  app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
+      ->check(CLI::IsMember({"render", "own"}));
   CLI11_PARSE(app, argc, argv);
   if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
@@ -120,21 +123,26 @@ int main(int argc, char** argv) {
   out["threads"] = o.threads;
   out["reps"] = o.reps;
   out["clock"] = g_cpu_time ? "process CPU time" : "wall";
-  fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}\n\n", o.threads, o.reps, g_cpu_time ? "process CPU time" : "wall");
+  fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
+             g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
 
   std::map<std::string, std::shared_ptr<Scene>> scenes;
+  const bool render = o.source == "render";
+  out["source"] = o.source;
   auto scene_of = [&](const View& v) -> std::shared_ptr<Scene> {
-    auto it = scenes.find(v.file);
+    if (render && v.scene_json.empty()) return nullptr;
+    const std::string key = render ? v.scene_json : v.file;
+    auto it = scenes.find(key);
     if (it != scenes.end()) return it->second;
-    auto path = find_scene_file(v.file);
-    if (!path) return nullptr;
-    auto s = std::make_shared<Scene>(load_scene(*path));
-    scenes[v.file] = s;
+    if (!find_scene_file(v.file)) return nullptr;
+    auto s = std::make_shared<Scene>(load_scene(render ? std::string(RAYSCOUT_BENCH_SCENES) + "/" + v.scene_json
+                                                       : find_scene_file(v.file)->string()));
+    scenes[key] = s;
     return s;
   };
   auto ray_sets = [&](const View& v, const Scene& scene, int res) {
     auto bvh = make_accelerator("bvh", scene);
-    return make_ray_sets(scene, v, res, res, *bvh);
+    return render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
   };
 
   // 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
@@ -144,7 +152,10 @@ int main(int argc, char** argv) {
     for (const auto& v : paper_views()) {
       if (!contains(o.views, v.name)) continue;
       auto scene = scene_of(v);
-      if (!scene) { fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file); continue; }
+      if (!scene) {
+        if (!render || !v.scene_json.empty()) fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file);
+        continue;
+      }
       auto afra = make("dacrt", *scene, o), rs = make("dacrt-rs", *scene, o);
       for (int res : o.res) {
         const auto sets = ray_sets(v, *scene, res);

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <stdexcept>
+
+#include "rayscout/render/renderer.h"
 
 namespace rayscout::bench {
 namespace {
@@ -87,6 +90,26 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const View& view, int widt
     sets.push_back(std::move(mirror));
     sets.push_back({"shadow", 1, true, shadow_rays(view, mpts, eps, rng)});
   }
+  return sets;
+}
+
+std::vector<RaySet> render_ray_sets(const Scene& scene, const View& view, int width, int height,
+                                    const Accelerator& tracer) {
+  std::unique_ptr<Integrator> integrator;
+  if (view.integrator == "direct") integrator = make_direct_integrator();
+  else if (view.integrator == "area") integrator = make_area_integrator();
+  else if (view.integrator == "path") integrator = make_path_integrator();
+  else throw std::runtime_error("unknown integrator " + view.integrator);
+  RenderConfig config;
+  config.width = width;
+  config.height = height;
+  config.spp = 1;
+  config.max_depth = view.max_depth;
+  std::vector<RaySet> sets;
+  config.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
+    if (!rays.empty()) sets.push_back({info.kind, info.bounce, info.occlusion, rays});
+  };
+  integrator->render(scene, tracer, config);
   return sets;
 }
 

@@ -9,9 +9,11 @@
 
 namespace rayscout::bench {
 
-/// Every view: Sibenik (a) point light, (b) another point light, (c) area light, all with the
-/// mirror floor of fig. 4; Sponza (a), (b) point lights, (c) random rays (stand-in for path
-/// tracing); Conference likewise. Cameras chosen to look into each model.
+/// Every view: Sibenik (a) point light, (b) other point lights, (c) area light, all with the
+/// mirror floor of fig. 4; Sponza (a), (b) point lights, (c) path tracing; Conference likewise.
+/// The renderer source (default) renders bench/scenes/<scene_json> with `integrator`; views
+/// without a scene file exist only for the own generator (--source own), which uses the
+/// camera and lights here (AO rays stand in for path tracing).
 inline std::vector<View> paper_views() {
   std::vector<View> v;
   View s;
@@ -21,9 +23,10 @@ inline std::vector<View> paper_views() {
   s.camera.fov_deg = 70;
   s.mirror_floor = true;
   s.mirror_below_y = -12.0f;
-  s.name = "sibenik-a"; s.point_lights = {{0.0f, 0.0f, 0.0f}}; v.push_back(s);
-  s.name = "sibenik-b"; s.point_lights = {{-8.0f, -9.0f, 3.0f}}; v.push_back(s);
-  s.name = "sibenik-c"; s.point_lights = {}; s.area_light = true;
+  s.integrator = "direct";
+  s.name = "sibenik-a"; s.scene_json = "sibenik-a.json"; s.point_lights = {{0.0f, 0.0f, 0.0f}}; v.push_back(s);
+  s.name = "sibenik-b"; s.scene_json = "sibenik-b.json"; s.point_lights = {{-8.0f, -9.0f, 3.0f}}; v.push_back(s);
+  s.name = "sibenik-c"; s.scene_json = "sibenik-c.json"; s.integrator = "area"; s.point_lights = {}; s.area_light = true;
   s.area_corner = {-3.0f, 2.0f, -3.0f}; s.area_u = {6.0f, 0.0f, 0.0f}; s.area_v = {0.0f, 0.0f, 6.0f};
   v.push_back(s);
 
@@ -32,18 +35,22 @@ inline std::vector<View> paper_views() {
   p.camera.eye = {-110.0f, 20.0f, -4.0f};
   p.camera.look_at = {0.0f, 35.0f, 0.0f};
   p.camera.fov_deg = 70;
-  p.name = "sponza-a"; p.point_lights = {{0.0f, 110.0f, 0.0f}}; v.push_back(p);
-  p.name = "sponza-b"; p.point_lights = {{-60.0f, 30.0f, 20.0f}}; v.push_back(p);
-  p.name = "sponza-c"; p.point_lights = {{0.0f, 110.0f, 0.0f}}; p.ao = true; v.push_back(p);
+  p.integrator = "direct";
+  p.name = "sponza-a"; p.scene_json = "sponza.json"; p.point_lights = {{0.0f, 110.0f, 0.0f}}; v.push_back(p);
+  p.name = "sponza-b"; p.scene_json = ""; p.point_lights = {{-60.0f, 30.0f, 20.0f}}; v.push_back(p);
+  p.name = "sponza-c"; p.scene_json = "sponza.json"; p.integrator = "path"; p.max_depth = 3;
+  p.point_lights = {{0.0f, 110.0f, 0.0f}}; p.ao = true; v.push_back(p);
 
   View c;
   c.file = "conference/conference.obj";
   c.camera.eye = {-800.0f, 420.0f, -850.0f};
   c.camera.look_at = {400.0f, 100.0f, -150.0f};
   c.camera.fov_deg = 60;
-  c.name = "conference-a"; c.point_lights = {{300.0f, 550.0f, -200.0f}}; v.push_back(c);
-  c.name = "conference-b"; c.point_lights = {{1200.0f, 300.0f, 300.0f}}; v.push_back(c);
-  c.name = "conference-c"; c.point_lights = {{300.0f, 550.0f, -200.0f}}; c.ao = true; v.push_back(c);
+  c.integrator = "direct";
+  c.name = "conference-a"; c.scene_json = "conference.json"; c.point_lights = {{300.0f, 550.0f, -200.0f}}; v.push_back(c);
+  c.name = "conference-b"; c.scene_json = ""; c.point_lights = {{1200.0f, 300.0f, 300.0f}}; v.push_back(c);
+  c.name = "conference-c"; c.scene_json = "conference.json"; c.integrator = "path"; c.max_depth = 3;
+  c.point_lights = {{300.0f, 550.0f, -200.0f}}; c.ao = true; v.push_back(c);
   return v;
 }
 
