@@ -37,6 +37,8 @@ struct Options {
   double ref_factor = 6.0;    ///< reference budget = ref_factor * budget
   double vpl_scale = 1.0;     ///< multiplies the paper's VPL counts
   int threads = 2;
+  double clamp_fraction = 0;  ///< geometry-term clamp distance / scene diagonal (0 = off, the default)
+  int reps = 2;               ///< independent runs per mode (interleaved); MSE * t is averaged
   std::string accel = "bvh";
   std::string out_dir = "docs/manylight";
   std::string json = "docs/manylight/manylight_results.json";
@@ -61,19 +63,6 @@ Image skip_to_image(const std::vector<float>& s, int w, int h) {
   return img;
 }
 
-/// Time at which a curve's (corrected) RMSE first reaches target: linear interpolation of
-/// log MSE over time between passes; beyond the budget, extrapolated with MSE ~ 1 / t.
-double time_to_reach(const std::vector<ProgressRecord>& rec, const std::vector<double>& rmse, double target) {
-  for (size_t i = 0; i < rec.size(); ++i) {
-    if (rmse[i] > target) continue;
-    if (i == 0) return rec[0].seconds * (rmse[0] * rmse[0]) / (target * target);
-    const double a = std::log(rmse[i - 1]), b = std::log(rmse[i]), t = std::log(target);
-    const double f = (a - t) / (a - b);
-    return rec[i - 1].seconds + f * (rec[i].seconds - rec[i - 1].seconds);
-  }
-  return rec.back().seconds * (rmse.back() * rmse.back()) / (target * target);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -86,6 +75,8 @@ int main(int argc, char** argv) {
   app.add_option("--ref-factor", o.ref_factor, "reference budget / budget")->capture_default_str();
   app.add_option("--vpl-scale", o.vpl_scale, "multiplies the VPL counts (1 = the paper's)")->capture_default_str();
   app.add_option("--threads", o.threads)->capture_default_str();
+  app.add_option("--reps", o.reps, "independent runs per mode")->capture_default_str();
+  app.add_option("--clamp-fraction", o.clamp_fraction, "G clamp distance / scene diagonal (0 = off)")->capture_default_str();
   app.add_option("--accel", o.accel)->capture_default_str();
   app.add_option("--out-dir", o.out_dir)->capture_default_str();
   app.add_option("--json", o.json)->capture_default_str();
@@ -97,7 +88,7 @@ int main(int argc, char** argv) {
                                              VisibilityMode::Conservative, VisibilityMode::Proposed};
   nlohmann::json results = nlohmann::json::array();
   std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
-  csv << "scene,mode,seconds,passes,rmse_raw,rmse,skip_rate\n";
+  csv << "scene,mode,rep,seconds,passes,rmse_raw,rmse,skip_rate\n";
   for (const std::string& name : o.scenes) {
     auto it = std::find_if(kScenes.begin(), kScenes.end(), [&](const BenchScene& s) { return s.name == name; });
     if (it == kScenes.end()) { fmt::print(stderr, "unknown scene {}\n", name); return 2; }
@@ -114,11 +105,12 @@ int main(int argc, char** argv) {
     config.height = o.height;
     config.vpl_count = size_t(double(it->vpls) * o.vpl_scale);
     config.cpu_clock = true;
+    config.clamp_distance = float(o.clamp_fraction * length(scene.bounds().diagonal()));
     ManylightRenderer r(scene, *accel, config);
     const auto& tm = r.timings();
-    fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, {} threads)\n", name,
+    fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, {} threads, G clamp {})\n", name,
                scene.triangles.size(), r.vpls().vpls.size(), r.vpls().light_paths, o.width, o.height,
-               accel->name(), o.threads);
+               accel->name(), o.threads, o.clamp_fraction > 0 ? fmt::format("{} x diagonal", o.clamp_fraction) : "off");
     r.calibrate();
     fmt::print("preprocess (CPU s): VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f} "
                "({} rays, {} refined pairs), pmf {:.2f}; calibration {:.2f}; t_eval {:.3g} us, t_skip {:.3g} us, "
@@ -126,6 +118,7 @@ int main(int argc, char** argv) {
                tm.vpl_ms * 1e-3, tm.shading_points_ms * 1e-3, tm.cluster_ms * 1e-3, tm.visibility_ms * 1e-3,
                r.clusters().shadow_rays, r.clusters().refined_pairs, tm.pmf_ms * 1e-3, tm.calibration_ms * 1e-3,
                tm.t_eval * 1e6, tm.t_skip * 1e6, tm.t_skip / tm.t_eval);
+    std::fflush(stdout);
     // Reference: exact visibility, many passes, its own seed.
     r.reset(VisibilityMode::Exact);
     r.set_seed(0xFEF);
@@ -135,75 +128,81 @@ int main(int argc, char** argv) {
     write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
     write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
 
-    std::map<VisibilityMode, std::vector<ProgressRecord>> curves;
-    for (size_t m = 0; m < modes.size(); ++m) {
-      r.reset(modes[m]);
-      r.set_seed(100 + m);
-      curves[modes[m]] = r.render_for(o.budget, ref);
-      write_image(to_image(r.image(), o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
-      if (modes[m] != VisibilityMode::Exact)
-        write_image(skip_to_image(r.skip_image(), o.width, o.height), o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");
-    }
-    // The reference's own noise adds MSE_ref to every measured MSE. Exact at time T has
-    // MSE_exact(T) = e + e T / T_ref (same estimator, T_ref / T times the samples), so
-    // MSE_ref = e T / T_ref; subtract it from every curve (reported raw too).
-    const auto& ex = curves[VisibilityMode::Exact];
-    const double m_exact = ex.back().rmse * ex.back().rmse;
-    const double ratio = ex.back().seconds / ref_seconds;
-    const double mse_ref = m_exact / (1.0 + ratio) * ratio;
-    std::map<VisibilityMode, std::vector<double>> corrected;
-    for (auto& [mode, rec] : curves) {
-      auto& c = corrected[mode];
-      for (const auto& p : rec) {
-        c.push_back(std::sqrt(std::max(1e-30, p.rmse * p.rmse - mse_ref)));
-        csv << name << "," << to_string(mode) << "," << p.seconds << "," << p.passes << "," << p.rmse << "," << c.back()
-            << "," << p.skip_rate << "\n";
+    // Modes interleaved within each repetition, so a change of machine load hits all of them.
+    std::map<VisibilityMode, std::vector<std::vector<ProgressRecord>>> runs;
+    for (int rep = 0; rep < o.reps; ++rep)
+      for (size_t m = 0; m < modes.size(); ++m) {
+        r.reset(modes[m]);
+        r.set_seed(100 + 16 * uint64_t(rep) + m);
+        runs[modes[m]].push_back(r.render_for(o.budget, ref));
+        if (rep > 0) continue;
+        write_image(to_image(r.image(), o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
+        if (modes[m] != VisibilityMode::Exact)
+          write_image(skip_to_image(r.skip_image(), o.width, o.height),
+                      o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");
       }
+    // The reference's own noise adds MSE_ref to every measured MSE. Exact after time t has
+    // MSE = e + e t / T_ref (the same estimator with T_ref / t times the samples), so
+    // MSE_ref = e t / T_ref; it is subtracted from every curve (raw values reported too).
+    double exact_mse = 0, exact_t = 0;
+    for (const auto& rec : runs[VisibilityMode::Exact]) {
+      exact_mse += rec.back().rmse * rec.back().rmse / o.reps;
+      exact_t += rec.back().seconds / o.reps;
     }
-    // Exact's RMSE at exactly the budget (interpolated between its last passes).
-    const double target = [&] {
-      const auto& c = corrected[VisibilityMode::Exact];
-      for (size_t i = 1; i < ex.size(); ++i)
-        if (ex[i].seconds >= o.budget) {
-          const double f = (o.budget - ex[i - 1].seconds) / (ex[i].seconds - ex[i - 1].seconds);
-          return std::exp(std::log(c[i - 1]) + f * (std::log(c[i]) - std::log(c[i - 1])));
-        }
-      return c.back();
-    }();
+    const double ratio = exact_t / ref_seconds;
+    const double mse_ref = exact_mse / (1.0 + ratio) * ratio;
+    auto corrected = [&](double rmse) { return std::max(1e-30, rmse * rmse - mse_ref); };
+    for (auto& [mode, reps] : runs)
+      for (size_t rep = 0; rep < reps.size(); ++rep)
+        for (const auto& p : reps[rep])
+          csv << name << "," << to_string(mode) << "," << rep << "," << p.seconds << "," << p.passes << "," << p.rmse
+              << "," << std::sqrt(corrected(p.rmse)) << "," << p.skip_rate << "\n";
+    // Unbiased progressive estimates have MSE ~ 1 / t, so MSE * t is a mode's inverse
+    // efficiency and the time to reach exact's equal-time MSE is T * (MSE t)_mode / (MSE t)_exact.
+    // This uses every sample of every run; the first crossing of a single, firefly-noisy curve
+    // would not.
+    std::map<VisibilityMode, double> mse_t, mse, skip, passes;
+    for (auto& [mode, reps] : runs)
+      for (const auto& rec : reps) {
+        mse_t[mode] += corrected(rec.back().rmse) * rec.back().seconds / o.reps;
+        mse[mode] += corrected(rec.back().rmse) / o.reps;
+        skip[mode] += rec.back().skip_rate / o.reps;
+        passes[mode] += double(rec.back().passes) / o.reps;
+      }
     const double pre = tm.preprocess_ms() * 1e-3;
-    fmt::print("\n| mode | passes in {:.0f} s | RMSE (raw) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | speed-up (curve crossing) |\n", o.budget);
-    fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+    fmt::print("\n| mode | passes in {:.0f} s | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", o.budget);
+    fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
     nlohmann::json js = {{"scene", name}, {"triangles", scene.triangles.size()}, {"vpls", r.vpls().vpls.size()},
                          {"width", o.width}, {"height", o.height}, {"threads", o.threads}, {"accel", accel->name()},
                          {"budget_cpu_s", o.budget}, {"reference_cpu_s", ref_seconds}, {"preprocess_cpu_s", pre},
+                         {"reps", o.reps}, {"clamp_fraction", o.clamp_fraction},
                          {"vpl_s", tm.vpl_ms * 1e-3}, {"shading_points_s", tm.shading_points_ms * 1e-3},
                          {"cluster_s", tm.cluster_ms * 1e-3}, {"visibility_s", tm.visibility_ms * 1e-3},
                          {"pmf_s", tm.pmf_ms * 1e-3}, {"calibration_s", tm.calibration_ms * 1e-3},
                          {"t_eval_us", tm.t_eval * 1e6}, {"t_skip_us", tm.t_skip * 1e6},
                          {"t_skip_over_t_eval", tm.t_skip / tm.t_eval}, {"rmse_ref_noise", std::sqrt(mse_ref)},
-                         {"target_rmse", target}};
+                         {"shadow_rays_visibility_cluster", r.clusters().shadow_rays},
+                         {"refined_pairs", r.clusters().refined_pairs}};
     for (VisibilityMode mode : modes) {
-      const auto& rec = curves[mode];
-      const auto& c = corrected[mode];
-      // Unbiased progressive estimates have MSE ~ 1 / t, so the time to reach exact's MSE is
-      // T * MSE_mode(T) / MSE_exact(T): it uses every sample of the run, while the first
-      // crossing of the (firefly-noisy) curve is reported beside it.
-      const double t_reach = o.budget * (c.back() * c.back()) / (target * target);
-      const double t_cross = time_to_reach(rec, c, target);
-      // With the preprocess: exact pays VisibilityCluster too (its pdf); the others also pay
-      // the calibration renders.
+      const double t_reach = o.budget * mse_t[mode] / mse_t[VisibilityMode::Exact];
+      // With the preprocess: every mode pays VisibilityCluster (exact samples with its pdf
+      // too); the probabilistic modes also pay the calibration renders.
       const double extra = mode == VisibilityMode::Exact ? 0.0 : tm.calibration_ms * 1e-3;
       const double with = (o.budget + pre) / (t_reach + pre + extra);
       const double speed = o.budget / t_reach;
-      fmt::print("| {} | {} | {:.5g} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x | {:.2f}x |\n", to_string(mode),
-                 rec.back().passes, rec.back().rmse, c.back(), 100 * rec.back().skip_rate, t_reach, speed, with,
-                 o.budget / t_cross);
-      js["modes"][to_string(mode)] = {{"passes", rec.back().passes}, {"seconds", rec.back().seconds},
-                                      {"rmse_raw", rec.back().rmse}, {"rmse", c.back()},
-                                      {"skip_rate", rec.back().skip_rate}, {"time_to_exact_rmse_s", t_reach},
-                                      {"speedup", speed}, {"speedup_with_preprocess", with},
-                                      {"time_to_exact_rmse_crossing_s", t_cross}};
+      std::string per_run;
+      std::vector<double> per;
+      for (const auto& rec : runs[mode]) {
+        per.push_back(corrected(rec.back().rmse) * rec.back().seconds);
+        per_run += fmt::format("{}{:.3g}", per_run.empty() ? "" : " ", per.back());
+      }
+      fmt::print("| {} | {:.1f} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x | {} |\n", to_string(mode),
+                 passes[mode], std::sqrt(mse[mode]), 100 * skip[mode], t_reach, speed, with, per_run);
+      js["modes"][to_string(mode)] = {{"passes", passes[mode]}, {"rmse", std::sqrt(mse[mode])},
+                                      {"skip_rate", skip[mode]}, {"time_to_exact_rmse_s", t_reach},
+                                      {"speedup", speed}, {"speedup_with_preprocess", with}, {"mse_times_t", per}};
     }
+    std::fflush(stdout);
     results.push_back(js);
     std::ofstream(o.json) << results.dump(2) << "\n";
   }
