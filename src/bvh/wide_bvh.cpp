@@ -17,7 +17,7 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
   w.bounds = bvh.nodes[0].bounds;
   w.split_references = bvh.split_references;
   w.prim_ids.reserve(bvh.prim_ids.size());
-  w.leaf_blocks.reserve(bvh.prim_ids.size() / 2 + 1);
+  w.leaf_blocks.reserve(bvh.prim_ids.size() / 3 + 1);
   w.nodes.reserve(bvh.nodes.size() / 4 + 1);
   struct Item { uint32_t wide, bvh2; int depth; };
   std::vector<Item> stack{{0, 0, 1}};
@@ -66,16 +66,19 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
       node.lo_x[c] = n.bounds.lo.x; node.lo_y[c] = n.bounds.lo.y; node.lo_z[c] = n.bounds.lo.z;
       node.hi_x[c] = n.bounds.hi.x; node.hi_y[c] = n.bounds.hi.y; node.hi_z[c] = n.bounds.hi.z;
       if (n.is_leaf()) {
-        const uint32_t first = uint32_t(w.prim_ids.size());
-        const uint32_t blocks = (n.count + kTriangleBlockWidth - 1) / kTriangleBlockWidth;
-        w.leaf_blocks.resize(w.leaf_blocks.size() + blocks);
-        w.prim_ids.resize(w.prim_ids.size() + blocks * kTriangleBlockWidth, kInvalidId);
-        for (uint32_t k = 0; k < blocks * kTriangleBlockWidth; ++k) {
-          // Padding lanes repeat the leaf's last triangle: finite values, masked off anyway.
-          const uint32_t id = bvh.prim_ids[n.first + std::min<uint32_t>(k, n.count - 1)];
-          if (k < n.count) w.prim_ids[first + k] = id;
-          w.leaf_blocks[(first + k) / kTriangleBlockWidth].set(int(k % kTriangleBlockWidth), tris[id]);
+        // Pack leaves into the free lanes of the last block unless that makes the leaf span
+        // more blocks than it needs (more block tests); padding lanes stay kInvalidId.
+        constexpr uint32_t W = kTriangleBlockWidth;
+        uint32_t first = uint32_t(w.prim_ids.size());
+        if ((first % W + n.count + W - 1) / W > (n.count + W - 1) / W) first = (first + W - 1) / W * W;
+        w.prim_ids.resize((first + n.count + W - 1) / W * W, kInvalidId);
+        w.leaf_blocks.resize(w.prim_ids.size() / W);
+        for (uint32_t k = 0; k < n.count; ++k) {
+          const uint32_t id = bvh.prim_ids[n.first + k];
+          w.prim_ids[first + k] = id;
+          w.leaf_blocks[(first + k) / W].set(int((first + k) % W), tris[id]);
         }
+        w.prim_ids.resize(first + n.count);  // the next leaf may use the rest of this block
         node.child[c] = WideRef::leaf(first, n.count);
       } else {
         node.child[c] = uint32_t(w.nodes.size());
@@ -87,6 +90,17 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
     w.nodes[it.wide] = node;
     for (size_t c = children.size(); c-- > 0;) stack.push_back(children[c]);
   }
+  w.prim_ids.resize(w.leaf_blocks.size() * kTriangleBlockWidth, kInvalidId);
+  // Unused lanes get a copy of a real triangle of their block: finite values, masked off anyway.
+  for (size_t s = 0; s < w.prim_ids.size(); ++s)
+    if (w.prim_ids[s] == kInvalidId) {
+      const size_t b = s / kTriangleBlockWidth;
+      for (size_t k = b * kTriangleBlockWidth; k < (b + 1) * kTriangleBlockWidth; ++k)
+        if (w.prim_ids[k] != kInvalidId) { w.leaf_blocks[b].set(int(s % kTriangleBlockWidth), w.leaf_triangle(k)); break; }
+    }
+  w.prim_ids.shrink_to_fit();
+  w.leaf_blocks.shrink_to_fit();
+  w.nodes.shrink_to_fit();
   return w;
 }
 
@@ -124,7 +138,6 @@ std::string WideBvh::validate(size_t triangle_count) const {
         const uint32_t first = WideRef::leaf_first(ref), count = WideRef::leaf_count(ref);
         if (count == 0) return slot + "empty leaf";
         if (size_t(first) + count > prim_ids.size()) return slot + "leaf range beyond prim_ids";
-        if (first % kTriangleBlockWidth != 0) return slot + "leaf does not start on a triangle block";
         for (uint32_t k = first; k < first + count; ++k) {
           const uint32_t p = prim_ids[k];
           if (p >= triangle_count) return slot + "triangle id " + std::to_string(p) + " out of range";

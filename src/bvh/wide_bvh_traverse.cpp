@@ -43,18 +43,19 @@ Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceSta
       if (WideRef::is_leaf(e.ref)) {
         const uint32_t first = WideRef::leaf_first(e.ref), count = WideRef::leaf_count(e.ref);
         tri_tests += count;
-        for (uint32_t done = 0; done < count; done += kTriangleBlockWidth) {
-          const uint32_t slot0 = first + done;
-          const uint32_t lanes = count - done >= 4 ? 0xFu : (1u << (count - done)) - 1u;
-          detail::intersect_block(leaf_blocks[slot0 / kTriangleBlockWidth], lanes, br, ray.tmin, best.t, bh);
+        for (uint32_t slot = first, end = first + count; slot < end;) {
+          const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
+          const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
+          const uint32_t slot0 = block * kTriangleBlockWidth;
+          detail::intersect_block(leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, best.t, bh);
+          slot += n;
           // Lanes in slot order, each against the running best: the scalar loop's result.
           for (uint32_t m = bh.hit | bh.fallback; m; m &= m - 1) {
             const int l = std::countr_zero(m);
             const uint32_t id = prim_ids[slot0 + l];
             float t, u, v;
             if (bh.fallback >> l & 1u) {
-              if (!intersect_triangle(ray.org, rp, leaf_blocks[slot0 / kTriangleBlockWidth].get(l), ray.tmin, best.t, t, u, v))
-                continue;
+              if (!intersect_triangle(ray.org, rp, leaf_blocks[block].get(l), ray.tmin, best.t, t, u, v)) continue;
             } else {
               t = bh.t[l];
               u = bh.ev[l] / bh.det[l];
@@ -133,17 +134,17 @@ bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceSta
     ++steps;
     if (WideRef::is_leaf(ref)) {
       const uint32_t first = WideRef::leaf_first(ref), count = WideRef::leaf_count(ref);
-      for (uint32_t done = 0; done < count && !hit; done += kTriangleBlockWidth) {
-        const uint32_t slot0 = first + done;
-        const uint32_t lanes = count - done >= 4 ? 0xFu : (1u << (count - done)) - 1u;
-        detail::intersect_block(leaf_blocks[slot0 / kTriangleBlockWidth], lanes, br, ray.tmin, ray.tmax, bh);
+      for (uint32_t slot = first, end = first + count; slot < end && !hit;) {
+        const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
+        const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
+        detail::intersect_block(leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, ray.tmax, bh);
+        slot += n;
+        tri_tests += n;  // every valid lane was tested
         hit = bh.hit != 0;
         for (uint32_t m = bh.fallback; m && !hit; m &= m - 1) {
           float t, u, v;
-          hit = intersect_triangle(ray.org, rp, leaf_blocks[slot0 / kTriangleBlockWidth].get(std::countr_zero(m)),
-                                   ray.tmin, ray.tmax, t, u, v);
+          hit = intersect_triangle(ray.org, rp, leaf_blocks[block].get(std::countr_zero(m)), ray.tmin, ray.tmax, t, u, v);
         }
-        tri_tests += std::min<uint32_t>(count - done, kTriangleBlockWidth);  // every valid lane was tested
       }
       continue;
     }

@@ -33,7 +33,7 @@ struct WideRef {
 };
 
 /// Triangles per TriangleBlock: one SSE register.
-inline constexpr int kTriangleBlockWidth = 4;
+inline constexpr uint32_t kTriangleBlockWidth = 4;
 
 /// Four triangles as structure of arrays (v[vertex][axis][lane]), the unit of the SIMD
 /// watertight test; slot s of a WideBvh lives in block s / 4, lane s % 4. Unused lanes
