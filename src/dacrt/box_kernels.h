@@ -87,7 +87,10 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     slab(loz, hiz, oz, iz);
     return _mm512_mask_cmp_ps_mask(valid, tnear, tfar, _CMP_LE_OQ);
   };
+  constexpr size_t kAhead = 64;  // ids ahead whose records are prefetched: gathers then hit cache
   for (; i + 16 <= n; i += 16) {
+    if (i + kAhead + 16 <= n)
+      for (int k = 0; k < 16; k += 2) _mm_prefetch(reinterpret_cast<const char*>(rays + rid[i + kAhead + k]), _MM_HINT_T0);
     const __m512i id = _mm512_loadu_si512(rid + i);
     const __mmask16 hit = test(id, 0xFFFF);
     // Full-width stores of the compressed ids: w, m <= i, so they end inside the chunk just
