@@ -5,6 +5,8 @@
 #include <cstring>
 #include <string>
 
+#include "rayscout/core/accelerator_options.h"
+
 namespace rayscout {
 
 WideBvh WideBvh::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
@@ -69,6 +71,8 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
         // Pack leaves into the free lanes of the last block unless that makes the leaf span
         // more blocks than it needs (more block tests); padding lanes stay kInvalidId.
         constexpr uint32_t W = kTriangleBlockWidth;
+        if (w.prim_ids.size() + n.count + W > WideRef::kMaxFirst)
+          throw InputError("WideBvh: more than 2^27 leaf slots (too many triangles or pre-split references)");
         uint32_t first = uint32_t(w.prim_ids.size());
         if ((first % W + n.count + W - 1) / W > (n.count + W - 1) / W) first = (first + W - 1) / W * W;
         w.prim_ids.resize((first + n.count + W - 1) / W * W, kInvalidId);
