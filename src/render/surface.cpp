@@ -23,7 +23,10 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
   SurfacePoint sp;
   sp.prim = hit.prim;
   sp.p = tri.v0 * (1.0f - hit.u - hit.v) + tri.v1 * hit.u + tri.v2 * hit.v;
-  sp.n_geometric = normalize(tri.normal());
+  const Vec3 n = tri.normal();
+  const float len = length(n);
+  // A sliver so thin that its normal underflows: face the ray, never produce NaN.
+  sp.n_geometric = len > 0 && std::isfinite(len) ? n / len : -normalize(ray.dir);
   sp.n = dot(sp.n_geometric, ray.dir) > 0 ? -sp.n_geometric : sp.n_geometric;
   return sp;
 }
