@@ -21,8 +21,9 @@ inline constexpr int kWideWidth = 8;
 
 /// A child reference inside a WideBvh. Inner child: the wide node id, an index into
 /// WideBvh::nodes (bit 31 clear). Leaf: bit 31 set, bits 27..30 = triangle count (1..15),
-/// bits 0..26 = first leaf slot (a multiple of kTriangleBlockWidth): the leaf's triangles are
-/// the slots [first, first + count) of WideBvh::prim_ids and leaf_blocks.
+/// bits 0..26 = first leaf slot: the leaf's triangles are the slots [first, first + count) of
+/// WideBvh::prim_ids and leaf_blocks (a leaf may start inside a block when it still spans no
+/// more blocks than it needs).
 struct WideRef {
   static constexpr uint32_t kLeafBit = 0x80000000u;
   static constexpr uint32_t kMaxFirst = (1u << 27) - 1;
@@ -36,15 +37,17 @@ struct WideRef {
 inline constexpr uint32_t kTriangleBlockWidth = 4;
 
 /// Four triangles as structure of arrays (v[vertex][axis][lane]), the unit of the SIMD
-/// watertight test; slot s of a WideBvh lives in block s / 4, lane s % 4. Unused lanes
-/// repeat a triangle of the block and are masked off.
+/// watertight test; slot s of a WideBvh lives in block s / 4, lane s % 4. Lanes no leaf uses
+/// (prim_ids = kInvalidId) repeat a triangle of the block and are masked off.
 struct alignas(16) TriangleBlock {
   float v[3][3][kTriangleBlockWidth];
+  /// The triangle in lane `lane`.
   Triangle get(int lane) const {
     return {{v[0][0][lane], v[0][1][lane], v[0][2][lane]},
             {v[1][0][lane], v[1][1][lane], v[1][2][lane]},
             {v[2][0][lane], v[2][1][lane], v[2][2][lane]}};
   }
+  /// Stores t in lane `lane`.
   void set(int lane, const Triangle& t) {
     const Vec3* p[3] = {&t.v0, &t.v1, &t.v2};
     for (int k = 0; k < 3; ++k)
@@ -53,8 +56,9 @@ struct alignas(16) TriangleBlock {
 };
 
 /// One wide node, 256 bytes: the boxes of up to 8 children as structure of arrays (one SIMD
-/// register per bound), their references, and how many slots are used (slots >= count are
-/// unused and hold empty boxes).
+/// register per bound), their references, and how many slots are used. Slots >= count are
+/// unused and must hold empty boxes (lo = +inf, hi = -inf): the SIMD test relies on them
+/// never being hit.
 struct alignas(64) WideNode {
   float lo_x[kWideWidth], hi_x[kWideWidth];
   float lo_y[kWideWidth], hi_y[kWideWidth];
@@ -63,6 +67,7 @@ struct alignas(64) WideNode {
   uint32_t count;              ///< used slots, 1..8 (children are packed at the front)
   uint32_t pad[7];
 
+  /// Box of child slot `slot`.
   Bounds3 child_bounds(int slot) const {
     return {{lo_x[slot], lo_y[slot], lo_z[slot]}, {hi_x[slot], hi_y[slot], hi_z[slot]}};
   }
@@ -94,7 +99,8 @@ class WideBvh {
   /// WideNode::child); they are entered without testing their own box (a node's children are
   /// tested when it is visited); start[0] is visited first. Empty span = the root. With
   /// CaptureStats, stats (non-null) receives traversal_steps (entries visited: wide nodes and
-  /// leaves), ray_box_tests (one per used child slot tested), ray_tri_tests; not stats->rays.
+  /// leaves), ray_box_tests (one per used child slot tested), ray_tri_tests (one per leaf
+  /// triangle in each block test; any hit counts whole blocks); not stats->rays.
   template <bool CaptureStats>
   Hit intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
   /// Any hit with tmin <= t <= tmax, stops at the first one. Same start and stats as intersect.
@@ -105,14 +111,15 @@ class WideBvh {
   Triangle leaf_triangle(size_t s) const {
     return leaf_blocks[s / kTriangleBlockWidth].get(int(s % kTriangleBlockWidth));
   }
-  /// Box of a reference (a node: union of its children; a leaf: union of its triangles).
+  /// Box of a reference (a node: union of its children; a leaf: union of its triangles'
+  /// full boxes, which with split_references may exceed the leaf's own child box).
   Bounds3 ref_bounds(uint32_t ref) const;
   /// Checks the invariants: every triangle id in [0, triangle_count) exactly once (at least
-  /// once with split_references), leaves starting on a block and their triangles inside the
-  /// child box (overlapping it with split_references), child boxes containing their subtree, no empty leaf or node,
-  /// every node reachable exactly once. "" when all hold, else the first violation.
+  /// once with split_references), no leaf slot shared, leaf triangles inside their child box
+  /// (overlapping it with split_references), child boxes containing their subtree, no empty
+  /// leaf or node, every node reachable exactly once. "" when all hold, else the first violation.
   std::string validate(size_t triangle_count) const;
-  /// Wide nodes on the longest root-to-leaf path (edges; a root with only leaves is 1).
+  /// Wide nodes on the longest root-to-leaf path (a root with only leaf children is 1).
   int depth() const { return depth_; }
   /// Bytes of nodes, prim_ids, leaf_blocks and source_node.
   size_t memory_bytes() const {
