@@ -42,6 +42,16 @@ std::string RenderStats::to_json() const {
     list.push_back(e);
   }
   j["batches"] = list;
+  // The same per bounce (all kinds of rays leaving that path vertex).
+  json bounces = json::array();
+  for (const auto& b : batches) {
+    while (int(bounces.size()) <= b.info.bounce)
+      bounces.push_back(json{{"bounce", bounces.size()}, {"rays", 0}, {"trace_ms", 0.0}});
+    json& e = bounces[size_t(b.info.bounce)];
+    e["rays"] = e["rays"].get<uint64_t>() + b.rays;
+    e["trace_ms"] = e["trace_ms"].get<double>() + b.trace_ms;
+  }
+  j["bounces"] = bounces;
   if (counted) j["counters"] = counters_json(counters());
   return j.dump();
 }
