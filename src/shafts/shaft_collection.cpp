@@ -301,7 +301,10 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         col.lists_.resize(offset);
         st.dedup_saved_bytes += len * col.bytes_per_entry();
       } else if (col.boxed_) {
-        for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(col.quantize(tree.bounds[vl.data[pos + k]]));
+        QBox q[31];
+        for (uint32_t k = 0; k < len; ++k) q[k] = col.quantize(tree.bounds[vl.data[pos + k]]);
+        for (int row = 0; row < 6; ++row)
+          for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(row < 3 ? q[k].lo[row] : q[k].hi[row - 3]);
       }
       pos += len;
       const uint32_t at = it->second;
@@ -314,6 +317,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     }
   }
   col.lists_.shrink_to_fit();
+  if (col.boxed_) col.boxes_.resize(col.boxes_.size() + 8, 0);  // SIMD rows read 8 bytes
   col.boxes_.shrink_to_fit();
   st.unique_lists = known.size();
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;

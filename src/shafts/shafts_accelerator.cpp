@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscout/shafts/ray_sampling.h"
+#include "entry_filter.h"
 
 namespace rayscout {
 
@@ -45,6 +46,12 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
   const Vec3 m = max(abs(box.lo), abs(box.hi));
   scene_coord_ = max_component(m);
+  for (int a = 0; a < 3; ++a) {
+    dequant_.base[a] = box.lo[a];
+    dequant_.step[a] = (box.hi[a] - box.lo[a]) / 255.0f;
+  }
+  // Rounding of lo + q step stays within a few ulps of the largest coordinate.
+  dequant_.margin = (scene_coord_ + max_component(box.diagonal())) * (1.0f / 1048576.0f);
   info_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
 }
@@ -64,16 +71,8 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   const float near = ray.tmin - std::fabs(ray.tmin) * (1.0f / 131072.0f) - slack;
   uint32_t refs[32];
   float dist[32];
-  int n = 0;
-  for (size_t k = 0; k < c.list.size(); ++k) {
-    float d;
-    if (!intersect_box(ray.org, rp.inv_dir, collection_.box_of(c.boxes[k]), near,
-                       ray.tmax + ray.tmax * (1.0f / 131072.0f) + slack, d)) continue;
-    int j = n++;
-    while (j > 0 && dist[j - 1] > d) { dist[j] = dist[j - 1]; refs[j] = refs[j - 1]; --j; }
-    dist[j] = d;
-    refs[j] = c.list[k];
-  }
+  const int n = detail::filter_entries(dequant_, c, ray.org, rp.inv_dir, near,
+                                       ray.tmax + ray.tmax * (1.0f / 131072.0f) + slack, refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
   // One traversal seeded with the surviving entries, nearest first. (Seeding one subtree at a

@@ -46,10 +46,19 @@ struct QBox {
   uint8_t lo[3], hi[3];
 };
 
+/// Arithmetic dequantisation of QBox: lo + q step, widened by margin (which exceeds the
+/// rounding of that expression), so the result contains the node's box.
+struct EntryDequant {
+  float base[3], step[3], margin;
+};
+
 /// What a lookup gives: a candidate list (empty = start at the root) or "nothing reachable".
 struct Candidates {
   std::span<const uint32_t> list;
-  const QBox* boxes = nullptr;  ///< boxes of the list entries (collections built with entry_boxes)
+  /// Boxes of the list entries (collections built with entry_boxes), quantised (QBox) and laid
+  /// out per list as 6 byte rows: lo.x of every entry, then lo.y, lo.z, hi.x, hi.y, hi.z.
+  /// At least 8 readable bytes follow every row (SIMD loads).
+  const uint8_t* boxes = nullptr;
   bool nothing = false;         ///< the shaft provably reaches no geometry: the ray misses
 };
 
@@ -86,14 +95,8 @@ class ShaftCollection {
     if (base == kNoVoxel) return {};
     const uint32_t e = entries_[base + c.cell];
     if (e == kEmptyList) return {{}, nullptr, true};
-    return {{lists_.data() + (e >> 5), e & 31u}, boxed_ ? boxes_.data() + (e >> 5) : nullptr, false};
+    return {{lists_.data() + (e >> 5), e & 31u}, boxed_ ? boxes_.data() + 6 * size_t(e >> 5) : nullptr, false};
   }
-  /// A stored entry box as floats; it contains the node's exact box.
-  Bounds3 box_of(const QBox& q) const {
-    return {{qlo_[0][q.lo[0]], qlo_[1][q.lo[1]], qlo_[2][q.lo[2]]},
-            {qhi_[0][q.hi[0]], qhi_[1][q.hi[1]], qhi_[2][q.hi[2]]}};
-  }
-
   const ShaftGrid& grid() const { return grid_; }
   const ShaftStats& stats() const { return stats_; }
   size_t memory_bytes() const { return stats_.memory_bytes(); }
@@ -102,11 +105,11 @@ class ShaftCollection {
   using QBox = rayscout::QBox;
   void init_quantization();
   QBox quantize(const Bounds3& box) const;
-  size_t bytes_per_entry() const { return sizeof(uint32_t) + (boxed_ ? sizeof(QBox) : 0); }
+  size_t bytes_per_entry() const { return sizeof(uint32_t) + (boxed_ ? 6 : 0); }
 
   ShaftGrid grid_;
   bool boxed_ = false;
-  std::vector<QBox> boxes_;  ///< parallel to lists_ when boxed_
+  std::vector<uint8_t> boxes_;  ///< 6 bytes per lists_ entry when boxed_ (layout: Candidates::boxes)
   float qlo_[3][256] = {}, qhi_[3][256] = {};  ///< dequantisation: rounded down / up
   std::vector<uint32_t> voxel_base_;
   std::vector<uint32_t> entries_;

@@ -58,6 +58,7 @@ class ShaftsAccelerator final : public Accelerator {
   std::span<const Triangle> triangles_;
   Base base_;
   float scene_coord_ = 0.0f;  ///< largest |coordinate| of the scene box (box-test slack)
+  EntryDequant dequant_{};    ///< entry-box dequantisation (see src/shafts/entry_filter.h)
   Bvh2 bvh2_;
   WideBvh wide_;
   ShaftCollection collection_;
