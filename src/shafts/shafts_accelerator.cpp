@@ -79,9 +79,12 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   // time and skipping entries beyond the current hit was measured slower: per-call overhead.)
   const std::span<const uint32_t> start(refs, size_t(n));
   if constexpr (Any) {
-    (*occ)[i] = wide_.occluded<Stats>(ray, start, &local) ? 1 : 0;
+    const bool o = base_ == Base::Binary ? bvh2_.occluded<Stats>(ray, triangles_, start, &local)
+                                         : wide_.occluded<Stats>(ray, start, &local);
+    (*occ)[i] = o ? 1 : 0;
   } else {
-    const Hit h = wide_.intersect<Stats>(ray, start, &local);
+    const Hit h = base_ == Base::Binary ? bvh2_.intersect<Stats>(ray, triangles_, start, &local)
+                                        : wide_.intersect<Stats>(ray, start, &local);
     if (h.hit()) hits->set(i, h);
   }
 }

@@ -278,3 +278,31 @@ TEST(ShaftsRealScene, SibenikShadowAndDiffuseRaysMatchBvh) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// Entry boxes on the binary BVH and off on the wide one: both combinations stay exact.
+TEST(ShaftsOptions, EntryBoxesEitherWayMatchBruteForce) {
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 31));
+  const RayBatch rays = testing::nasty_rays(scene.triangles, 5);
+  HitBatch ref;
+  std::vector<uint8_t> oref;
+  BruteForce(scene.triangles).intersect(rays, ref);
+  BruteForce(scene.triangles).occluded(rays, oref);
+  for (auto [base, boxes] : {std::pair{Base::Binary, 1}, std::pair{Base::Wide, 0}}) {
+    ShaftConfig c = fine_config(512, 3);
+    c.entry_boxes = boxes;
+    const ShaftsAccelerator acc(scene, base, c);
+    HitBatch got;
+    std::vector<uint8_t> ogot;
+    acc.intersect(rays, got);
+    acc.occluded(rays, ogot);
+    const HitDiff d = compare_hits(ref, got, 0.0f);
+    EXPECT_TRUE(d.ok()) << acc.name() << ": " << d.first;
+    EXPECT_EQ(oref, ogot) << acc.name();
+  }
+}
+
+}  // namespace
+}  // namespace rayscout
