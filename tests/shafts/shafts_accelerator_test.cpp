@@ -306,3 +306,54 @@ TEST(ShaftsOptions, EntryBoxesEitherWayMatchBruteForce) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// Rays a checker may throw at it: far origins (root fallback), origins on the scene box,
+// directions with -0, tiny or huge components, short and negative-length intervals, large tmin.
+TEST(ShaftsExtremeRays, MatchBruteForce) {
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1000, 41));
+  const Bounds3 b = scene.bounds();
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  RayBatch rays;
+  const float comps[] = {0.0f, -0.0f, 1e-30f, -1e-30f, 1e-8f, 1.0f, -1.0f, 1e20f, 0.3f, -0.7f};
+  for (int i = 0; i < (small_scale() ? 1000 : 6000); ++i) {
+    Vec3 o = b.lo + Vec3{u(rng), u(rng), u(rng)} * b.diagonal();
+    switch (i % 6) {
+      case 0: o = o + Vec3{u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f} * 200.0f; break;  // far away
+      case 1: o[i % 3] = (i & 8) ? b.lo[i % 3] : b.hi[i % 3]; break;                      // on the box
+      case 2: o = o * 3.0f - b.center() * 2.0f; break;                                    // just outside
+      default: break;
+    }
+    Vec3 d = (i % 4 == 0) ? Vec3{comps[rng() % 10], comps[rng() % 10], comps[rng() % 10]}
+                          : b.center() + Vec3{u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f} * 0.8f - o;
+    if (d == Vec3{0.0f}) d = {0.0f, 1.0f, 0.0f};
+    Ray r{o, 0.0f, d, kInfinity};
+    if (i % 5 == 1) r.tmin = u(rng) * 0.5f;
+    if (i % 7 == 2) r.tmax = u(rng) * 2.0f;
+    if (i % 11 == 3) { r.tmin = 1.0f; r.tmax = 0.5f; }
+    rays.push_back(r);
+  }
+  HitBatch ref;
+  std::vector<uint8_t> oref;
+  BruteForce(scene.triangles).intersect(rays, ref);
+  BruteForce(scene.triangles).occluded(rays, oref);
+  size_t hits = 0;
+  for (uint32_t p : ref.prim) hits += p != kInvalidId;
+  EXPECT_GT(hits, rays.size() / 5);
+  for (Base base : {Base::Binary, Base::Wide}) {
+    const ShaftsAccelerator acc(scene, base, fine_config(700, 3));
+    HitBatch got;
+    std::vector<uint8_t> ogot;
+    acc.intersect(rays, got);
+    acc.occluded(rays, ogot);
+    const HitDiff d = compare_hits(ref, got, 0.0f);
+    EXPECT_TRUE(d.ok()) << acc.name() << ": " << d.hit_miss << " hit/miss, " << d.other_prim << " other; " << d.first;
+    EXPECT_EQ(oref, ogot) << acc.name();
+  }
+}
+
+}  // namespace
+}  // namespace rayscout
