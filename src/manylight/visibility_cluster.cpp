@@ -177,6 +177,21 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
       }
     }
   };
+  // Contributions need no rays: estimate them from many more member pairs than visibility,
+  // so that a VPL cluster is rarely left at the uniform floor while some members matter.
+  if (config.contribution_samples > 0)
+    tbb::parallel_for(size_t(0), pairs, [&](size_t pid) {
+      const size_t s = pid / nl, l = pid % nl;
+      manylight_detail::Rng rng(config.seed, 0xC0DE, pid);
+      double sum = 0;
+      for (int j = 0; j < config.contribution_samples; ++j) {
+        const auto& sp = points[vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))]];
+        const auto& vpl = vpls.vpls[vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))]];
+        sum += luminance(tentative_contribution(scene, sp, vpl, config.clamp_distance));
+      }
+      sum_t[pid] += sum;
+      n_t[pid] += uint32_t(config.contribution_samples);
+    });
   std::vector<uint32_t> all(pairs);
   for (size_t i = 0; i < pairs; ++i) all[i] = uint32_t(i);
   sample_pairs(all, std::max(1, config.visibility_samples), 0);

@@ -38,9 +38,10 @@ struct ManylightConfig {
   int vpl_clusters = 512;      ///< number of VPL clusters (rounded to a power of two)
   float normal_weight = 0.3f;  ///< weight of the normal against position (scene diagonal = 1)
   int visibility_samples = 4;  ///< shadow rays per (shading cluster, VPL cluster) pair
+  int contribution_samples = 16;  ///< extra ray-free member pairs estimating a pair's contribution
   int refine_samples = 8;      ///< extra rays for uncertain (0 < r < 1), important pairs; 0 = off
-  float r_floor = 0.02f;       ///< sampling weight uses max(r, r_floor): a pair seen occluded stays samplable
-  float uniform_mix = 0.05f;   ///< defensive mix with uniform-over-VPLs: every pdf > 0 (unbiased)
+  float r_floor = 0.1f;        ///< sampling weight uses max(r, r_floor): a pair seen occluded stays samplable
+  float uniform_mix = 0.1f;    ///< defensive mix with uniform-over-VPLs: every pdf > 0 (unbiased)
 
   // Probabilistic visibility (Nabata & Iwasaki 2019).
   VisibilityMode mode = VisibilityMode::Proposed;
