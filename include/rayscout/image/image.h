@@ -16,6 +16,7 @@ struct Image {
   Image() = default;
   /// A black image of the given size.
   Image(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h)) {}
+  /// Pixel (x, y), y = 0 the top row.
   Vec3& at(int x, int y) { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
   const Vec3& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };

@@ -15,6 +15,7 @@ namespace rayscout {
 /// view axis.
 class CameraRays {
  public:
+  /// A film of width x height pixels; the horizontal field of view follows the aspect ratio.
   CameraRays(const Camera& camera, int width, int height);
   /// film_x, film_y in [0, width) x [0, height); lens_u, lens_v in [0, 1).
   Ray generate(float film_x, float film_y, float lens_u, float lens_v) const;

@@ -21,7 +21,9 @@ struct LightSample {
 /// (v1 - v0) x (v2 - v0) (counter-clockwise winding faces the lit side, as in OBJ).
 class LightSampler {
  public:
+  /// Keeps a pointer to scene (it must outlive the sampler).
   explicit LightSampler(const Scene& scene);
+  /// No emissive triangle with positive power.
   bool empty() const { return prims_.empty(); }
   /// Chooses a triangle with u0 and a uniform point on it with (u1, u2).
   LightSample sample(float u0, float u1, float u2) const;

@@ -70,7 +70,9 @@ struct RenderStats {
   double total_ms = 0;
   std::vector<BatchStats> batches;
 
+  /// Rays of all batches.
   uint64_t rays() const;
+  /// Counters of all batches (zero unless RenderConfig::count).
   TraceStats counters() const;
   /// Rays traced per second of trace time, millions.
   double mrays_per_s() const;
