@@ -32,6 +32,29 @@ void check_config(const RenderConfig& c) {
   if (c.light_samples < 1 || c.ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");
 }
 
+// Adds contributions (those not occluded) to the film. Each pixel's contributions are added
+// in array order by one task, so the sums do not depend on the thread count. Contributions
+// come sorted by pixel (paths keep the pixel-major camera order); otherwise sequentially.
+template <typename Contribution>
+void accumulate(std::vector<Vec3>& film, const std::vector<Contribution>& list, const std::vector<uint8_t>* occluded) {
+  auto add = [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i)
+      if (!occluded || !(*occluded)[i]) film[list[i].pixel] += list[i].value;
+  };
+  const bool sorted = std::is_sorted(list.begin(), list.end(),
+                                     [](const Contribution& a, const Contribution& b) { return a.pixel < b.pixel; });
+  constexpr size_t kBlock = 1 << 12;
+  if (!sorted || list.size() <= kBlock) return add(0, list.size());
+  const size_t blocks = (list.size() + kBlock - 1) / kBlock;
+  // A block starts at its first pixel not begun by the block before, and ends with its last pixel complete.
+  auto first_own = [&](size_t i) {
+    if (i >= list.size()) return list.size();
+    while (i > 0 && i < list.size() && list[i].pixel == list[i - 1].pixel) ++i;
+    return i;
+  };
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) { add(first_own(b * kBlock), first_own((b + 1) * kBlock)); });
+}
+
 }  // namespace
 
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
@@ -161,8 +184,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
       if (!occlusion_rays.empty()) {
         trace({bounce, occlusion_kind(), true}, occlusion_rays, nullptr, &occluded);
         t0 = Clock::now();
-        for (size_t i = 0; i < occlusion.size(); ++i)
-          if (!occluded[i]) film[occlusion[i].pixel] += occlusion[i].value;
+        accumulate(film, occlusion, &occluded);
         stats.shading_ms += ms_since(t0);
       }
       std::swap(rays, next_rays);

@@ -95,6 +95,27 @@ TEST(Determinism, ThreadCountDoesNotChangeTheImage) {
   }
 }
 
+// Enough rays that shading and accumulation are split into many parallel blocks.
+TEST(Determinism, ThreadCountDoesNotChangeALargerImage) {
+  const Scene scene = test_scene();
+  RenderConfig cfg = small_config();
+  cfg.width = testing::small_scale() ? 32 : 96;
+  cfg.height = testing::small_scale() ? 32 : 64;
+  cfg.spp = 4;
+  const auto accel = make_accelerator("brute", scene);
+  const auto path = make_path_integrator();
+  Image one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = path->render(scene, *accel, cfg);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = path->render(scene, *accel, cfg);
+  }
+  EXPECT_EQ(first_difference(one, two), -1);
+}
+
 TEST(Determinism, SeedSelectsTheImage) {
   const Scene scene = test_scene();
   RenderConfig cfg = small_config();
