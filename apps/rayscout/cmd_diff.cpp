@@ -13,6 +13,7 @@ namespace {
 struct DiffOptions {
   std::string a, b, out;
   float scale = 0;
+  double max_rmse = -1;
 };
 
 CommandRegistration registration{[](CLI::App& app) {
@@ -22,6 +23,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("b", opts->b, "reference image")->required();
   cmd->add_option("--out", opts->out, "write a false-colour difference PNG");
   cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference)");
+  cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this");
   cmd->callback([opts] {
     const Image a = read_image(opts->a), b = read_image(opts->b);
     const ImageError e = compare_images(a, b);
@@ -30,6 +32,10 @@ CommandRegistration registration{[](CLI::App& app) {
     if (!opts->out.empty()) {
       write_image(difference_image(a, b, opts->scale), opts->out);
       fmt::print("wrote {}\n", opts->out);
+    }
+    if (opts->max_rmse >= 0 && e.rmse > opts->max_rmse) {
+      fmt::print("rmse {:.6g} is above --max-rmse {:.6g}\n", e.rmse, opts->max_rmse);
+      throw CLI::RuntimeError(1);
     }
   });
 }};
