@@ -13,6 +13,7 @@
 #include <fmt/core.h>
 #include <tbb/global_control.h>
 
+#include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/render/workloads.h"
@@ -177,11 +178,13 @@ int main(int argc, char** argv) {
       const auto base = v.base == "wide" ? ShaftsAccelerator::Base::Wide : ShaftsAccelerator::Base::Binary;
       // Build cost on the same clock as the traces: the BVH alone, then BVH + collection.
       double bvh_clock_ms = now_ms();
-      if (base == ShaftsAccelerator::Base::Wide) (void)WideBvh::build(scene.triangles);
-      else (void)Bvh2::build(scene.triangles);
+      // The wide BVH is built as the "bvh" accelerator builds it (wide_bvh_default_config).
+      const BvhBuildConfig bvh_cfg = base == ShaftsAccelerator::Base::Wide ? wide_bvh_default_config() : BvhBuildConfig{};
+      if (base == ShaftsAccelerator::Base::Wide) (void)WideBvh::build(scene.triangles, bvh_cfg);
+      else (void)Bvh2::build(scene.triangles, bvh_cfg);
       bvh_clock_ms = now_ms() - bvh_clock_ms;
       double all_clock_ms = now_ms();
-      const ShaftsAccelerator acc(scene, base, cfg);
+      const ShaftsAccelerator acc(scene, base, cfg, bvh_cfg);
       all_clock_ms = now_ms() - all_clock_ms;
       if (sets.empty())
         sets = make_ray_sets(scene, acc, width, height, split(sweep ? std::string("shadow,ao,diffuse") : workloads));

@@ -50,7 +50,7 @@ const std::vector<Entry>& registry() {
       {{"shafts-wide", "ray classification over the 8-wide BVH, min hit probability 7/8 (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o),
-                                                    bvh_config_from_options(o));
+                                                    bvh_config_from_options(o, wide_bvh_default_config()));
        }},
 #if RAYSCOUT_WITH_EMBREE
       {{"embree", "Intel Embree 3, high-quality build, robust mode (peer; options robust, quality, packet)"},
