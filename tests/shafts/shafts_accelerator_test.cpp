@@ -357,3 +357,38 @@ TEST(ShaftsExtremeRays, MatchBruteForce) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// The wide BVH as the "bvh" accelerator builds it (pre-split references: leaf boxes may hold
+// only part of a triangle): lists still cover every hit, results stay exact.
+TEST(ShaftsPresplit, WideDefaultBuildIsCoveredAndExact) {
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 6));
+  const ShaftsAccelerator acc(scene, Base::Wide, fine_config(800, 3), wide_bvh_default_config());
+  ASSERT_TRUE(acc.wide_bvh().split_references) << "the tuned default should pre-split";
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  const ShaftGrid& g = acc.collection().grid();
+  size_t hits = 0;
+  for (int s = 0; s < (small_scale() ? 40 : 200); ++s) {
+    const ShaftCoord coord{uint32_t(rng() % g.voxel_count()), uint32_t(rng() % g.cells_per_voxel())};
+    const Candidates c = acc.collection().lookup(coord);
+    const Shaft shaft(g, coord);
+    for (int i = 0; i < 10; ++i) {
+      float rnd[5];
+      for (float& r : rnd) r = u01(rng);
+      expect_covered(acc, Base::Wide, scene.triangles, shaft.sample_ray(rnd), c, hits);
+      if (HasFatalFailure()) return;
+    }
+  }
+  EXPECT_GT(hits, 100u);
+  const RayBatch rays = testing::nasty_rays(scene.triangles, 8);
+  HitBatch ref, got;
+  BruteForce(scene.triangles).intersect(rays, ref);
+  acc.intersect(rays, got);
+  EXPECT_TRUE(compare_hits(ref, got, 0.0f).ok());
+}
+
+}  // namespace
+}  // namespace rayscout
