@@ -201,7 +201,9 @@ int main(int argc, char** argv) {
           {"order only (sec. 4.3)", {"order=sampled"}},
           {"skip only (eq. 5)", {"skip=on"}},
           {"cost + order", {"cost=sampled", "order=sampled"}},
-          {"all three (dacrt-rs)", {"cost=sampled", "order=sampled", "skip=on"}}};
+          {"all three (dacrt-rs)", {"cost=sampled", "order=sampled", "skip=on"}},
+          {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
+          {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}}};
       auto counted = [&](const Accelerator& a) {
         TraceStats st;
         for (const auto& s : sets) trace(a, s, &st);

@@ -176,9 +176,10 @@ inline void ray_vs_boxes(const RayRecord& r, const BoxSoa& boxes, float* entry) 
 /// Algorithm 2 for one sample ray against the candidate pairs (lb[j], rb[j]): c_L, c_R count
 /// the boxes hit; of rays hitting both, the nearer entry gets the vote (n_L, n_R), an equal
 /// entry (a ray starting inside both) goes by the ray's direction along the split axis
-/// (goes_up: left first). Padding lanes hold empty boxes and count nothing.
-inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, uint32_t* hits_l,
-                         uint32_t* hits_r, uint32_t* votes_l, uint32_t* votes_r) {
+/// (goes_up: left first); with sign_votes the direction alone decides. Padding lanes hold
+/// empty boxes and count nothing.
+inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, bool sign_votes,
+                         uint32_t* hits_l, uint32_t* hits_r, uint32_t* votes_l, uint32_t* votes_r) {
 #if defined(__AVX512F__)
   const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
   const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
@@ -206,8 +207,13 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     __m512 nl, nr;
     const __mmask16 hl = test(lb, i, nl), hr = test(rb, i, nr);
     const __mmask16 both = hl & hr;
-    __mmask16 left = _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ);
-    if (goes_up) left |= _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_EQ_OQ);
+    __mmask16 left;
+    if (sign_votes) {
+      left = goes_up ? both : __mmask16(0);
+    } else {
+      left = _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ);
+      if (goes_up) left |= _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_EQ_OQ);
+    }
     auto add = [&](uint32_t* p, __mmask16 m) {
       __m512i v = _mm512_load_si512(p + i);
       _mm512_store_si512(p + i, _mm512_mask_add_epi32(v, m, v, one));
@@ -226,7 +232,7 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     hits_l[j] += hl;
     hits_r[j] += hr;
     if (hl && hr) {
-      if (el[j] < er[j] || (el[j] == er[j] && goes_up)) ++votes_l[j]; else ++votes_r[j];
+      if (sign_votes ? goes_up : (el[j] < er[j] || (el[j] == er[j] && goes_up))) ++votes_l[j]; else ++votes_r[j];
     }
   }
 #endif

@@ -29,7 +29,13 @@ size_t DacrtConfig::sample_count(size_t n) const {
 
 DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c) {
   c.sampled_cost = pick(o, "cost", "sampled", "sah", c.sampled_cost);
-  c.sampled_order = pick(o, "order", "sampled", "one-ray", c.sampled_order);
+  {
+    const std::string order = o.get_string("order", c.sampled_order ? (c.sign_votes ? "sign-votes" : "sampled") : "one-ray");
+    if (order != "sampled" && order != "one-ray" && order != "sign-votes")
+      throw InputError("option 'order': '" + order + "' is not sampled, one-ray or sign-votes");
+    c.sampled_order = order != "one-ray";
+    c.sign_votes = order == "sign-votes";
+  }
   c.skip_partitioning = o.get_bool("skip", c.skip_partitioning);
   c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
                    ? DacrtSampling::Random : DacrtSampling::Stride;
@@ -57,7 +63,7 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
 
 std::string DacrtConfig::describe() const {
   std::ostringstream s;
-  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << (sampled_order ? "sampled" : "one-ray")
+  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << (sampled_order ? (sign_votes ? "sign-votes" : "sampled") : "one-ray")
     << " skip=" << (skip_partitioning ? "on" : "off")
     << " strategy=" << (strategy == DacrtSampling::Stride ? "stride" : "random");
   if (fraction > 0) s << " fraction=" << fraction; else s << " samples=" << samples;

@@ -68,7 +68,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         for (size_t q = 0; q < ns; ++q) {
           const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
           const bool goes_up = (axis == 0 ? r.ix : (axis == 1 ? r.iy : r.iz)) >= 0.0f;
-          sample_pairs(r, lb, rb, goes_up, hits_l, hits_r, votes_l, votes_r);
+          sample_pairs(r, lb, rb, goes_up, cfg_.sign_votes, hits_l, hits_r, votes_l, votes_r);
         }
         if constexpr (kStats) {
           const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
@@ -142,7 +142,8 @@ void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, 
       if (ray_hits_box(r, s.box[c], tnear)) { ++hits[c]; d[c] = tnear; }
     }
     const bool ray_goes_up = (s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz)) >= 0.0f;
-    if (d[0] < kInfinity && d[1] < kInfinity) ++s.votes[d[0] < d[1] || (d[0] == d[1] && ray_goes_up) ? 0 : 1];
+    if (d[0] < kInfinity && d[1] < kInfinity)
+      ++s.votes[(cfg_.sign_votes ? ray_goes_up : (d[0] < d[1] || (d[0] == d[1] && ray_goes_up))) ? 0 : 1];
   }
   s.alpha[0] = double(hits[0]) / double(ns);
   s.alpha[1] = double(hits[1]) / double(ns);

@@ -22,6 +22,10 @@ struct DacrtConfig {
   /// Child order by the sample rays' n_L/n_R votes (true, sec. 4.3) or by the direction of
   /// one ray along the split axis (false, Afra). Option order=sampled|one-ray.
   bool sampled_order = false;
+  /// With sampled_order: a sample ray hitting both children votes by its direction along the
+  /// split axis instead of by the nearer box entry (rayscout's variant, docs/dacrt.md).
+  /// Option order=sign-votes.
+  bool sign_votes = false;
   /// Skip partitioning the rays against a child when alpha > 1 - C_bv / (C_child n_child),
   /// eq. (5) (sec. 4.4). Option skip=on|off.
   bool skip_partitioning = false;
