@@ -14,14 +14,11 @@
 
 #include "commands.h"
 #include "integrators.h"
+#include "manylight_options.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/image/image.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/scene/load_scene.h"
-
-// apps/rayscout/CMakeLists.txt compiles only cmd_*.cpp: the integrator table is built here
-// until integrators.cpp is listed there (then delete this include).
-#include "integrators.cpp"
 
 namespace rayscout::cli {
 namespace {

@@ -71,19 +71,20 @@ inline bool intersect_triangle(const Vec3& org, const RayPrecomp& rp, const Tria
 }
 
 /// Robust slab test (Ize, "Robust BVH Ray Traversal", JCGT 2013): the far distance is
-/// scaled up by 1 + 2 gamma(3) so that rounding never culls a box the ray touches. A zero
-/// direction component gives infinite reciprocals; the NaN of 0 * inf is ignored by the
-/// operand order of min/max, which keeps the test conservative. Returns the entry distance
-/// in tnear_out.
+/// scaled up by 1 + 2 gamma(3) so that rounding never culls a box the ray touches. The near
+/// and far planes of each axis are chosen by the sign of the reciprocal direction, so a zero
+/// direction component (+-0, reciprocal +-inf) gives -inf / +inf for a ray inside the slab,
+/// and NaN (0 * inf) for a ray lying exactly on one of its planes; the operand order of the
+/// comparisons below ignores NaN, which leaves that axis unconstrained: conservative.
+/// Returns the entry distance in tnear_out.
 inline bool intersect_box(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
                           float tmax, float& tnear_out) {
   constexpr float kRobust = 1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
   float tnear = tmin, tfar = tmax;
   for (int axis = 0; axis < 3; ++axis) {
-    float t0 = (box.lo[axis] - org[axis]) * inv_dir[axis];
-    float t1 = (box.hi[axis] - org[axis]) * inv_dir[axis];
-    if (t0 > t1) std::swap(t0, t1);
-    t1 *= kRobust;
+    const bool negative = std::signbit(inv_dir[axis]);
+    const float t0 = ((negative ? box.hi : box.lo)[axis] - org[axis]) * inv_dir[axis];
+    const float t1 = ((negative ? box.lo : box.hi)[axis] - org[axis]) * inv_dir[axis] * kRobust;
     tnear = t0 > tnear ? t0 : tnear;  // NaN t0 keeps tnear
     tfar = t1 < tfar ? t1 : tfar;     // NaN t1 keeps tfar
   }

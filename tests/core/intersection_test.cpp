@@ -1,0 +1,85 @@
+// Core kernels: the watertight triangle test and the robust slab test on their edge cases.
+#include <gtest/gtest.h>
+
+#include "rayscout/core/triangle.h"
+
+namespace rayscout {
+namespace {
+
+const Bounds3 kUnitBox{{0, 0, 0}, {1, 1, 1}};
+
+bool hits_box(const Vec3& org, const Vec3& dir, float& tnear) {
+  return intersect_box(org, RayPrecomp(dir).inv_dir, kUnitBox, 0.0f, kInfinity, tnear);
+}
+
+TEST(IntersectBox, EntryDistanceOfAnOrdinaryRay) {
+  float tnear = -1;
+  ASSERT_TRUE(hits_box({-1, 0.5f, 0.5f}, {1, 0, 0}, tnear));
+  EXPECT_FLOAT_EQ(tnear, 1.0f);
+  EXPECT_FALSE(hits_box({-1, 2.0f, 0.5f}, {1, 0, 0}, tnear));
+  EXPECT_FALSE(hits_box({2, 0.5f, 0.5f}, {1, 0, 0}, tnear)) << "box behind the ray";
+}
+
+// A ray lying exactly in a face plane, parallel to it, touches the box: with a +0 or -0
+// direction component the slab distances are 0 * inf = NaN and must not cull it.
+TEST(IntersectBox, RayLyingInAFacePlaneIsKeptForBothSignsOfZero) {
+  float tnear;
+  for (float zero : {0.0f, -0.0f})
+    for (float y : {0.0f, 1.0f}) {
+      EXPECT_TRUE(hits_box({-1, y, 0.5f}, {1, zero, 0.25f}, tnear)) << "y=" << y << " dir.y=" << zero;
+      EXPECT_TRUE(hits_box({0.5f, y, -1}, {zero, zero, 1}, tnear)) << "y=" << y << " dir.y=" << zero;
+    }
+  EXPECT_FALSE(hits_box({-1, 1.0001f, 0.5f}, {1, -0.0f, 0}, tnear)) << "just outside the slab";
+}
+
+TEST(IntersectBox, FarDistanceIsWidenedNotNarrowed) {
+  float tnear;
+  // Grazing the far corner: rounding of t must not cull the box.
+  EXPECT_TRUE(hits_box({-1, -1, -1}, {1, 1, 1}, tnear));
+  EXPECT_FLOAT_EQ(tnear, 1.0f);
+  EXPECT_TRUE(intersect_box({-1, 0.5f, 0.5f}, Vec3(1, kInfinity, kInfinity), kUnitBox, 0, 1.0f, tnear))
+      << "tmax exactly at the entry";
+}
+
+TEST(IntersectTriangle, HitDistanceAndBarycentrics) {
+  const Triangle tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const Vec3 org{0.25f, 0.5f, 2}, dir{0, 0, -1};
+  float t, u, v;
+  ASSERT_TRUE(intersect_triangle(org, RayPrecomp(dir), tri, 0, kInfinity, t, u, v));
+  EXPECT_FLOAT_EQ(t, 2.0f);
+  EXPECT_FLOAT_EQ(u, 0.25f);
+  EXPECT_FLOAT_EQ(v, 0.5f);
+  EXPECT_FALSE(intersect_triangle(org, RayPrecomp(dir), tri, 0, 1.5f, t, u, v)) << "beyond tmax";
+  EXPECT_FALSE(intersect_triangle(org, RayPrecomp(-dir), tri, 0, kInfinity, t, u, v)) << "behind";
+}
+
+// Watertightness: a ray through the common edge of two triangles, or the common vertex of a
+// fan, hits at least one of them.
+TEST(IntersectTriangle, SharedEdgeAndVertexAreNeverMissed) {
+  const Triangle a{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, b{{0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  float t, u, v;
+  const Vec3 dir{1e-3f, -2e-3f, -1};
+  const RayPrecomp rp(dir);
+  for (float s : {0.1f, 0.37f, 0.5f, 0.999f}) {
+    const Vec3 org = Vec3{s, s, 0} - dir;  // reaches the diagonal (s, s, 0) at t = 1
+    const bool hit = intersect_triangle(org, rp, a, 0, kInfinity, t, u, v) ||
+                     intersect_triangle(org, rp, b, 0, kInfinity, t, u, v);
+    EXPECT_TRUE(hit) << "s=" << s;
+  }
+  const Vec3 centre{0.3f, 0.7f, 0.2f}, corners[] = {{0, 0, 0}, {1, 0, 0.1f}, {1, 1, 0.3f}, {0, 1, 0.4f}};
+  const Vec3 org = centre - dir;
+  bool hit = false;
+  for (int i = 0; i < 4; ++i)
+    hit |= intersect_triangle(org, rp, {centre, corners[i], corners[(i + 1) % 4]}, 0, kInfinity, t, u, v);
+  EXPECT_TRUE(hit) << "shared vertex of a fan";
+}
+
+TEST(IsCloser, TiesGoToTheSmallerTriangleId) {
+  EXPECT_TRUE(is_closer(1.0f, 5, 2.0f, 1));
+  EXPECT_TRUE(is_closer(1.0f, 3, 1.0f, 4));
+  EXPECT_FALSE(is_closer(1.0f, 4, 1.0f, 3));
+  EXPECT_FALSE(is_closer(1.0f, 4, 1.0f, 4));
+}
+
+}  // namespace
+}  // namespace rayscout
