@@ -25,7 +25,14 @@ struct ShaftSamples {
 class CandidateListBuilder {
  public:
   CandidateListBuilder(const TreeView& tree, const Shaft& shaft, const ShaftSamples& samples)
-      : tree_(tree), shaft_(shaft), samples_(samples) {}
+      : tree_(tree), shaft_(shaft), samples_(samples) {
+    // A node whose box strictly contains the voxel (with a margin far above the rounding of
+    // the sample origins) overlaps the shaft and every sample ray starts inside it, so its hit
+    // probability is exactly 1: such ancestors of the voxel are expanded without the tests.
+    const Bounds3& v = shaft.voxel();
+    const Vec3 m = v.diagonal() * (1.0f / 1024.0f) + max(abs(v.lo), abs(v.hi)) * (1.0f / 1048576.0f);
+    inner_ = Bounds3{v.lo - m, v.hi + m};
+  }
 
   /// Fraction of sample rays that enter node's box before their hit (getHitProbability).
   /// A plain slab test: this is an estimate, not a culling decision.
@@ -71,6 +78,10 @@ class CandidateListBuilder {
     while (!stack_.empty()) {
       uint32_t node = stack_.back();
       stack_.pop_back();
+      if (min_prob <= 1.0 && !tree_.is_leaf(node) && contains_voxel(tree_.bounds[node])) {
+        push_children_far_first(node);
+        continue;
+      }
       if (!shaft_.overlaps(tree_.bounds[node])) continue;
       if (!tree_.is_leaf(node)) {
         if (hit_probability(node) >= min_prob) {
@@ -89,6 +100,11 @@ class CandidateListBuilder {
   static constexpr uint32_t kNone = 0xFFFFFFFFu;
 
  private:
+  bool contains_voxel(const Bounds3& b) const {
+    return b.lo.x <= inner_.lo.x && b.lo.y <= inner_.lo.y && b.lo.z <= inner_.lo.z && b.hi.x >= inner_.hi.x &&
+           b.hi.y >= inner_.hi.y && b.hi.z >= inner_.hi.z;
+  }
+
   void push_children_far_first(uint32_t node) {
     const auto kids = tree_.children(node);
     const Vec3& dir = shaft_.center_dir();
@@ -110,6 +126,7 @@ class CandidateListBuilder {
   const Shaft& shaft_;
   const ShaftSamples& samples_;
   std::vector<uint32_t> stack_, order_;
+  Bounds3 inner_;  ///< the voxel grown by a margin (see the constructor)
 };
 
 }  // namespace rayscout::detail

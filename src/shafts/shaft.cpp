@@ -37,15 +37,17 @@ Shaft::Shaft(const ShaftGrid& grid, ShaftCoord coord) {
     e[va] = vs[corner[i][1]];
     edges[i] = e;
   }
-  std::vector<D3> candidates;
+  std::array<D3, 19> candidates;
+  int nc = 0;
   for (int k = 0; k < 3; ++k) {
     D3 n{};
     n[k] = 1.0;
-    candidates.push_back(n);  // back / outer voxel faces
-    for (const auto& e : edges) candidates.push_back(cross3(e, n));  // bevel planes
+    candidates[size_t(nc++)] = n;  // back / outer voxel faces
+    for (const auto& e : edges) candidates[size_t(nc++)] = cross3(e, n);  // bevel planes
   }
-  for (int i = 0; i < 4; ++i) candidates.push_back(cross3(edges[i], edges[(i + 1) % 4]));  // sides
-  for (auto n : candidates) {
+  for (int i = 0; i < 4; ++i) candidates[size_t(nc++)] = cross3(edges[i], edges[(i + 1) % 4]);  // sides
+  for (int ci = 0; ci < nc; ++ci) {
+    D3 n = candidates[size_t(ci)];
     const double len = std::sqrt(dot3(n, n));
     if (len < 1e-12) continue;
     for (auto& c : n) c /= len;
@@ -59,7 +61,7 @@ Shaft::Shaft(const ShaftGrid& grid, ShaftCoord coord) {
     }
     if (neg && !pos)
       for (auto& c : n) c = -c;
-    if (pos || neg) axes_.push_back(n);
+    if (pos || neg) axes_[size_t(axis_count_++)] = n;
   }
   const Vec3 c = ShaftGrid::face_direction(cell_, 0.5 * (cell_.u0 + cell_.u1), 0.5 * (cell_.v0 + cell_.v1));
   center_dir_ = normalize(c);
