@@ -123,6 +123,11 @@ class Builder {
   }
 
  private:
+  // Intersection tests a side of n primitives costs: leaves test leaf_block triangles at once,
+  // so the split SAH counts blocks like the leaf cost does (Embree's "block shift"); with
+  // per-triangle counts here, leaves of up to max_leaf_size looked cheaper than any split.
+  uint32_t blocks(uint32_t n) const { return (n + uint32_t(config_.leaf_block) - 1) / uint32_t(config_.leaf_block); }
+
   void make_leaf(Bvh2Node& node, uint32_t begin, uint32_t n) {
     node.first = begin;
     node.count = uint16_t(n);
@@ -219,7 +224,7 @@ class Builder {
       for (int k = nb - 1; k > 0; --k) {
         acc.extend(bins[a][k].box.lo, bins[a][k].box.hi);
         count += bins[a][k].count;
-        right_cost[k - 1] = acc.half_area() * float(count);
+        right_cost[k - 1] = acc.half_area() * float(blocks(count));
         right_count[k - 1] = count;
       }
       Box4 left;
@@ -228,7 +233,7 @@ class Builder {
         left.extend(bins[a][k].box.lo, bins[a][k].box.hi);
         count += bins[a][k].count;
         if (count == 0 || right_count[k] == 0) continue;
-        const float cost = left.half_area() * float(count) + right_cost[k];
+        const float cost = left.half_area() * float(blocks(count)) + right_cost[k];
         if (best.axis < 0 || cost < best.cost) {
           best.axis = a;
           best.bin = k;
