@@ -50,7 +50,7 @@ BvhBuildConfig wide_bvh_default_config() {
   BvhBuildConfig c;
   c.max_leaf_size = 8;
   c.leaf_block = kTriangleBlockWidth;
-  c.presplit = 0.3f;
+  c.presplit = 0.05f;
   return c;
 }
 

@@ -116,7 +116,21 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget) 
       },
       [](Sum a, const Sum& b) { a.p += b.p; a.scene.extend(b.scene); return a; });
   // Pieces per triangle; the sum is exact per index range, so the layout is deterministic.
-  const double scale = total.p > 0 ? double(budget) * double(n) / total.p : 0.0;
+  // Karras and Aila find the scale by bisection so the floored counts meet the budget: the
+  // plain budget / mean priority gave a scene-dependent 4-45 % of it (Sponza 0.3 -> 3.5 %).
+  const double target = double(budget) * double(n);
+  auto extra_refs = [&](double s) {
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += std::min(64.0, std::floor(double(priority[i]) * s));
+    return sum;
+  };
+  double lo = 0.0, hi = total.p > 0 ? target / total.p : 0.0;
+  while (hi > 0.0 && extra_refs(hi) < target && hi < 1e30) hi *= 2.0;
+  for (int it = 0; it < 25 && hi > 0.0; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (extra_refs(mid) <= target ? lo : hi) = mid;
+  }
+  const double scale = lo;
   std::vector<uint32_t> count(n), offset(n + 1, 0);
   for (size_t i = 0; i < n; ++i) {
     count[i] = 1 + uint32_t(std::min(64.0, std::floor(double(priority[i]) * scale)));
