@@ -111,6 +111,20 @@ TEST(BvhBuild, SahTreeIsReasonable) {
   EXPECT_LE(wide.depth(), bvh.depth() / 2 + 2);
 }
 
+TEST(BvhBuild, PresplitMeetsTheReferenceBudget) {
+  // Triangles of random size: the budget is a fraction of the triangle count, met from below
+  // (the floored per-triangle counts); the mean-priority scale used before gave far fewer.
+  const auto tris = testing::random_soup(20000, 5);
+  for (float budget : {0.05f, 0.3f, 1.0f}) {
+    BvhBuildConfig c;
+    c.presplit = budget;
+    const Bvh2 bvh = Bvh2::build(tris, c);
+    const double extra = double(bvh.prim_ids.size()) - double(tris.size());  // one slot per reference
+    EXPECT_LE(extra, double(budget) * double(tris.size())) << budget;
+    EXPECT_GE(extra, 0.95 * double(budget) * double(tris.size())) << budget;
+  }
+}
+
 TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
   const auto tris = testing::random_soup(small_scale() ? 20000 : 100000, 9);
   BvhBuildConfig c;
