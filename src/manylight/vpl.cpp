@@ -62,7 +62,8 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
   const size_t target = config.vpl_count;
-  size_t batch_paths = std::max<size_t>(256, target / 3);
+  // Start small (paths make 1-6 VPLs each); later batches aim at the remainder.
+  size_t batch_paths = std::max<size_t>(256, target / 8);
   std::vector<PathState> states;
   RayBatch rays;
   HitBatch hits;
