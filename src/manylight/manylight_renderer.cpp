@@ -98,7 +98,7 @@ void ManylightRenderer::reset(VisibilityMode mode) {
   point_skipped_.assign(points_.size(), 0);
   point_samples_.assign(points_.size(), 0);
   passes_ = 0;
-  rays_traced_ = samples_taken_ = samples_skipped_ = 0;
+  rays_traced_ = 0;
 }
 
 void ManylightRenderer::calibrate() {

@@ -30,11 +30,9 @@ int ceil_log2(int n) {
 
 void bisect(std::vector<Feature>& f, std::vector<uint32_t>& order, size_t lo, size_t hi, int depth,
             std::vector<uint32_t>& begins) {
+  // Fewer than two items: one cluster, so no cluster is ever empty (there may be fewer than 2^depth).
   if (depth == 0 || hi - lo < 2) {
     begins.push_back(uint32_t(lo));
-    if (depth > 0) {
-      // Keep 2^depth clusters per subtree only when there are items; empty ones are dropped.
-    }
     return;
   }
   Feature lo_f, hi_f;

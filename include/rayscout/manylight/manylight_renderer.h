@@ -96,7 +96,7 @@ class ManylightRenderer {
   std::vector<Vec3> point_sum_;            ///< per shading point, sum of per-pass estimates
   std::vector<uint32_t> point_skipped_, point_samples_;
   size_t passes_ = 0;
-  uint64_t rays_traced_ = 0, samples_taken_ = 0, samples_skipped_ = 0;
+  uint64_t rays_traced_ = 0;
   uint64_t seed_ = 1;
 };
 
