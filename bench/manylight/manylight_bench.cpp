@@ -33,7 +33,7 @@ struct BenchScene {
 struct Options {
   std::vector<std::string> scenes{"sponza", "sibenik_glossy", "conference_large"};
   int width = 1280, height = 720;
-  double budget = 8.0;        ///< CPU seconds of rendering per mode (the paper: 60 s wall on 36 threads)
+  double budget = 4.0;        ///< CPU seconds of rendering per mode (the paper: 60 s wall on 36 threads)
   double ref_factor = 6.0;    ///< reference budget = ref_factor * budget
   double vpl_scale = 1.0;     ///< multiplies the paper's VPL counts
   int threads = 2;
