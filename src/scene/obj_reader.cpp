@@ -94,28 +94,17 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out) {
     size_t line = 0;
   };
   std::vector<Pending> defs;
-  const char* p = detail::skip_bom(data);
-  const char* const end = data.data() + data.size();
-  size_t line = 0;
-  while (p < end) {
-    const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
-    const char* line_end = nl ? nl : end;
-    const char* q = p;
-    p = nl ? nl + 1 : end;
-    ++line;
-    if (const void* hash = memchr(q, '#', size_t(line_end - q))) line_end = static_cast<const char*>(hash);
-    std::string_view key = next_token(q, line_end);
-    if (key.empty()) continue;
+  detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* line_end) {
     if (key == "newmtl") {
       std::string_view name = detail::rest_trimmed(q, line_end);
       if (name.empty()) fail_at(path, line, "newmtl without a name");
       defs.push_back({});
       defs.back().name = std::string(name);
       defs.back().line = line;
-      continue;
+      return;
     }
     const bool known = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ns" || key == "illum";
-    if (!known) continue;  // Ka, Ni, d, Tr, Tf, map_*, bump...: not used by rayscout
+    if (!known) return;  // Ka, Ni, d, Tr, Tf, map_*, bump...: not used by rayscout
     if (defs.empty()) fail_at(path, line, std::string(key) + " before any newmtl");
     Pending& d = defs.back();
     if (key == "Kd") d.kd = read_vec3(q, line_end, path, line, "Kd", true);
@@ -131,7 +120,7 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out) {
       if (!detail::parse_int(tok, v)) fail_at(path, line, "illum: expected an integer, found '" + std::string(tok) + "'");
       d.illum = int(v);
     }
-  }
+  });
   for (auto& d : defs) {
     Material m = material_from_mtl(d.name, d.kd, d.ks, d.ns, d.illum, d.ke);
     auto same = std::find_if(out.begin(), out.end(), [&](const Material& o) { return o.name == m.name; });
@@ -159,18 +148,7 @@ Mesh read_obj(const std::filesystem::path& path) {
   mesh.positions.reserve(data.size() / 64);
   mesh.faces.reserve(data.size() / 64);
 
-  const char* p = detail::skip_bom(data);
-  const char* const end = data.data() + data.size();
-  size_t line = 0;
-  while (p < end) {
-    const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
-    const char* line_end = nl ? nl : end;
-    const char* q = p;
-    p = nl ? nl + 1 : end;
-    ++line;
-    if (const void* hash = memchr(q, '#', size_t(line_end - q))) line_end = static_cast<const char*>(hash);
-    std::string_view key = next_token(q, line_end);
-    if (key.empty()) continue;
+  detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* line_end) {
     if (key == "v") {
       mesh.positions.push_back(read_vec3(q, line_end, path, line, "vertex"));
     } else if (key == "vt") {
@@ -244,7 +222,7 @@ Mesh read_obj(const std::filesystem::path& path) {
       }
     }
     // g, o, s, l, p, vp, ...: not needed for triangles.
-  }
+  });
 
   auto check_max = [&](const MaxRef& m, size_t count, const char* label, const char* what) {
     if (m.index >= static_cast<long long>(count))

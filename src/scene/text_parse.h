@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -39,9 +40,10 @@ inline std::string_view rest_trimmed(const char* p, const char* end) {
   return {p, size_t(end - p)};
 }
 
-/// Parses a whole token as a float (a leading '+' allowed, "nan"/"inf" parse so the caller
-/// can name them). False when the token is not entirely a number or overflows.
-inline bool parse_float(std::string_view tok, float& out) {
+/// Parses a whole token as a number of type T (a leading '+' allowed; for floats "nan"/"inf"
+/// parse so the caller can name them). False when the token is not entirely a number or overflows.
+template <typename T>
+inline bool parse_number(std::string_view tok, T& out) {
   const char* b = tok.data();
   const char* e = b + tok.size();
   if (b < e && *b == '+') ++b;
@@ -49,25 +51,27 @@ inline bool parse_float(std::string_view tok, float& out) {
   auto [ptr, ec] = std::from_chars(b, e, out);
   return ec == std::errc() && ptr == e;
 }
+inline bool parse_float(std::string_view tok, float& out) { return parse_number(tok, out); }
+inline bool parse_double(std::string_view tok, double& out) { return parse_number(tok, out); }
+inline bool parse_int(std::string_view tok, long long& out) { return parse_number(tok, out); }
 
-/// Parses a whole token as a double, like parse_float.
-inline bool parse_double(std::string_view tok, double& out) {
-  const char* b = tok.data();
-  const char* e = b + tok.size();
-  if (b < e && *b == '+') ++b;
-  if (b == e) return false;
-  auto [ptr, ec] = std::from_chars(b, e, out);
-  return ec == std::errc() && ptr == e;
-}
-
-/// Parses a whole token as an integer (leading '+' allowed).
-inline bool parse_int(std::string_view tok, long long& out) {
-  const char* b = tok.data();
-  const char* e = b + tok.size();
-  if (b < e && *b == '+') ++b;
-  if (b == e) return false;
-  auto [ptr, ec] = std::from_chars(b, e, out);
-  return ec == std::errc() && ptr == e;
+/// Calls f(line, key, p, end) for every non-empty statement of a line-based text file (OBJ,
+/// MTL): line is 1-based, key the first token, [p, end) the rest with any '#' comment cut off.
+template <typename F>
+void for_each_statement(const std::string& data, F&& f) {
+  const char* p = skip_bom(data);
+  const char* const end = data.data() + data.size();
+  size_t line = 0;
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
+    const char* line_end = nl ? nl : end;
+    const char* q = p;
+    p = nl ? nl + 1 : end;
+    ++line;
+    if (const void* hash = std::memchr(q, '#', size_t(line_end - q))) line_end = static_cast<const char*>(hash);
+    const std::string_view key = next_token(q, line_end);
+    if (!key.empty()) f(line, key, q, line_end);
+  }
 }
 
 /// The file name as shown in messages.
