@@ -58,6 +58,19 @@ inline void load_ray(const RayBatch& rays, size_t i, RTCRay& r) {
   r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
 }
 
+// Packet p of 16 consecutive rays; lanes past the end repeat a valid ray and are masked off.
+inline void load_ray16(const RayBatch& rays, size_t p, RTCRay16& r, int valid[16]) {
+  const size_t base = p * 16, n = rays.size();
+  for (int k = 0; k < 16; ++k) {
+    const size_t i = base + k;
+    valid[k] = i < n ? -1 : 0;
+    const size_t j = i < n ? i : base;
+    r.org_x[k] = rays.ox[j]; r.org_y[k] = rays.oy[j]; r.org_z[k] = rays.oz[j]; r.tnear[k] = rays.tmin[j];
+    r.dir_x[k] = rays.dx[j]; r.dir_y[k] = rays.dy[j]; r.dir_z[k] = rays.dz[j]; r.tfar[k] = rays.tmax[j];
+    r.time[k] = 0.0f; r.mask[k] = 0xFFFFFFFFu; r.id[k] = 0; r.flags[k] = 0;
+  }
+}
+
 }  // namespace
 
 EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const EmbreeConfig& config)
@@ -117,18 +130,8 @@ void EmbreeAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceSta
         alignas(64) RTCRayHit16 rh;
         alignas(64) int valid[16];
         const size_t base = p * 16;
-        for (int k = 0; k < 16; ++k) {
-          const size_t i = base + k;
-          valid[k] = i < n ? -1 : 0;
-          const size_t j = i < n ? i : base;  // padding lanes repeat a valid ray
-          rh.ray.org_x[k] = rays.ox[j]; rh.ray.org_y[k] = rays.oy[j]; rh.ray.org_z[k] = rays.oz[j];
-          rh.ray.tnear[k] = rays.tmin[j];
-          rh.ray.dir_x[k] = rays.dx[j]; rh.ray.dir_y[k] = rays.dy[j]; rh.ray.dir_z[k] = rays.dz[j];
-          rh.ray.tfar[k] = rays.tmax[j];
-          rh.ray.time[k] = 0.0f; rh.ray.mask[k] = 0xFFFFFFFFu; rh.ray.id[k] = 0; rh.ray.flags[k] = 0;
-          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-          rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        }
+        load_ray16(rays, p, rh.ray, valid);
+        for (int k = 0; k < 16; ++k) rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect16(valid, scene, &ctx, &rh);
         for (int k = 0; k < 16 && base + k < n; ++k)
           if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
@@ -163,14 +166,7 @@ void EmbreeAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occ
         alignas(64) RTCRay16 r;
         alignas(64) int valid[16];
         const size_t base = p * 16;
-        for (int k = 0; k < 16; ++k) {
-          const size_t i = base + k;
-          valid[k] = i < n ? -1 : 0;
-          const size_t j = i < n ? i : base;
-          r.org_x[k] = rays.ox[j]; r.org_y[k] = rays.oy[j]; r.org_z[k] = rays.oz[j]; r.tnear[k] = rays.tmin[j];
-          r.dir_x[k] = rays.dx[j]; r.dir_y[k] = rays.dy[j]; r.dir_z[k] = rays.dz[j]; r.tfar[k] = rays.tmax[j];
-          r.time[k] = 0.0f; r.mask[k] = 0xFFFFFFFFu; r.id[k] = 0; r.flags[k] = 0;
-        }
+        load_ray16(rays, p, r, valid);
         rtcOccluded16(valid, scene, &ctx, &r);
         // Embree marks an occluded ray by setting tfar to -inf.
         for (int k = 0; k < 16 && base + k < n; ++k) occluded[base + k] = r.tfar[k] == -kInfinity;
