@@ -81,9 +81,11 @@ void run(RenderOptions& o) {
 
   fmt::print("wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
              o.config.height, o.config.spp, integrator->name(), accel->name(), n_threads);
-  fmt::print("time: {:.3f} s render ({:.3f} s tracing {} rays, {:.2f} Mrays/s), {:.3f} s scene load, {:.3f} s build\n",
-             stats.total_ms * 1e-3, stats.trace_ms * 1e-3, stats.rays(), stats.mrays_per_s(), load_ms * 1e-3,
-             build_ms * 1e-3);
+  // Integrators that do not time their batches (manylight) report no tracing share.
+  const std::string tracing = stats.rays() == 0 ? std::string()
+      : fmt::format(" ({:.3f} s tracing {} rays, {:.2f} Mrays/s)", stats.trace_ms * 1e-3, stats.rays(), stats.mrays_per_s());
+  fmt::print("time: {:.3f} s render{}, {:.3f} s scene load, {:.3f} s build\n", stats.total_ms * 1e-3, tracing,
+             load_ms * 1e-3, build_ms * 1e-3);
   if (!o.stats.empty()) {
     nlohmann::json j = nlohmann::json::parse(stats.to_json());
     j["scene"] = o.scene.empty() ? "cornell" : o.scene;
