@@ -26,14 +26,20 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
   const RayPrecomp rp(ray.dir);
   const uint32_t root = 0;
   if (start.empty()) start = std::span<const uint32_t>(&root, 1);
-  detail::TraversalStack<Entry> stack(start.size() + size_t(depth_) + 2);
+  detail::TraversalStack<Entry> stack(size_t(depth_) + 2);
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
-  for (size_t k = start.size(); k-- > 0;) {
-    float d;
-    ++box_tests;
-    if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, cull_t, d)) stack.push({start[k], d});
-  }
-  while (!stack.empty()) {
+  // Start entries are box tested lazily, the next one only once the stack is empty (exactly
+  // where it would pop had all been pushed up front): entries beyond the hit are never tested.
+  size_t next_start = 0;
+  while (true) {
+    if (stack.empty()) {
+      if (next_start == start.size()) break;
+      const uint32_t s = start[next_start++];
+      float d;
+      ++box_tests;
+      if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[s].bounds, box_tmin, cull_t, d)) stack.push({s, d});
+      continue;
+    }
     const Entry e = stack.pop();
     if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
     ++steps;
@@ -88,15 +94,20 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
   const float box_tmin = cull.near(ray.tmin), box_tmax = cull.far(ray.tmax);
   const uint32_t root = 0;
   if (start.empty()) start = std::span<const uint32_t>(&root, 1);
-  detail::TraversalStack<uint32_t> stack(start.size() + size_t(depth_) + 2);
+  detail::TraversalStack<uint32_t> stack(size_t(depth_) + 2);
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
   bool hit = false;
-  for (size_t k = start.size(); k-- > 0;) {
-    float d;
-    ++box_tests;
-    if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, box_tmax, d)) stack.push(start[k]);
-  }
-  while (!stack.empty() && !hit) {
+  // Start entries are box tested lazily (see intersect): an early hit skips the later ones.
+  size_t next_start = 0;
+  while (!hit) {
+    if (stack.empty()) {
+      if (next_start == start.size()) break;
+      const uint32_t s = start[next_start++];
+      float d;
+      ++box_tests;
+      if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[s].bounds, box_tmin, box_tmax, d)) stack.push(s);
+      continue;
+    }
     ++steps;
     const Bvh2Node& n = nodes[stack.pop()];
     if (n.is_leaf()) {

@@ -41,8 +41,9 @@ class Bvh2 {
   static Bvh2 build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
 
   /// Closest hit of one ray (tmin <= t <= tmax, ties to the smaller id) against tris, the
-  /// triangles the tree was built over. Traversal starts from the `start` nodes: each is box
-  /// tested and pushed, start[0] is popped first; an empty span means the root. This is the
+  /// triangles the tree was built over. Traversal starts from the `start` nodes in order (start[0]
+  /// first): each is box tested only when the stack runs empty, so entries beyond the current
+  /// hit or after an any-hit are never tested; an empty span means the root. This is the
   /// entry ray classification (shafts) uses with its candidate lists. With CaptureStats,
   /// stats (non-null) receives traversal_steps (nodes visited), ray_box_tests, ray_tri_tests;
   /// it does not count stats->rays.
