@@ -30,50 +30,47 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
   // Start entries are box tested lazily, the next one only once the stack is empty (exactly
   // where it would pop had all been pushed up front): entries beyond the hit are never tested.
-  size_t next_start = 0;
-  while (true) {
-    if (stack.empty()) {
-      if (next_start == start.size()) break;
-      const uint32_t s = start[next_start++];
-      float d;
-      ++box_tests;
-      if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[s].bounds, box_tmin, cull_t, d)) stack.push({s, d});
-      continue;
-    }
-    const Entry e = stack.pop();
-    if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
-    ++steps;
-    const Bvh2Node& n = nodes[e.node];
-    if (n.is_leaf()) {
-      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
-        const uint32_t p = prim_ids[k];
-        float t, u, v;
-        ++tri_tests;
-        if (intersect_triangle(ray.org, rp, tris[p], ray.tmin, best.t, t, u, v) &&
-            is_closer(t, p, best.t, best.prim))
-          {
-          best = {t, p, u, v};
-          cull_t = cull.far(t);
+  for (const uint32_t s : start) {
+    float d;
+    ++box_tests;
+    if (!detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[s].bounds, box_tmin, cull_t, d)) continue;
+    stack.push({s, d});
+    while (!stack.empty()) {
+      const Entry e = stack.pop();
+      if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
+      ++steps;
+      const Bvh2Node& n = nodes[e.node];
+      if (n.is_leaf()) {
+        for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+          const uint32_t p = prim_ids[k];
+          float t, u, v;
+          ++tri_tests;
+          if (intersect_triangle(ray.org, rp, tris[p], ray.tmin, best.t, t, u, v) &&
+              is_closer(t, p, best.t, best.prim))
+            {
+            best = {t, p, u, v};
+            cull_t = cull.far(t);
+          }
         }
+        continue;
       }
-      continue;
-    }
-    float dl, dr;
-    const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, cull_t, dl);
-    const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, cull_t, dr);
-    box_tests += 2;
-    if (hl && hr) {
-      if (dr < dl) {
+      float dl, dr;
+      const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, cull_t, dl);
+      const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, cull_t, dr);
+      box_tests += 2;
+      if (hl && hr) {
+        if (dr < dl) {
+          stack.push({n.first, dl});
+          stack.push({n.first + 1, dr});
+        } else {
+          stack.push({n.first + 1, dr});
+          stack.push({n.first, dl});
+        }
+      } else if (hl) {
         stack.push({n.first, dl});
+      } else if (hr) {
         stack.push({n.first + 1, dr});
-      } else {
-        stack.push({n.first + 1, dr});
-        stack.push({n.first, dl});
       }
-    } else if (hl) {
-      stack.push({n.first, dl});
-    } else if (hr) {
-      stack.push({n.first + 1, dr});
     }
   }
   if constexpr (CaptureStats) {
@@ -98,46 +95,43 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
   bool hit = false;
   // Start entries are box tested lazily (see intersect): an early hit skips the later ones.
-  size_t next_start = 0;
-  while (!hit) {
-    if (stack.empty()) {
-      if (next_start == start.size()) break;
-      const uint32_t s = start[next_start++];
-      float d;
-      ++box_tests;
-      if (detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[s].bounds, box_tmin, box_tmax, d)) stack.push(s);
-      continue;
-    }
-    ++steps;
-    const Bvh2Node& n = nodes[stack.pop()];
-    if (n.is_leaf()) {
-      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
-        float t, u, v;
-        ++tri_tests;
-        if (intersect_triangle(ray.org, rp, tris[prim_ids[k]], ray.tmin, ray.tmax, t, u, v)) {
-          hit = true;
-          break;
+  for (size_t k = 0; k < start.size() && !hit; ++k) {
+    float d;
+    ++box_tests;
+    if (!detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, box_tmax, d)) continue;
+    stack.push(start[k]);
+    while (!stack.empty() && !hit) {
+      ++steps;
+      const Bvh2Node& n = nodes[stack.pop()];
+      if (n.is_leaf()) {
+        for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+          float t, u, v;
+          ++tri_tests;
+          if (intersect_triangle(ray.org, rp, tris[prim_ids[k]], ray.tmin, ray.tmax, t, u, v)) {
+            hit = true;
+            break;
+          }
         }
+        continue;
       }
-      continue;
-    }
-    float dl, dr;
-    const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, box_tmax, dl);
-    const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, box_tmax, dr);
-    box_tests += 2;
-    // Near child on top: an early hit ends the ray sooner.
-    if (hl && hr) {
-      if (dr < dl) {
+      float dl, dr;
+      const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, box_tmax, dl);
+      const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, box_tmax, dr);
+      box_tests += 2;
+      // Near child on top: an early hit ends the ray sooner.
+      if (hl && hr) {
+        if (dr < dl) {
+          stack.push(n.first);
+          stack.push(n.first + 1);
+        } else {
+          stack.push(n.first + 1);
+          stack.push(n.first);
+        }
+      } else if (hl) {
         stack.push(n.first);
+      } else if (hr) {
         stack.push(n.first + 1);
-      } else {
-        stack.push(n.first + 1);
-        stack.push(n.first);
       }
-    } else if (hl) {
-      stack.push(n.first);
-    } else if (hr) {
-      stack.push(n.first + 1);
     }
   }
   if constexpr (CaptureStats) {
