@@ -8,6 +8,7 @@
 
 #include "binned_sah_builder.h"
 #include "presplit.h"
+#include "validate_coverage.h"
 
 namespace rayscout {
 
@@ -84,13 +85,7 @@ std::string Bvh2::validate(size_t triangle_count) const {
       stack.push_back(c);
     }
   }
-  if (!split_references && leaf_prims != triangle_count)
-    return "leaves hold " + std::to_string(leaf_prims) + " triangles, expected " + std::to_string(triangle_count);
-  for (size_t p = 0; p < triangle_count; ++p)
-    if (!prim_seen[p]) return "triangle " + std::to_string(p) + " in no leaf";
-  for (size_t i = 0; i < nodes.size(); ++i)
-    if (!node_seen[i]) return "node " + std::to_string(i) + " unreachable";
-  return "";
+  return detail::validate_coverage(prim_seen, node_seen, leaf_prims, triangle_count, split_references, "node");
 }
 
 }  // namespace rayscout

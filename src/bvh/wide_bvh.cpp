@@ -6,6 +6,7 @@
 #include <string>
 
 #include "rayscout/core/accelerator_options.h"
+#include "validate_coverage.h"
 
 namespace rayscout {
 
@@ -163,13 +164,7 @@ std::string WideBvh::validate(size_t triangle_count) const {
       stack.push_back(ref);
     }
   }
-  if (!split_references && leaf_prims != triangle_count)
-    return "leaves hold " + std::to_string(leaf_prims) + " triangles, expected " + std::to_string(triangle_count);
-  for (size_t p = 0; p < triangle_count; ++p)
-    if (!prim_seen[p]) return "triangle " + std::to_string(p) + " in no leaf";
-  for (size_t i = 0; i < nodes.size(); ++i)
-    if (!node_seen[i]) return "wide node " + std::to_string(i) + " unreachable";
-  return "";
+  return detail::validate_coverage(prim_seen, node_seen, leaf_prims, triangle_count, split_references, "wide node");
 }
 
 }  // namespace rayscout

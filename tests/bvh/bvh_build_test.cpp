@@ -53,7 +53,9 @@ TEST(BvhBuild, PresplitReferencesValidate) {
     EXPECT_EQ(bvh.validate(m.triangles.size()), "") << m.name;
     const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
     EXPECT_EQ(wide.validate(m.triangles.size()), "") << m.name;
-    if (m.triangles.size() > 100) EXPECT_GT(bvh.prim_ids.size(), m.triangles.size()) << m.name << ": nothing was split";
+    if (m.triangles.size() > 100) {
+      EXPECT_GT(bvh.prim_ids.size(), m.triangles.size()) << m.name << ": nothing was split";
+    }
   }
 }
 
