@@ -15,10 +15,7 @@ class DirectIntegrator final : public WavefrontIntegrator {
   void shade(const ShadeContext& ctx, const PathState& state, const Ray& ray, const SurfacePoint& sp,
              ShadeOutput& out) const override {
     const Material& m = ctx.scene->material_of(sp.prim);
-    if (m.emissive() && state.specular) {
-      const Vec3 le = detail::emitted(m, sp, ray);
-      if (max_component(le) > 0) out.add_radiance(state.pixel, state.throughput * le);
-    }
+    detail::add_specular_emission(state, m, sp, ray, out);
     const Vec3 wo = -ray.dir;
     if (m.type == Material::Type::Mirror) {
       const Vec3 throughput = state.throughput * m.specular;

@@ -50,4 +50,13 @@ inline Vec3 emitted(const Material& m, const SurfacePoint& sp, const Ray& ray) {
   return dot(sp.n_geometric, ray.dir) < 0 ? m.emission : Vec3{0.0f};
 }
 
+/// Adds the emission seen at a hit reached from the camera or a mirror (state.specular); after
+/// diffuse bounces emitters count through next-event estimation instead, never twice.
+inline void add_specular_emission(const PathState& state, const Material& m, const SurfacePoint& sp,
+                                  const Ray& ray, ShadeOutput& out) {
+  if (!m.emissive() || !state.specular) return;
+  const Vec3 le = emitted(m, sp, ray);
+  if (max_component(le) > 0) out.add_radiance(state.pixel, state.throughput * le);
+}
+
 }  // namespace rayscout::detail

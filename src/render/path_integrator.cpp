@@ -16,10 +16,7 @@ class PathIntegrator final : public WavefrontIntegrator {
   void shade(const ShadeContext& ctx, const PathState& state, const Ray& ray, const SurfacePoint& sp,
              ShadeOutput& out) const override {
     const Material& m = ctx.scene->material_of(sp.prim);
-    if (m.emissive() && state.specular) {
-      const Vec3 le = detail::emitted(m, sp, ray);
-      if (max_component(le) > 0) out.add_radiance(state.pixel, state.throughput * le);
-    }
+    detail::add_specular_emission(state, m, sp, ray, out);
     const int max_depth = ctx.config->max_depth;
     if (ctx.bounce >= max_depth) return;
     const Vec3 wo = -ray.dir;
