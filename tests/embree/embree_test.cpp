@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <random>
 #include <string>
 
@@ -17,10 +16,7 @@
 namespace rayscout {
 namespace {
 
-bool small_scale() {
-  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
-  return s && std::string(s) == "small";
-}
+using testing::small_scale;
 
 bool registered(const std::string& name) {
   const auto& all = accelerators();

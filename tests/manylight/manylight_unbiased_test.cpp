@@ -2,9 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <string>
 
+#include "generated_scenes.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/manylight/brdf.h"
 #include "rayscout/manylight/manylight_renderer.h"
@@ -13,10 +13,7 @@
 namespace rayscout {
 namespace {
 
-bool small_scale() {
-  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
-  return s && std::string(s) == "small";
-}
+using testing::small_scale;
 
 ManylightConfig small_config() {
   ManylightConfig c;

@@ -50,9 +50,12 @@ TEST(PixelSamples, OnePerStratum) {
       xs.insert(int((fx - 5) * spp));
       ys.insert(int((fy - 9) * spp));
     }
-    if (grid) EXPECT_EQ(int(strata.size()), spp) << spp;
-    else EXPECT_EQ(int(xs.size()), spp) << spp;  // N-rooks: every row and column once
-    if (!grid) EXPECT_EQ(int(ys.size()), spp) << spp;
+    if (grid) {
+      EXPECT_EQ(int(strata.size()), spp) << spp;
+    } else {  // N-rooks: every row and column once
+      EXPECT_EQ(int(xs.size()), spp) << spp;
+      EXPECT_EQ(int(ys.size()), spp) << spp;
+    }
   }
 }
 

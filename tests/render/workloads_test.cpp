@@ -49,8 +49,12 @@ TEST(Workloads, SecondaryRaysStartAtPrimaryHitsAndAreDeterministic) {
       if (hits.prim[i] == kInvalidId) continue;
       const Vec3 p = primary[i].org + primary[i].dir * hits.t[i];
       for (size_t j = 0; j < per_hit; ++j, ++k) EXPECT_LT(length(a[k].org - p), 1e-4f) << workload_name(w);
-      if (w == Workload::Ao) EXPECT_GT(a[k - 1].tmax, 0.0f);
-      if (w == Workload::Diffuse) EXPECT_EQ(a[k - 1].tmax, kInfinity);
+      if (w == Workload::Ao) {
+        EXPECT_GT(a[k - 1].tmax, 0.0f);
+      }
+      if (w == Workload::Diffuse) {
+        EXPECT_EQ(a[k - 1].tmax, kInfinity);
+      }
     }
   }
 }

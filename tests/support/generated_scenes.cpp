@@ -1,11 +1,13 @@
 // Generated test scenes and ray sets.
 #include "generated_scenes.h"
 
-#include <cmath>
 #include <array>
+#include <cmath>
+#include <cstdlib>
 #include <map>
 #include <numbers>
 #include <random>
+#include <string_view>
 
 namespace rayscout::testing {
 namespace {
@@ -119,6 +121,11 @@ std::vector<TestMesh> nasty_meshes() {
           {"equal_centroids", equal_centroids(600, 4)},
           {"sphere", sphere({0.5f, 0.5f, 0.5f}, 0.4f, 3)},
           {"single_triangle", {{{0.1f, 0.1f, 0.5f}, {0.9f, 0.2f, 0.5f}, {0.3f, 0.9f, 0.5f}}}}};
+}
+
+bool small_scale() {
+  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
+  return s != nullptr && std::string_view(s) == "small";
 }
 
 RayBatch random_rays(size_t n, uint32_t seed) {

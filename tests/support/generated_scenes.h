@@ -11,6 +11,9 @@
 
 namespace rayscout::testing {
 
+/// True when RAYSCOUT_TEST_SCALE=small (the sanitizer run, 5-10x slower): tests shrink their sizes.
+bool small_scale();
+
 /// A named triangle set for parameterised tests.
 struct TestMesh {
   std::string name;
