@@ -21,6 +21,34 @@ struct ShaftSamples {
   size_t size() const { return hit_t.size(); }
 };
 
+inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
+
+/// cullNodeSubtree: descends while exactly one child overlaps the shaft; returns that
+/// descendant, or kNoNode when no child overlaps (the subtree is unreachable).
+inline uint32_t cull_subtree(const TreeView& tree, const Shaft& shaft, uint32_t node) {
+  for (;;) {
+    if (tree.is_leaf(node)) return node;
+    uint32_t only = kNoNode;
+    int overlapping = 0;
+    for (uint32_t c : tree.children(node))
+      if (shaft.overlaps(tree.bounds[c])) { only = c; if (++overlapping > 1) return node; }
+    if (overlapping == 0) return kNoNode;
+    node = only;
+  }
+}
+
+/// Grows a voxel by a margin far above the rounding of sample origins: a node box that
+/// contains it overlaps every shaft of the voxel, and every sample ray starts inside it
+/// (hit probability exactly 1).
+inline Bounds3 voxel_margin_box(const Bounds3& v) {
+  const Vec3 m = v.diagonal() * (1.0f / 1024.0f) + max(abs(v.lo), abs(v.hi)) * (1.0f / 1048576.0f);
+  return Bounds3{v.lo - m, v.hi + m};
+}
+inline bool contains(const Bounds3& b, const Bounds3& inner) {
+  return b.lo.x <= inner.lo.x && b.lo.y <= inner.lo.y && b.lo.z <= inner.lo.z && b.hi.x >= inner.hi.x &&
+         b.hi.y >= inner.hi.y && b.hi.z >= inner.hi.z;
+}
+
 /// Builds candidate lists of one shaft for a given threshold; scratch is reused.
 class CandidateListBuilder {
  public:
@@ -29,9 +57,7 @@ class CandidateListBuilder {
     // A node whose box strictly contains the voxel (with a margin far above the rounding of
     // the sample origins) overlaps the shaft and every sample ray starts inside it, so its hit
     // probability is exactly 1: such ancestors of the voxel are expanded without the tests.
-    const Bounds3& v = shaft.voxel();
-    const Vec3 m = v.diagonal() * (1.0f / 1024.0f) + max(abs(v.lo), abs(v.hi)) * (1.0f / 1048576.0f);
-    inner_ = Bounds3{v.lo - m, v.hi + m};
+    inner_ = voxel_margin_box(shaft.voxel());
   }
 
   /// Fraction of sample rays that enter node's box before their hit (getHitProbability).
@@ -55,19 +81,8 @@ class CandidateListBuilder {
     return double(hits) / double(n);
   }
 
-  /// cullNodeSubtree: descends while exactly one child overlaps the shaft; returns that
-  /// descendant, or kNone when no child overlaps (the subtree is unreachable).
-  uint32_t cull_subtree(uint32_t node) const {
-    for (;;) {
-      if (tree_.is_leaf(node)) return node;
-      uint32_t only = kNone;
-      int overlapping = 0;
-      for (uint32_t c : tree_.children(node))
-        if (shaft_.overlaps(tree_.bounds[c])) { only = c; if (++overlapping > 1) return node; }
-      if (overlapping == 0) return kNone;
-      node = only;
-    }
-  }
+  /// cullNodeSubtree (see detail::cull_subtree).
+  uint32_t cull_subtree(uint32_t node) const { return detail::cull_subtree(tree_, shaft_, node); }
 
   /// Algorithm 1 with threshold min_prob. Appends node indices to out, near first. Returns false
   /// (out then incomplete) as soon as the list exceeds max_len.
@@ -97,13 +112,10 @@ class CandidateListBuilder {
     return true;
   }
 
-  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+  static constexpr uint32_t kNone = detail::kNoNode;
 
  private:
-  bool contains_voxel(const Bounds3& b) const {
-    return b.lo.x <= inner_.lo.x && b.lo.y <= inner_.lo.y && b.lo.z <= inner_.lo.z && b.hi.x >= inner_.hi.x &&
-           b.hi.y >= inner_.hi.y && b.hi.z >= inner_.hi.z;
-  }
+  bool contains_voxel(const Bounds3& b) const { return contains(b, inner_); }
 
   void push_children_far_first(uint32_t node) {
     const auto kids = tree_.children(node);

@@ -15,15 +15,33 @@ double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] 
 
 }  // namespace
 
-Shaft::Shaft(const ShaftGrid& grid, ShaftCoord coord) {
-  voxel_ = grid.voxel_box(coord.voxel);
-  cell_ = grid.cell_range(coord.cell);
+Shaft::Shaft(const ShaftGrid& grid, ShaftCoord coord) : Shaft(grid, coord.voxel, grid.cell_range(coord.cell)) {}
+
+void Shaft::set_voxel(const ShaftGrid& grid, uint32_t voxel) {
+  voxel_ = grid.voxel_box(voxel);
   const Vec3 gd = grid.box().diagonal();
   const double pad = kPadSpace * std::sqrt(double(gd.x) * gd.x + double(gd.y) * gd.y + double(gd.z) * gd.z);
   for (int k = 0; k < 3; ++k) {
     vlo_[k] = double(voxel_.lo[k]) - pad;
     vhi_[k] = double(voxel_.hi[k]) + pad;
+    fvlo_[k] = float(vlo_[k]);
+    fvhi_[k] = float(vhi_[k]);
+    if (double(fvlo_[k]) > vlo_[k]) fvlo_[k] = std::nextafter(fvlo_[k], -kInfinity);
+    if (double(fvhi_[k]) < vhi_[k]) fvhi_[k] = std::nextafter(fvhi_[k], kInfinity);
   }
+  // The float support value sums 6 products of |components| <= |box| + |voxel| with unit
+  // axes; its rounding error stays below 16 ulps of 2 (|coordinate| + diagonal). 64 ulps,
+  // about 4e-6 of that, is far below the spatial padding (1e-4 of the diagonal). Boxes come
+  // from the BVH over the grid box (wide child boxes may overshoot it by a quantisation
+  // step, covered by the diagonal term).
+  const Bounds3& g = grid.box();
+  const double reach = double(max_component(max(abs(g.lo), abs(g.hi)))) + 2.0 * std::sqrt(double(gd.x) * gd.x + double(gd.y) * gd.y + double(gd.z) * gd.z);
+  tol_ = float(2.0 * reach * 64.0 * std::ldexp(1.0, -24));
+}
+
+Shaft::Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& cell) {
+  set_voxel(grid, voxel);
+  cell_ = cell;
   // Cone edges: the four corner directions of the padded cell.
   const int ua = cell_.axis == 2 ? 0 : cell_.axis + 1, va = ua == 2 ? 0 : ua + 1;
   const double us[2] = {cell_.u0 - kPadDir, cell_.u1 + kPadDir};
@@ -63,6 +81,15 @@ Shaft::Shaft(const ShaftGrid& grid, ShaftCoord coord) {
       for (auto& c : n) c = -c;
     if (pos || neg) axes_[size_t(axis_count_++)] = n;
   }
+  // Float copies of the axes (rounding to float moves a unit axis by ~6e-8, far less than
+  // the 1e-4 by which the real cone lies inside the padded cone's planes, so every float
+  // axis still has the whole real cone on its positive side: a valid separating axis).
+  for (int a = 0; a < axis_count_; ++a)
+    for (int k = 0; k < 3; ++k) {
+      const float c = float(axes_[size_t(a)][k]);
+      pos_[k][a] = c > 0.0f ? c : 0.0f;
+      neg_[k][a] = c < 0.0f ? c : 0.0f;
+    }
   const Vec3 c = ShaftGrid::face_direction(cell_, 0.5 * (cell_.u0 + cell_.u1), 0.5 * (cell_.v0 + cell_.v1));
   center_dir_ = normalize(c);
 }

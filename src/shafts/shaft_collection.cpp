@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "candidate_list.h"
+#include "group_list_builder.h"
 
 namespace rayscout {
 namespace {
@@ -109,29 +110,30 @@ Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, c
   return sel;
 }
 
-/// Builds the list (node indices) of one shaft: 0 = nothing reachable (list empty), 1 = list in `list`.
-/// Counts threshold raises and fallbacks.
-int build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
-              const ShaftConfig& config, double min_prob, detail::ShaftSamples& samples,
-              std::vector<uint32_t>& list, size_t& retries, size_t& fallbacks) {
-  list.clear();
-  if (tree.size() == 0) return 0;
-  const Shaft shaft(grid, coord);
-  const uint64_t sid = uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell;
+/// Fills samples [at, at + config.samples) with the sample rays of shaft (voxel x cell `sid`)
+/// and their closest-hit distances. The random numbers depend only on the seed and the shaft id.
+void make_samples(const Shaft& shaft, uint64_t sid, const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
+                  detail::ShaftSamples& samples, size_t at) {
   uint64_t rng = (uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull);
-  const int ns = std::max(0, config.samples);
-  samples.resize(size_t(ns));
-  for (int s = 0; s < ns; ++s) {
+  for (int s = 0; s < config.samples; ++s) {
     float rnd[5];
     for (float& r : rnd) r = uniform01(rng);
     const Ray ray = shaft.sample_ray(rnd);
-    samples.ox[s] = ray.org.x; samples.oy[s] = ray.org.y; samples.oz[s] = ray.org.z;
-    samples.ix[s] = 1.0f / ray.dir.x; samples.iy[s] = 1.0f / ray.dir.y; samples.iz[s] = 1.0f / ray.dir.z;
-    samples.hit_t[s] = trace(ray);
+    const size_t k = at + size_t(s);
+    samples.ox[k] = ray.org.x; samples.oy[k] = ray.org.y; samples.oz[k] = ray.org.z;
+    samples.ix[k] = 1.0f / ray.dir.x; samples.iy[k] = 1.0f / ray.dir.y; samples.iz[k] = 1.0f / ray.dir.z;
+    samples.hit_t[k] = trace(ray);
   }
+}
+
+/// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
+/// at min_prob), then the cullNodeSubtree(root) fallback. Counts raises and fallbacks.
+void build_with_retries(const TreeView& tree, const Shaft& shaft, const detail::ShaftSamples& samples,
+                        const ShaftConfig& config, double min_prob, int first_retry, std::vector<uint32_t>& list,
+                        size_t& retries, size_t& fallbacks) {
   detail::CandidateListBuilder builder(tree, shaft, samples);
-  bool ok = builder.build(min_prob, config.max_list, list);
-  for (int i = 0; !ok && i < config.retries; ++i) {
+  bool ok = first_retry < 0 && builder.build(min_prob, config.max_list, list);
+  for (int i = std::max(0, first_retry); !ok && i < config.retries; ++i) {
     ++retries;
     ok = builder.build(min_prob + double(i + 1) / 20.0, config.max_list, list);
   }
@@ -139,9 +141,61 @@ int build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, con
     ++fallbacks;
     list.clear();
     const uint32_t n = builder.cull_subtree(tree.root);
-    if (n != detail::CandidateListBuilder::kNone) list.push_back(n);
+    if (n != detail::kNoNode) list.push_back(n);
   }
-  return list.empty() ? 0 : 1;
+}
+
+/// Builds the list (node indices) of one shaft on its own (budget pilots).
+void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
+               const ShaftConfig& config, double min_prob, detail::ShaftSamples& samples,
+               std::vector<uint32_t>& list, size_t& retries, size_t& fallbacks) {
+  list.clear();
+  if (tree.size() == 0) return;
+  const Shaft shaft(grid, coord);
+  samples.resize(size_t(config.samples));
+  make_samples(shaft, uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace, config, samples, 0);
+  build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
+}
+
+/// Cells of one cube face rectangle built together (GroupListBuilder): the members' centre
+/// directions agree on the sign of every component, at most 8 x 8 cells.
+struct CellGroup {
+  std::vector<uint32_t> cells;
+  ShaftGrid::CellRange range;
+};
+
+std::vector<CellGroup> cell_groups(const ShaftGrid& grid) {
+  const int d = grid.dir_res();
+  std::vector<CellGroup> groups;
+  for (int face = 0; face < 6; ++face) {
+    const ShaftGrid::CellRange f = grid.cell_range(uint32_t(face * d * d));
+    const int ua = f.axis == 2 ? 0 : f.axis + 1, va = ua == 2 ? 0 : ua + 1;
+    // Runs of cells along u (and v) whose centre component has the same sign, cut to <= 8.
+    auto runs = [&](int comp, bool along_u) {
+      std::vector<std::pair<int, int>> out;
+      int begin = 0;
+      auto positive = [&](int i) {
+        const uint32_t cell = uint32_t((face * d + (along_u ? 0 : i)) * d + (along_u ? i : 0));
+        return Shaft(grid, {0, cell}).center_dir()[comp] > 0.0f;
+      };
+      for (int i = 1; i <= d; ++i)
+        if (i == d || positive(i) != positive(begin) || i - begin == 8) {
+          out.push_back({begin, i});
+          begin = i;
+        }
+      return out;
+    };
+    for (const auto& [v0, v1] : runs(va, false))
+      for (const auto& [u0, u1] : runs(ua, true)) {
+        CellGroup g;
+        for (int v = v0; v < v1; ++v)
+          for (int u = u0; u < u1; ++u) g.cells.push_back(uint32_t((face * d + v) * d + u));
+        const auto lo = grid.cell_range(g.cells.front()), hi = grid.cell_range(g.cells.back());
+        g.range = {lo.axis, lo.sign, lo.u0, hi.u1, lo.v0, hi.v1};
+        groups.push_back(std::move(g));
+      }
+  }
+  return groups;
 }
 
 }  // namespace
@@ -220,31 +274,87 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   struct VoxelLists {
     std::vector<uint8_t> status;
     std::vector<uint8_t> len;
+    std::vector<uint32_t> begin;  ///< start of the cell's list in data (groups fill data out of cell order)
     std::vector<uint32_t> data;
     size_t retries = 0, fallbacks = 0;
   };
   std::vector<VoxelLists> out(listed.size());
   const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
 
+  // Cones are the same in every voxel: made once, moved to each voxel.
+  std::vector<Shaft> cell_shafts;
+  for (uint32_t cell = 0; cell < cells; ++cell) cell_shafts.emplace_back(grid, ShaftCoord{0, cell});
+  const std::vector<CellGroup> groups = cell_groups(grid);
+  std::vector<Shaft> group_shafts;
+  for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
+  const size_t per = size_t(config.samples);
+
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
-    detail::ShaftSamples samples;
-    std::vector<uint32_t> list;
+    detail::ShaftSamples samples, one;
+    std::vector<Shaft> members;
+    std::vector<uint32_t> member_cells;
+    std::vector<std::vector<uint32_t>> lists(detail::GroupListBuilder::kMaxGroup);
     for (size_t li = range.begin(); li != range.end(); ++li) {
       const uint32_t voxel = listed[li];
       VoxelLists& vl = out[li];
       vl.status.assign(cells, 0);
       vl.len.assign(cells, 0);
-      for (uint32_t cell = 0; cell < cells; ++cell) {
-        const uint64_t sid = uint64_t(voxel) * cells + cell;
-        if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
-        build_one(tree, grid, {voxel, cell}, trace, config, min_prob, samples, list, vl.retries, vl.fallbacks);
-        if (list.empty()) {
-          vl.status[cell] = 2;
-          continue;
+      vl.begin.assign(cells, 0);
+      for (size_t gi = 0; gi < groups.size(); ++gi) {
+        members.clear();
+        member_cells.clear();
+        for (uint32_t cell : groups[gi].cells) {
+          if (!shaft_selected.empty() && !shaft_selected[uint64_t(voxel) * cells + cell]) continue;
+          members.push_back(cell_shafts[cell]);
+          members.back().set_voxel(grid, voxel);
+          member_cells.push_back(cell);
         }
-        vl.status[cell] = 1;
-        vl.len[cell] = uint8_t(list.size());
-        vl.data.insert(vl.data.end(), list.begin(), list.end());
+        if (members.empty()) continue;
+        Shaft group = group_shafts[gi];
+        group.set_voxel(grid, voxel);
+        samples.resize(members.size() * per);
+        for (size_t m = 0; m < members.size(); ++m)
+          make_samples(members[m], uint64_t(voxel) * cells + member_cells[m], trace, config, samples, m * per);
+        const uint64_t all = members.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members.size()) - 1;
+        uint64_t ok = 0;
+        if (tree.size() > 0) {
+          detail::GroupListBuilder builder(tree, group, members, samples, config.samples);
+          ok = builder.build(min_prob, config.max_list, all, lists.data());
+        }
+        for (size_t m = 0; m < members.size(); ++m) {
+          std::vector<uint32_t>& list = lists[m];
+          if (tree.size() == 0) list.clear();
+          else if (!(ok >> m & 1)) {
+            // Overflow: this member alone, with raised thresholds (Algorithm 1 retries).
+            one.resize(per);
+            for (auto [dst, src] : {std::pair{&one.ox, &samples.ox}, {&one.oy, &samples.oy}, {&one.oz, &samples.oz},
+                                    {&one.ix, &samples.ix}, {&one.iy, &samples.iy}, {&one.iz, &samples.iz},
+                                    {&one.hit_t, &samples.hit_t}})
+              std::copy_n(src->begin() + std::ptrdiff_t(m * per), per, dst->begin());
+            build_with_retries(tree, members[m], one, config, min_prob, 0, list, vl.retries, vl.fallbacks);
+          }
+          const uint32_t cell = member_cells[m];
+          if (std::getenv("RAYSCOUT_SHAFTS_CHECK")) {
+            std::vector<uint32_t> ref;
+            size_t r = 0, f = 0;
+            build_one(tree, grid, {voxel, cell}, trace, config, min_prob, one, ref, r, f);
+            if (ref != list) {
+              std::fprintf(stderr, "mismatch voxel %u cell %u:", voxel, cell);
+              for (auto x : ref) std::fprintf(stderr, " %u", x);
+              std::fprintf(stderr, " |");
+              for (auto x : list) std::fprintf(stderr, " %u", x);
+              std::fprintf(stderr, "\n");
+            }
+          }
+          if (list.empty()) {
+            vl.status[cell] = 2;
+            continue;
+          }
+          vl.status[cell] = 1;
+          vl.len[cell] = uint8_t(list.size());
+          vl.begin[cell] = uint32_t(vl.data.size());
+          vl.data.insert(vl.data.end(), list.begin(), list.end());
+        }
       }
     }
   });
@@ -284,7 +394,6 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     col.voxel_base_[listed[li]] = base;
     st.overflow_retries += vl.retries;
     st.overflow_fallbacks += vl.fallbacks;
-    size_t pos = 0;
     for (uint32_t cell = 0; cell < cells; ++cell) {
       if (vl.status[cell] == 0) continue;
       ++st.listed_shafts;
@@ -294,6 +403,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         continue;
       }
       const uint32_t len = vl.len[cell];
+      const size_t pos = vl.begin[cell];
       const uint32_t offset = uint32_t(col.lists_.size());
       for (uint32_t k = 0; k < len; ++k) col.lists_.push_back(tree.ref[vl.data[pos + k]]);
       auto [it, inserted] = known.try_emplace({offset, len}, offset);
@@ -306,7 +416,6 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         for (int row = 0; row < 6; ++row)
           for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(row < 3 ? q[k].lo[row] : q[k].hi[row - 3]);
       }
-      pos += len;
       const uint32_t at = it->second;
       if (at >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
       col.entries_[base + cell] = (at << 5) | len;

@@ -114,5 +114,55 @@ TEST(Shaft, OverlapsEveryReachablePointAndCullsTheBackSide) {
   EXPECT_GT(culled, tested / 2) << "narrow shafts should cull most random boxes";
 }
 
+// The float test (used by the build) must keep every box the exact double test keeps, and
+// may keep only slightly more: boxes at random and grazing the shaft (shifted by tiny steps
+// across its separating planes).
+TEST(Shaft, FloatTestKeepsEveryBoxTheExactTestKeeps) {
+  const ShaftGrid g(Bounds3{{-120, 3, -40}, {250, 90, 75}}, {9, 4, 6}, 4);
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  size_t exact_kept = 0, float_kept = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const ShaftCoord coord{uint32_t(rng() % g.voxel_count()), uint32_t(rng() % g.cells_per_voxel())};
+    const Shaft shaft(g, coord);
+    for (int i = 0; i < 200; ++i) {
+      const Vec3 lo = g.box().lo, d = g.box().diagonal();
+      const Vec3 q{lo.x + d.x * (1.4f * u01(rng) - 0.2f), lo.y + d.y * (1.4f * u01(rng) - 0.2f),
+                   lo.z + d.z * (1.4f * u01(rng) - 0.2f)};
+      Bounds3 b{q, q + Vec3{u01(rng), u01(rng), u01(rng)} * (0.05f * max_component(d))};
+      // Bisect a shift along a random axis to a box that just touches the shaft.
+      const int axis = int(rng() % 3);
+      float in = 0.0f, out = 0.0f;
+      if (i % 2 && !shaft.overlaps_exact(b)) {
+        const float dir = u01(rng) < 0.5f ? -1.0f : 1.0f;
+        for (float step = 1.0f; step < 4.0f * max_component(d); step *= 2.0f) {
+          Bounds3 m = b;
+          m.lo[axis] += dir * step;
+          m.hi[axis] += dir * step;
+          if (shaft.overlaps_exact(m)) { in = step; break; }
+          out = step;
+        }
+        for (int k = 0; in > 0.0f && k < 40; ++k) {
+          const float mid = 0.5f * (in + out);
+          Bounds3 m = b;
+          m.lo[axis] += dir * mid;
+          m.hi[axis] += dir * mid;
+          (shaft.overlaps_exact(m) ? in : out) = mid;
+        }
+        if (in > 0.0f) {
+          b.lo[axis] += dir * in;
+          b.hi[axis] += dir * in;
+        }
+      }
+      const bool exact = shaft.overlaps_exact(b), fast = shaft.overlaps(b);
+      exact_kept += exact;
+      float_kept += fast;
+      if (exact) EXPECT_TRUE(fast) << "the float test culled a box the exact test keeps";
+    }
+  }
+  EXPECT_GT(exact_kept, 2000u);
+  EXPECT_LE(float_kept, exact_kept + exact_kept / 50) << "the float test should be nearly as tight";
+}
+
 }  // namespace
 }  // namespace rayscout

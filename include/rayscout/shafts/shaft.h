@@ -2,6 +2,7 @@
 // building candidate lists.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -28,12 +29,45 @@ class Shaft {
   static constexpr double kPadSpace = 1e-4, kPadDir = 1e-4;
 
   Shaft(const ShaftGrid& grid, ShaftCoord coord);
+  /// The shaft of `voxel` and any face rectangle `cell` of directions (e.g. the union of
+  /// several cells of one face).
+  Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& cell);
+  /// Moves the shaft to another voxel of the same grid (the cone, and so the axes, stay):
+  /// cheaper than constructing it again.
+  void set_voxel(const ShaftGrid& grid, uint32_t voxel);
 
+  /// A box minus the (padded) voxel, B (-) V = [B.lo - V.hi, B.hi - V.lo], in float; the same
+  /// for every shaft of one voxel, so a caller testing many shafts computes it once.
+  struct BoxDiff {
+    float lo[3], hi[3];
+  };
+  BoxDiff diff(const Bounds3& b) const {
+    BoxDiff d;
+    for (int k = 0; k < 3; ++k) {
+      d.lo[k] = b.lo[k] - fvhi_[k];
+      d.hi[k] = b.hi[k] - fvlo_[k];
+    }
+    return d;
+  }
+  /// Separating-axis test of every culling plane at once (float, branch-free, vectorised).
+  /// Conservative: the support value max n.x over B (-) V is rejected only below -tol, tol
+  /// above its float rounding error; the float axes are valid separating axes because the
+  /// real cone lies inside the padded one by far more than their rounding (see shaft.cpp).
+  bool overlaps(const BoxDiff& d) const {
+    const float limit = -tol_;
+    int separated = 0;  // an integer or-reduction vectorises (a float min does not without fast-math)
+    for (int a = 0; a < kAxes; ++a) {
+      const float m = pos_[0][a] * d.hi[0] + neg_[0][a] * d.lo[0] + pos_[1][a] * d.hi[1] + neg_[1][a] * d.lo[1] +
+                      pos_[2][a] * d.hi[2] + neg_[2][a] * d.lo[2];
+      separated |= m < limit ? 1 : 0;
+    }
+    return separated == 0;
+  }
   /// Conservative: false only when no ray of the shaft can reach any point of b.
-  bool overlaps(const Bounds3& b) const {
+  bool overlaps(const Bounds3& b) const { return !b.empty() && overlaps(diff(b)); }
+  /// The exact test in double (reference for tests): same axes, no tolerance.
+  bool overlaps_exact(const Bounds3& b) const {
     if (b.empty()) return false;
-    // Axes one at a time: the first (voxel faces) reject most boxes, so the early exit beats
-    // a vectorised test of all axes (measured).
     for (int a = 0; a < axis_count_; ++a) {
       const auto& n = axes_[size_t(a)];
       double m = 0.0;
@@ -56,7 +90,13 @@ class Shaft {
   const Bounds3& voxel() const { return voxel_; }
 
  private:
+  static constexpr int kAxes = 24;  ///< 19 axes at most, padded with zero axes (always pass)
   std::array<double, 3> vlo_{}, vhi_{};
+  float fvlo_[3] = {}, fvhi_[3] = {};  ///< the padded voxel rounded outward to float
+  /// Axes split in positive and negative parts per component: n.x maximised over a box is
+  /// pos . hi + neg . lo.
+  alignas(32) float pos_[3][kAxes] = {}, neg_[3][kAxes] = {};
+  float tol_ = 0.0f;
   /// n with cone . n >= 0; at most 3 faces + 12 bevels + 4 sides (fixed storage: one shaft
   /// is made per list, so heap allocations showed in the build profile).
   std::array<std::array<double, 3>, 19> axes_{};

@@ -1,0 +1,181 @@
+// GroupListBuilder: Algorithm 1 of Hendrich et al. 2019 for several shafts of one voxel in one
+// tree walk (same lists as one walk per shaft, see the class comment).
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "candidate_list.h"
+
+namespace rayscout::detail {
+
+/// Candidate lists of up to 64 shafts of one voxel whose cells lie in one rectangle of a cube
+/// face (the group cone `group`, which contains every member's cone). A DFS over the tree
+/// carries the set of members for which a node is still open; each member sees exactly the
+/// nodes, tests and order its own Algorithm 1 would, so its list is the one
+/// CandidateListBuilder builds, provided every member orders children the same way (Bvh2: the
+/// members' centre directions agree on which components are > 0; a k-ary tree is ordered by the group
+/// cone's centre direction, which may order a member's list differently). What is shared:
+/// the walk down to the voxel's ancestors, one node load per visit, one group overlap test
+/// that rejects a node for all members at once, and the hit probability of all members as one
+/// vectorised loop over their sample rays.
+class GroupListBuilder {
+ public:
+  static constexpr int kMaxGroup = 64;
+
+  /// members[i] uses samples [i s, (i + 1) s) of `samples`, s = samples_per_shaft.
+  GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft> members,
+                   const ShaftSamples& samples, int samples_per_shaft)
+      : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft) {
+    inner_ = voxel_margin_box(group.voxel());
+  }
+
+  /// Algorithm 1 with threshold min_prob for every member in `active`; lists[i] receives
+  /// member i's node indices near first. Returns the members whose list fit in max_len (the
+  /// others' lists are incomplete and must be rebuilt with a raised threshold).
+  uint64_t build(double min_prob, int max_len, uint64_t active, std::vector<uint32_t>* lists) {
+    for (uint64_t m = active; m; m &= m - 1) lists[std::countr_zero(m)].clear();
+    uint64_t live = active;
+    stack_.clear();
+    stack_.push_back({tree_.root, active});
+    const bool shortcut = min_prob <= 1.0;
+    while (!stack_.empty()) {
+      const auto [node, mask_in] = stack_.back();
+      stack_.pop_back();
+      const uint64_t mask = mask_in & live;
+      if (!mask) continue;
+      const Bounds3& box = tree_.bounds[node];
+      const bool leaf = tree_.is_leaf(node);
+      if (shortcut && !leaf && contains(box, inner_)) {
+        push_children_far_first(node, mask);
+        continue;
+      }
+      if (box.empty()) continue;
+      // Members and group share the voxel, hence the box difference.
+      const Shaft::BoxDiff diff = group_.diff(box);
+      if (std::popcount(mask) > 1 && !group_.overlaps(diff)) continue;
+      uint64_t over = 0;
+      for (uint64_t m = mask; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        if (members_[size_t(i)].overlaps(diff)) over |= uint64_t(1) << i;
+      }
+      if (!over) continue;
+      uint64_t stop = over;
+      if (!leaf) {
+        const uint64_t open = expanding(box, over, min_prob);
+        stop = over & ~open;
+        if (open) push_children_far_first(node, open);
+      }
+      if (!leaf && stop) cull_subtrees(node, stop);
+      for (uint64_t m = stop; m; m &= m - 1) {
+        const int i = std::countr_zero(m);
+        const uint32_t entry = leaf ? node : culled_[i];
+        if (entry == kNoNode) continue;
+        lists[i].push_back(entry);
+        if (int(lists[i].size()) > max_len) live &= ~(uint64_t(1) << i);
+      }
+    }
+    return live;
+  }
+
+ private:
+  struct Item {
+    uint32_t node;
+    uint64_t mask;
+  };
+
+  /// cullNodeSubtree(node) for every member in mask, into culled_ (detail::cull_subtree;
+  /// a child's box difference is computed once for all members).
+  void cull_subtrees(uint32_t node, uint64_t mask) {
+    cull_stack_.clear();
+    cull_stack_.push_back({node, mask});
+    while (!cull_stack_.empty()) {
+      const auto [n, m] = cull_stack_.back();
+      cull_stack_.pop_back();
+      if (tree_.is_leaf(n)) {
+        for (uint64_t r = m; r; r &= r - 1) culled_[std::countr_zero(r)] = n;
+        continue;
+      }
+      const auto kids = tree_.children(n);
+      uint64_t once = 0, twice = 0;  // members with >= 1 / >= 2 overlapping children
+      over_.resize(kids.size());
+      uint64_t* over = over_.data();
+      for (size_t c = 0; c < kids.size(); ++c) {
+        const Bounds3& box = tree_.bounds[kids[c]];
+        uint64_t o = 0;
+        if (!box.empty()) {
+          const Shaft::BoxDiff diff = group_.diff(box);
+          for (uint64_t r = m & ~twice; r; r &= r - 1) {
+            const int i = std::countr_zero(r);
+            if (members_[size_t(i)].overlaps(diff)) o |= uint64_t(1) << i;
+          }
+        }
+        over[c] = o;
+        twice |= once & o;
+        once |= o;
+      }
+      for (uint64_t r = twice; r; r &= r - 1) culled_[std::countr_zero(r)] = n;
+      for (uint64_t r = m & ~once; r; r &= r - 1) culled_[std::countr_zero(r)] = kNoNode;
+      for (size_t c = 0; c < kids.size(); ++c)
+        if (const uint64_t single = over[c] & ~twice) cull_stack_.push_back({kids[c], single});
+    }
+  }
+
+  /// Members in `mask` whose hit probability of box is >= min_prob (hitProbability of
+  /// CandidateListBuilder, evaluated for all sample rays in one loop).
+  uint64_t expanding(const Bounds3& b, uint64_t mask, double min_prob) {
+    const float* __restrict ox = samples_.ox.data(); const float* __restrict oy = samples_.oy.data();
+    const float* __restrict oz = samples_.oz.data(); const float* __restrict ix = samples_.ix.data();
+    const float* __restrict iy = samples_.iy.data(); const float* __restrict iz = samples_.iz.data();
+    const float* __restrict ht = samples_.hit_t.data();
+    uint64_t open = 0;
+    for (uint64_t m = mask; m; m &= m - 1) {
+      const int s = std::countr_zero(m);
+      const size_t begin = size_t(s) * size_t(per_), end = begin + size_t(per_);
+      int count = 0;
+      for (size_t i = begin; i < end; ++i) {
+        const float x0 = (b.lo.x - ox[i]) * ix[i], x1 = (b.hi.x - ox[i]) * ix[i];
+        const float y0 = (b.lo.y - oy[i]) * iy[i], y1 = (b.hi.y - oy[i]) * iy[i];
+        const float z0 = (b.lo.z - oz[i]) * iz[i], z1 = (b.hi.z - oz[i]) * iz[i];
+        const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+        const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
+        count += tn <= tf ? 1 : 0;
+      }
+      if (per_ == 0 || double(count) / double(per_) >= min_prob) open |= uint64_t(1) << s;
+    }
+    return open;
+  }
+
+  void push_children_far_first(uint32_t node, uint64_t mask) {
+    const auto kids = tree_.children(node);
+    const Vec3& dir = group_.center_dir();
+    if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
+      // Members agree on the sign of every centre component (the caller groups them so).
+      const bool left_near = members_[0].center_dir()[tree_.split_axis[node]] > 0.0f;
+      stack_.push_back({left_near ? kids[1] : kids[0], mask});
+      stack_.push_back({left_near ? kids[0] : kids[1], mask});
+      return;
+    }
+    order_.assign(kids.begin(), kids.end());
+    std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+      const float da = dot(tree_.bounds[a].center(), dir), db = dot(tree_.bounds[b].center(), dir);
+      return da > db || (da == db && a > b);  // farthest first on the stack
+    });
+    for (uint32_t c : order_) stack_.push_back({c, mask});
+  }
+
+  const TreeView& tree_;
+  const Shaft& group_;
+  std::span<const Shaft> members_;
+  const ShaftSamples& samples_;
+  int per_;
+  std::vector<Item> stack_, cull_stack_;
+  std::vector<uint64_t> over_;
+  uint32_t culled_[kMaxGroup];
+  std::vector<uint32_t> order_;
+  Bounds3 inner_;
+};
+
+}  // namespace rayscout::detail

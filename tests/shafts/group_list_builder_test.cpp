@@ -1,0 +1,87 @@
+// GroupListBuilder: one tree walk for a group of shafts gives each member the list its own
+// Algorithm 1 gives (Bvh2), including cullNodeSubtree entries and overflowing members.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "../../src/shafts/group_list_builder.h"
+#include "generated_scenes.h"
+#include "rayscout/bvh/bvh2.h"
+
+namespace rayscout {
+namespace {
+
+TEST(GroupListBuilder, MembersGetTheirOwnAlgorithm1Lists) {
+  const std::vector<Triangle> tris = testing::random_soup(2000, 5);
+  const Bvh2 bvh = Bvh2::build(tris);
+  const TreeView tree = TreeView::from_bvh2(bvh);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  size_t compared = 0, entries = 0, overflowed = 0;
+  for (int d : {4, 3}) {
+    const ShaftGrid grid(tree.bounds[0], {6, 5, 4}, d);
+    for (int trial = 0; trial < 60; ++trial) {
+      const uint32_t voxel = uint32_t(rng() % grid.voxel_count());
+      const int face = int(rng() % 6);
+      // Cells of one face quadrant whose centre directions agree in sign (as the build groups them).
+      std::vector<Shaft> members;
+      const bool upper_u = rng() % 2, upper_v = rng() % 2;
+      const int half = d / 2;
+      const int u0 = upper_u ? half : 0, u1 = upper_u ? d : half, v0 = upper_v ? half : 0, v1 = upper_v ? d : half;
+      for (int v = v0; v < v1; ++v)
+        for (int u = u0; u < u1; ++u) members.emplace_back(grid, ShaftCoord{voxel, uint32_t((face * d + v) * d + u)});
+      // d = 3: the middle row's centre component may be +-0; keep only sign-agreeing members.
+      const Vec3 c0 = members[0].center_dir();
+      std::erase_if(members, [&](const Shaft& s) {
+        for (int k = 0; k < 3; ++k)
+          if ((s.center_dir()[k] > 0.0f) != (c0[k] > 0.0f)) return true;
+        return false;
+      });
+      const auto lo = grid.cell_range(uint32_t((face * d + v0) * d + u0));
+      const auto hi = grid.cell_range(uint32_t((face * d + v1 - 1) * d + u1 - 1));
+      const Shaft group(grid, voxel, ShaftGrid::CellRange{lo.axis, lo.sign, lo.u0, hi.u1, lo.v0, hi.v1});
+      const int per = 6;
+      detail::ShaftSamples samples;
+      samples.resize(members.size() * per);
+      for (size_t m = 0; m < members.size(); ++m)
+        for (int k = 0; k < per; ++k) {
+          float rnd[5];
+          for (float& r : rnd) r = u01(rng);
+          const Ray ray = members[m].sample_ray(rnd);
+          const size_t i = m * per + size_t(k);
+          samples.ox[i] = ray.org.x; samples.oy[i] = ray.org.y; samples.oz[i] = ray.org.z;
+          samples.ix[i] = 1.0f / ray.dir.x; samples.iy[i] = 1.0f / ray.dir.y; samples.iz[i] = 1.0f / ray.dir.z;
+          samples.hit_t[i] = bvh.intersect<false>(ray, tris, {}, nullptr).t;
+        }
+      const int max_len = trial % 3 == 0 ? 3 : 31;  // small limit: some members overflow
+      const double min_prob = trial % 2 ? 0.5 : 0.3;
+      std::vector<std::vector<uint32_t>> lists(members.size());
+      detail::GroupListBuilder gb(tree, group, members, samples, per);
+      const uint64_t ok = gb.build(min_prob, max_len, (uint64_t(1) << members.size()) - 1, lists.data());
+      for (size_t m = 0; m < members.size(); ++m) {
+        detail::ShaftSamples one;
+        one.resize(per);
+        for (int k = 0; k < per; ++k) {
+          const size_t i = m * per + size_t(k);
+          one.ox[k] = samples.ox[i]; one.oy[k] = samples.oy[i]; one.oz[k] = samples.oz[i];
+          one.ix[k] = samples.ix[i]; one.iy[k] = samples.iy[i]; one.iz[k] = samples.iz[i];
+          one.hit_t[k] = samples.hit_t[i];
+        }
+        detail::CandidateListBuilder b(tree, members[m], one);
+        std::vector<uint32_t> ref;
+        const bool fits = b.build(min_prob, max_len, ref);
+        ASSERT_EQ(fits, bool(ok >> m & 1)) << "d " << d << " trial " << trial << " member " << m;
+        if (!fits) { ++overflowed; continue; }
+        EXPECT_EQ(ref, lists[m]) << "d " << d << " trial " << trial << " member " << m;
+        ++compared;
+        entries += ref.size();
+      }
+    }
+  }
+  EXPECT_GT(compared, 100u);
+  EXPECT_GT(entries, 3 * compared);
+  EXPECT_GT(overflowed, 5u);
+}
+
+}  // namespace
+}  // namespace rayscout
