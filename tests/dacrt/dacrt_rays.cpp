@@ -2,18 +2,12 @@
 #include "dacrt_rays.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <numbers>
 #include <string>
 
 #include "generated_scenes.h"
 
 namespace rayscout::testing {
-
-bool small_scale() {
-  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
-  return s && std::string(s) == "small";
-}
 
 RayBatch pinhole_rays(const Vec3& eye, const Vec3& look_at, float fov_deg, int width, int height) {
   const Vec3 fwd = normalize(look_at - eye);
@@ -64,7 +58,8 @@ std::vector<std::vector<std::string>> switch_combinations() {
   // Samplings, thresholds and the parallel mode on the full method.
   const std::vector<std::string> rs = {"cost=sampled", "order=sampled", "skip=on", "min_rays=64"};
   for (std::vector<std::string> extra : std::vector<std::vector<std::string>>{
-           {"strategy=random", "samples=16"}, {"order=sign-votes"}, {"fraction=0.01"}, {"fraction=0.1", "strategy=random"},
+           {"strategy=random", "samples=16"}, {"order=sign-votes"}, {"order=interval-votes"}, {"order=sampled", "sample_budget=0"},
+           {"resample=on"}, {"sample_budget=0.05"}, {"fraction=0.01"}, {"fraction=0.1", "strategy=random"},
            {"bins=2", "delta_r=1", "delta_t=2"}, {"bins=256", "delta_r=32", "delta_t=32"},
            {"midpoint_ratio=0"}, {"midpoint_ratio=1000"}, {"C_tri=0.1", "C_bv=5"}, {"parallel=on"}}) {
     auto c = rs;

@@ -4,14 +4,12 @@
 #include <string>
 #include <vector>
 
+#include "generated_scenes.h"
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/core/ray.h"
 #include "rayscout/scene/scene.h"
 
 namespace rayscout::testing {
-
-/// True when RAYSCOUT_TEST_SCALE=small (sanitizer runs): tests shrink their sizes.
-bool small_scale();
 
 /// width x height pinhole rays from eye towards look_at (vertical fov in degrees), pixel-major.
 RayBatch pinhole_rays(const Vec3& eye, const Vec3& look_at, float fov_deg, int width, int height);
