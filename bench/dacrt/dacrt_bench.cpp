@@ -41,6 +41,9 @@ struct Options {
   int study_res = 2048;
   std::vector<std::string> study_views{"sibenik-a", "sponza-a"};
   std::string source = "render";
+  std::vector<std::string> batches;   // empty = every batch
+  std::vector<std::string> variants;  // "label=key:value;key:value", dacrt-rs plus these options
+  bool variants_only = false;         // no dacrt / dacrt-rs columns (profiling one variant)
 };
 
 // The machine is shared: with one thread the process CPU time measures the work without the
@@ -107,12 +110,17 @@ int main(int argc, char** argv) {
   app.add_flag("--big", o.big, "also 4096^2");
   app.add_option("--reps", o.reps, "repetitions per measurement (median)");
   app.add_option("--threads", o.threads, "threads (1 = the paper's single thread; dacrt parallel=on when > 1)");
-  app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers")->delimiter(',');
+  app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers,variants")->delimiter(',');
   app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers");
   app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
   app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)");
   app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
       ->check(CLI::IsMember({"render", "own"}));
+  app.add_option("--batches", o.batches, "only these batches (e.g. primary,shadow,mirror@1; default all)")->delimiter(',');
+  app.add_option("--variants", o.variants,
+                 "experiment 'variants': label=key:value;key:value options on top of dacrt-rs, timed side by side "
+                 "with dacrt and dacrt-rs (e.g. 'cs=cost:sampled;skip:on')");
+  app.add_flag("--variants-only", o.variants_only, "experiment 'variants' without the dacrt and dacrt-rs columns");
   CLI11_PARSE(app, argc, argv);
   if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
@@ -142,7 +150,10 @@ int main(int argc, char** argv) {
   };
   auto ray_sets = [&](const View& v, const Scene& scene, int res) {
     auto bvh = make_accelerator("bvh", scene);
-    return render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
+    auto sets = render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
+    if (!o.batches.empty())
+      std::erase_if(sets, [&](const RaySet& s) { return !contains(o.batches, set_label(s)); });
+    return sets;
   };
 
   // 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
@@ -172,6 +183,75 @@ int main(int argc, char** argv) {
         fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {:.2f} |\n", v.name, res, fa, fr, fa / fr, paper);
         out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr}, {"paper_ratio", paper}});
         std::fflush(stdout);
+      }
+    }
+    fmt::print("\n");
+  }
+
+  // Variants: dacrt, dacrt-rs and option sets on top of dacrt, repetitions interleaved so that
+  // every ratio is measured side by side; plus each one's counts.
+  if (wants("variants")) {
+    // Every variant is dacrt-rs plus its options (the first column is plain dacrt).
+    std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
+        {"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
+    if (o.variants_only) configs.clear();
+    for (const auto& v : o.variants) {
+      const auto eq = v.find('=');
+      std::vector<std::string> extra;
+      std::string rest = eq == std::string::npos ? "" : v.substr(eq + 1);
+      for (size_t a = 0; !rest.empty() && a != std::string::npos;) {
+        const size_t b = rest.find(';', a);
+        std::string kv = rest.substr(a, b == std::string::npos ? std::string::npos : b - a);
+        if (const auto c = kv.find(':'); c != std::string::npos) kv[c] = '=';
+        if (!kv.empty()) extra.push_back(kv);
+        a = b == std::string::npos ? b : b + 1;
+      }
+      configs.push_back({v.substr(0, eq), extra});
+    }
+    fmt::print("## Variants (ms, ratio = dacrt / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n");
+    fmt::print("| view | res | batch | rays |");
+    for (const auto& c : configs) fmt::print(" {} |", c.first);
+    fmt::print("\n|---|---|---|---|");
+    for (size_t k = 0; k < configs.size(); ++k) fmt::print("---|");
+    fmt::print("\n");
+    for (const auto& v : paper_views()) {
+      if (!contains(o.views, v.name)) continue;
+      auto scene = scene_of(v);
+      if (!scene) continue;
+      std::vector<std::unique_ptr<Accelerator>> accs;
+      for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, o, c.second));
+      for (int res : o.res) {
+        const auto sets = ray_sets(v, *scene, res);
+        std::vector<double> frame(configs.size(), 0.0);
+        for (const auto& s : sets) {
+          std::vector<std::vector<double>> t(configs.size());
+          for (int r = 0; r < o.reps; ++r)
+            for (size_t k = 0; k < accs.size(); ++k) {
+              const double t0 = now_ms();
+              trace(*accs[k], s);
+              t[k].push_back(ms_since(t0));
+            }
+          fmt::print("| {} | {} | {} | {} |", v.name, res, set_label(s), s.rays.size());
+          const double base = median(t[0]);
+          for (size_t k = 0; k < accs.size(); ++k) {
+            const double m = median(t[k]);
+            frame[k] += m;
+            TraceStats st;
+            trace(*accs[k], s, &st);
+            const auto d = dynamic_cast<const Dacrt*>(accs[k].get())->last_details();
+            fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
+                       double(d.partition_box_tests) / double(s.rays.size()),
+                       double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
+            out["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"config", configs[k].first},
+                                       {"ms", m}, {"partition_box", d.partition_box_tests},
+                                       {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
+          }
+          fmt::print("\n");
+          std::fflush(stdout);
+        }
+        fmt::print("| {} | {} | **frame** | |", v.name, res);
+        for (size_t k = 0; k < accs.size(); ++k) fmt::print(" {:.1f} ({:.2f}x) |", frame[k], frame[0] / frame[k]);
+        fmt::print("\n");
       }
     }
     fmt::print("\n");

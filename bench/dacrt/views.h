@@ -11,9 +11,9 @@ namespace rayscout::bench {
 
 /// Every view: Sibenik (a) point light, (b) other point lights, (c) area light, all with the
 /// mirror floor of fig. 4; Sponza (a), (b) point lights, (c) path tracing; Conference likewise.
-/// The renderer source (default) renders bench/scenes/<scene_json> with `integrator`; views
-/// without a scene file exist only for the own generator (--source own), which uses the
-/// camera and lights here (AO rays stand in for path tracing).
+/// The renderer source (default) renders bench/scenes/<scene_json> with `integrator` (the (b)
+/// views have two point lights); the own generator (--source own) uses the camera and lights
+/// here instead (AO rays stand in for path tracing).
 inline std::vector<View> paper_views() {
   std::vector<View> v;
   View s;
@@ -37,7 +37,7 @@ inline std::vector<View> paper_views() {
   p.camera.fov_deg = 70;
   p.integrator = "direct";
   p.name = "sponza-a"; p.scene_json = "sponza.json"; p.point_lights = {{0.0f, 110.0f, 0.0f}}; v.push_back(p);
-  p.name = "sponza-b"; p.scene_json = ""; p.point_lights = {{-60.0f, 30.0f, 20.0f}}; v.push_back(p);
+  p.name = "sponza-b"; p.scene_json = "sponza-b.json"; p.point_lights = {{-60.0f, 30.0f, 20.0f}}; v.push_back(p);
   p.name = "sponza-c"; p.scene_json = "sponza.json"; p.integrator = "path"; p.max_depth = 3;
   p.point_lights = {{0.0f, 110.0f, 0.0f}}; p.ao = true; v.push_back(p);
 
@@ -48,7 +48,7 @@ inline std::vector<View> paper_views() {
   c.camera.fov_deg = 60;
   c.integrator = "direct";
   c.name = "conference-a"; c.scene_json = "conference.json"; c.point_lights = {{300.0f, 550.0f, -200.0f}}; v.push_back(c);
-  c.name = "conference-b"; c.scene_json = ""; c.point_lights = {{1200.0f, 300.0f, 300.0f}}; v.push_back(c);
+  c.name = "conference-b"; c.scene_json = "conference-b.json"; c.point_lights = {{1200.0f, 300.0f, 300.0f}}; v.push_back(c);
   c.name = "conference-c"; c.scene_json = "conference.json"; c.integrator = "path"; c.max_depth = 3;
   c.point_lights = {{300.0f, 550.0f, -200.0f}}; c.ao = true; v.push_back(c);
   return v;

@@ -14,6 +14,7 @@
 #endif
 
 #include "rayscout/core/triangle.h"
+#include "rayscout/dacrt/dacrt_config.h"
 #include "ray_record.h"
 
 // g++ 12 reports a false "__Y may be used uninitialized" inside its own AVX-512 headers.
@@ -49,6 +50,33 @@ inline float filter_tmax(float t) { return t + std::fabs(t) * kHitSlack; }
 /// entered at or before the current hit (entry <= t) is kept.
 inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear) {
   return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, r.tmin, filter_tmax(r.t), tnear);
+}
+
+/// As above, also giving the exit distance tfar (the tmax-clipped far end of the overlap).
+inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear, float& tfar) {
+  // intersect_box's slab loop, repeated to keep its far end.
+  tnear = r.tmin;
+  tfar = filter_tmax(r.t);
+  const float o[3] = {r.ox, r.oy, r.oz}, inv[3] = {r.ix, r.iy, r.iz};
+  for (int a = 0; a < 3; ++a) {
+    const bool negative = std::signbit(inv[a]);
+    const float t0 = ((negative ? box.hi : box.lo)[a] - o[a]) * inv[a];
+    const float t1 = ((negative ? box.lo : box.hi)[a] - o[a]) * inv[a] * kRobustScale;
+    tnear = t0 > tnear ? t0 : tnear;
+    tfar = t1 < tfar ? t1 : tfar;
+  }
+  return tnear <= tfar;
+}
+
+/// Which child a sample ray that hits both votes for: 0 (left), 1 (right) or -1 (none),
+/// from the entry (d) and exit (f) distances of both boxes and the ray's direction along
+/// the split axis (goes_up: left first). See DacrtConfig::votes.
+inline int vote(DacrtVotes rule, float dl, float fl, float dr, float fr, bool goes_up) {
+  switch (rule) {
+    case DacrtVotes::Sign: return goes_up ? 0 : 1;
+    case DacrtVotes::Interval: return fl < dr ? 0 : (fr < dl ? 1 : -1);
+    default: return (dl < dr || (dl == dr && goes_up)) ? 0 : 1;
+  }
 }
 
 /// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
@@ -178,7 +206,7 @@ inline void ray_vs_boxes(const RayRecord& r, const BoxSoa& boxes, float* entry) 
 /// entry (a ray starting inside both) goes by the ray's direction along the split axis
 /// (goes_up: left first); with sign_votes the direction alone decides. Padding lanes hold
 /// empty boxes and count nothing.
-inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, bool sign_votes,
+inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, DacrtVotes rule,
                          uint32_t* hits_l, uint32_t* hits_r, uint32_t* votes_l, uint32_t* votes_r) {
 #if defined(__AVX512F__)
   const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
@@ -186,9 +214,9 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
   const __m512 robust = _mm512_set1_ps(kRobustScale), tmin = _mm512_set1_ps(r.tmin),
                tmax = _mm512_set1_ps(filter_tmax(r.t));
   const __m512i one = _mm512_set1_epi32(1);
-  auto test = [&](const BoxSoa& b, int i, __m512& tnear) {
+  auto test = [&](const BoxSoa& b, int i, __m512& tnear, __m512& tfar) {
     tnear = tmin;
-    __m512 tfar = tmax;
+    tfar = tmax;
     auto slab = [&](const float* lo, const float* hi, __m512 o, __m512 inv) {
       const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(lo + i), o), inv);
       const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(hi + i), o), inv);
@@ -204,15 +232,20 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     return _mm512_cmp_ps_mask(tnear, tfar, _CMP_LE_OQ);
   };
   for (int i = 0; i < lb.count; i += 16) {
-    __m512 nl, nr;
-    const __mmask16 hl = test(lb, i, nl), hr = test(rb, i, nr);
+    __m512 nl, nr, fl, fr;
+    const __mmask16 hl = test(lb, i, nl, fl), hr = test(rb, i, nr, fr);
     const __mmask16 both = hl & hr;
-    __mmask16 left;
-    if (sign_votes) {
+    __mmask16 left, right;
+    if (rule == DacrtVotes::Sign) {
       left = goes_up ? both : __mmask16(0);
+      right = static_cast<__mmask16>(both & ~left);
+    } else if (rule == DacrtVotes::Interval) {
+      left = _mm512_mask_cmp_ps_mask(both, fl, nr, _CMP_LT_OQ);
+      right = static_cast<__mmask16>(_mm512_mask_cmp_ps_mask(both, fr, nl, _CMP_LT_OQ) & ~left);
     } else {
       left = _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ);
       if (goes_up) left |= _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_EQ_OQ);
+      right = static_cast<__mmask16>(both & ~left);
     }
     auto add = [&](uint32_t* p, __mmask16 m) {
       __m512i v = _mm512_load_si512(p + i);
@@ -221,18 +254,19 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     add(hits_l, hl);
     add(hits_r, hr);
     add(votes_l, left);
-    add(votes_r, static_cast<__mmask16>(both & ~left));
+    add(votes_r, right);
   }
 #else
-  alignas(64) float el[BoxSoa::kMax], er[BoxSoa::kMax];
-  ray_vs_boxes(r, lb, el);
-  ray_vs_boxes(r, rb, er);
   for (int j = 0; j < lb.count; ++j) {
-    const bool hl = !std::isnan(el[j]), hr = !std::isnan(er[j]);
+    const Bounds3 bl{{lb.lox[j], lb.loy[j], lb.loz[j]}, {lb.hix[j], lb.hiy[j], lb.hiz[j]}};
+    const Bounds3 br{{rb.lox[j], rb.loy[j], rb.loz[j]}, {rb.hix[j], rb.hiy[j], rb.hiz[j]}};
+    float dl, fl, dr, fr;
+    const bool hl = ray_hits_box(r, bl, dl, fl), hr = ray_hits_box(r, br, dr, fr);
     hits_l[j] += hl;
     hits_r[j] += hr;
     if (hl && hr) {
-      if (sign_votes ? goes_up : (el[j] < er[j] || (el[j] == er[j] && goes_up))) ++votes_l[j]; else ++votes_r[j];
+      const int v = vote(rule, dl, fl, dr, fr, goes_up);
+      if (v == 0) ++votes_l[j]; else if (v == 1) ++votes_r[j];
     }
   }
 #endif

@@ -30,18 +30,21 @@ size_t DacrtConfig::sample_count(size_t n) const {
 DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c) {
   c.sampled_cost = pick(o, "cost", "sampled", "sah", c.sampled_cost);
   {
-    const std::string order = o.get_string("order", c.sampled_order ? (c.sign_votes ? "sign-votes" : "sampled") : "one-ray");
-    if (order != "sampled" && order != "one-ray" && order != "sign-votes")
-      throw InputError("option 'order': '" + order + "' is not sampled, one-ray or sign-votes");
+    const char* names[] = {"sampled", "sign-votes", "interval-votes"};
+    const std::string order = o.get_string("order", c.sampled_order ? names[int(c.votes)] : "one-ray");
+    if (order != "sampled" && order != "one-ray" && order != "sign-votes" && order != "interval-votes")
+      throw InputError("option 'order': '" + order + "' is not sampled, one-ray, sign-votes or interval-votes");
     c.sampled_order = order != "one-ray";
-    c.sign_votes = order == "sign-votes";
+    c.votes = order == "sign-votes" ? DacrtVotes::Sign : order == "interval-votes" ? DacrtVotes::Interval : DacrtVotes::Entry;
   }
   c.skip_partitioning = o.get_bool("skip", c.skip_partitioning);
+  c.resample_second = o.get_bool("resample", c.resample_second);
   c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
                    ? DacrtSampling::Random : DacrtSampling::Stride;
   c.samples = int(o.get_int("samples", c.samples));
   c.fraction = o.get_double("fraction", c.fraction);
   c.min_rays_sampling = size_t(std::max(0L, o.get_int("min_rays", long(c.min_rays_sampling))));
+  c.sample_budget = o.get_double("sample_budget", c.sample_budget);
   c.seed = uint64_t(o.get_int("seed", long(c.seed)));
   c.delta_r = size_t(o.get_int("delta_r", long(c.delta_r)));
   c.delta_t = size_t(o.get_int("delta_t", long(c.delta_t)));
@@ -56,6 +59,7 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   require(c.fraction >= 0.0 && c.fraction <= 1.0, "fraction: must be in [0, 1]");
   require(c.delta_r >= 1 && c.delta_t >= 2, "delta_r >= 1 and delta_t >= 2 required");
   require(c.bins >= 2 && c.bins <= 256, "bins=" + std::to_string(c.bins) + ": must be in [2, 256]");
+  require(c.sample_budget >= 0.0, "sample_budget: must be >= 0");
   require(c.midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
   require(c.c_t >= 0 && c.c_i > 0 && c.c_bv > 0 && c.c_tri > 0, "C_T >= 0, C_I, C_bv, C_tri > 0 required");
   return c;
@@ -63,11 +67,12 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
 
 std::string DacrtConfig::describe() const {
   std::ostringstream s;
-  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << (sampled_order ? (sign_votes ? "sign-votes" : "sampled") : "one-ray")
+  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << (sampled_order ? (votes == DacrtVotes::Sign ? "sign-votes" : votes == DacrtVotes::Interval ? "interval-votes" : "sampled") : "one-ray")
     << " skip=" << (skip_partitioning ? "on" : "off")
+    << " resample=" << (resample_second ? "on" : "off")
     << " strategy=" << (strategy == DacrtSampling::Stride ? "stride" : "random");
   if (fraction > 0) s << " fraction=" << fraction; else s << " samples=" << samples;
-  s << " min_rays=" << min_rays_sampling << " delta_r=" << delta_r << " delta_t=" << delta_t << " bins=" << bins
+  s << " min_rays=" << min_rays_sampling << " sample_budget=" << sample_budget << " delta_r=" << delta_r << " delta_t=" << delta_t << " bins=" << bins
     << " midpoint_ratio=" << midpoint_ratio << " C_T=" << c_t << " C_I=" << c_i << " C_bv=" << c_bv
     << " C_tri=" << c_tri << " parallel=" << (parallel ? "on" : "off");
   return s.str();

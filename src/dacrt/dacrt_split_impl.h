@@ -54,7 +54,10 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
       std::fill_n(hits_l, k, 0u); std::fill_n(hits_r, k, 0u);
       std::fill_n(votes_l, k, 0u); std::fill_n(votes_r, k, 0u);
       size_t ns = 0;
-      const bool sampled_cost = sample && cfg_.sampled_cost;
+      // The sampled cost only where its 2 (K - 1) N_s tests fit the budget (DacrtConfig).
+      const bool sampled_cost = sample && cfg_.sampled_cost &&
+                                (cfg_.sample_budget <= 0.0 ||
+                                 double(cfg_.sample_count(nr)) * double(k - 1) <= cfg_.sample_budget * double(nr));
       if (sampled_cost) {
         // Algorithm 2 for every sample ray and candidate.
         BoxSoa& lb = lb_;
@@ -68,7 +71,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         for (size_t q = 0; q < ns; ++q) {
           const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
           const bool goes_up = (axis == 0 ? r.ix : (axis == 1 ? r.iy : r.iz)) >= 0.0f;
-          sample_pairs(r, lb, rb, goes_up, cfg_.sign_votes, hits_l, hits_r, votes_l, votes_r);
+          sample_pairs(r, lb, rb, goes_up, cfg_.votes, hits_l, hits_r, votes_l, votes_r);
         }
         if constexpr (kStats) {
           const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
@@ -136,14 +139,17 @@ void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, 
   s.votes[0] = s.votes[1] = 0;
   for (size_t q = 0; q < ns; ++q) {
     const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
-    float d[2] = {kInfinity, kInfinity};
+    float d[2] = {kInfinity, kInfinity}, f[2] = {kInfinity, kInfinity};
+    bool h[2];
     for (int c = 0; c < 2; ++c) {
-      float tnear;
-      if (ray_hits_box(r, s.box[c], tnear)) { ++hits[c]; d[c] = tnear; }
+      h[c] = ray_hits_box(r, s.box[c], d[c], f[c]);
+      hits[c] += h[c];
     }
     const bool ray_goes_up = (s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz)) >= 0.0f;
-    if (d[0] < kInfinity && d[1] < kInfinity)
-      ++s.votes[(cfg_.sign_votes ? ray_goes_up : (d[0] < d[1] || (d[0] == d[1] && ray_goes_up))) ? 0 : 1];
+    if (h[0] && h[1]) {
+      const int v = vote(cfg_.votes, d[0], f[0], d[1], f[1], ray_goes_up);
+      if (v >= 0) ++s.votes[v];
+    }
   }
   s.alpha[0] = double(hits[0]) / double(ns);
   s.alpha[1] = double(hits[1]) / double(ns);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -97,6 +98,9 @@ class DacrtTracer {
       const int c = k == 0 ? first : 1 - first;
       uint32_t* ctid = c == 0 ? tid : tid + s.n_left;
       const size_t cnt = c == 0 ? s.n_left : nt - s.n_left;
+      // alpha of the second child: the share of R that hits its box with the hit distances
+      // left by the first child, which is what partitioning would test (eqs. 3-5).
+      if (k == 1 && s.sampled && cfg_.skip_partitioning && cfg_.resample_second) s.alpha[c] = sample_one(rid, nr, s.box[c]);
       if (s.sampled && cfg_.skip_partitioning && s.alpha[c] > skip_threshold(cnt)) {
         if constexpr (kStats) ++details.skipped_partitions;
         node(rid, nr, ctid, cnt, s.cb[c]);
@@ -105,6 +109,18 @@ class DacrtTracer {
         node(rid, h, ctid, cnt, s.cb[c]);
       }
     }
+  }
+
+  // Share of N_s sample rays of rid[0, nr) hitting box with their current hit distance.
+  double sample_one(const uint32_t* rid, size_t nr, const Bounds3& box) {
+    const size_t ns = cfg_.sample_count(nr);
+    uint32_t hits = 0;
+    for (size_t q = 0; q < ns; ++q) {
+      float tnear;
+      hits += ray_hits_box(ctx_.rays[rid[sample_index(q, ns, nr)]], box, tnear);
+    }
+    if constexpr (kStats) { stats.ray_box_tests += ns; details.sampling_box_tests += ns; }
+    return double(hits) / double(ns);
   }
 
   // Eq. (5): skip when alpha > 1 - C_bv / (C_child n_child); an inner child gives eq. (6).

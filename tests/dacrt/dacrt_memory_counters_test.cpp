@@ -95,10 +95,11 @@ TEST(DacrtCounters, RaySamplingSavesBoxTestsOnPrimaryRays) {
   EXPECT_LT(d.partition_box_tests, afra.ray_box_tests * 85 / 100)
       << "expected at least 15 % fewer partition tests: dacrt-rs " << d.partition_box_tests << " vs dacrt "
       << afra.ray_box_tests;
-  if (!testing::small_scale())
+  if (!testing::small_scale()) {
     EXPECT_LT(rs.ray_box_tests, afra.ray_box_tests)
         << "dacrt-rs " << rs.ray_box_tests << " (partition " << d.partition_box_tests << ", sampling "
         << d.sampling_box_tests << ") vs dacrt " << afra.ray_box_tests;
+  }
 }
 
 TEST(DacrtParallel, SameHitsForAnyThreadCount) {

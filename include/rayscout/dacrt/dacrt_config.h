@@ -13,6 +13,9 @@ namespace rayscout {
 /// How sample rays are drawn from a node's ray set (sec. 4.1, fig. 9).
 enum class DacrtSampling { Stride, Random };
 
+/// Vote rule of the sampled child order (sec. 4.3), see DacrtConfig::votes.
+enum class DacrtVotes { Entry, Sign, Interval };
+
 /// Tunables of Dacrt. The defaults give Afra's DACRT; ray_sampled() switches on the three
 /// contributions of the ray-sampling paper. Cost constants are relative (one ray-box test = 1).
 struct DacrtConfig {
@@ -22,10 +25,16 @@ struct DacrtConfig {
   /// Child order by the sample rays' n_L/n_R votes (true, sec. 4.3) or by the direction of
   /// one ray along the split axis (false, Afra). Option order=sampled|one-ray.
   bool sampled_order = false;
-  /// With sampled_order: a sample ray hitting both children votes by its direction along the
-  /// split axis instead of by the nearer box entry (rayscout's variant, docs/dacrt.md).
-  /// Option order=sign-votes.
-  bool sign_votes = false;
+  /// With sampled_order, how a sample ray that hits both children votes (docs/dacrt.md):
+  /// Entry = the nearer box entry (Algorithm 2, lines 10-14; equal entries by the ray's
+  /// direction), Sign = the ray's direction along the split axis, Interval = only when one
+  /// box's [entry, exit] interval ends before the other begins (the ray surely meets that
+  /// child's triangles first). Option order=sampled|sign-votes|interval-votes.
+  DacrtVotes votes = DacrtVotes::Entry;
+  /// With skip_partitioning: alpha of the child visited second is measured again with the
+  /// sample rays' hit distances after the first child (what its partitioning would see), not
+  /// before it. Option resample=on|off.
+  bool resample_second = false;
   /// Skip partitioning the rays against a child when alpha > 1 - C_bv / (C_child n_child),
   /// eq. (5) (sec. 4.4). Option skip=on|off.
   bool skip_partitioning = false;
@@ -41,6 +50,13 @@ struct DacrtConfig {
   /// Nodes with fewer rays do not sample and behave exactly like Afra's DACRT (paper: 1000).
   /// Option min_rays=N.
   size_t min_rays_sampling = 1000;
+  /// With sampled_cost: eq. (2) is evaluated over the K - 1 candidates only when their
+  /// N_s 2 (K - 1) sample-ray tests are at most sample_budget times the node's own partition
+  /// tests 2 |R|, i.e. N_s (K - 1) <= sample_budget |R|. Other sampled nodes keep the SAH
+  /// split of eq. (1) and test the sample rays against the two chosen children only (order
+  /// and skipping), as the paper does below its midpoint ratio. 0 = always (the paper);
+  /// dacrt-rs: 1. Option sample_budget=X.
+  double sample_budget = 0.0;
   /// Seed of the random strategy (results never depend on it, only the speed). Option seed=N.
   uint64_t seed = 1;
 
@@ -76,6 +92,8 @@ struct DacrtConfig {
   static DacrtConfig ray_sampled() {
     DacrtConfig c;
     c.sampled_cost = c.sampled_order = c.skip_partitioning = true;
+    c.votes = DacrtVotes::Interval;
+    c.sample_budget = 1.0;
     return c;
   }
   /// True when any contribution needs sample rays.
