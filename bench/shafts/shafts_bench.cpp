@@ -79,6 +79,7 @@ double median(std::vector<double> v) {
 struct Measure {
   TraceStats with, without;
   double ms_with = 0, ms_without = 0;
+  double ms_lookup = 0;  ///< classification + lookup of every ray, no traversal
 };
 
 Measure measure(const ShaftsAccelerator& acc, const RaySet& set, int reps) {
@@ -103,6 +104,18 @@ Measure measure(const ShaftsAccelerator& acc, const RaySet& set, int reps) {
   }
   m.ms_with = median(a);
   m.ms_without = median(b);
+  // Classification + lookup alone (what every listed ray pays before its traversal).
+  std::vector<double> l;
+  size_t sink = 0;
+  for (int r = 0; r < reps; ++r) {
+    const double t0 = now_ms();
+    for (size_t i = 0; i < set.rays.size(); ++i) {
+      const Candidates c = acc.collection().lookup(set.rays[i]);
+      sink += c.list.size() + (c.list.empty() ? 0 : c.list[0]);
+    }
+    l.push_back(now_ms() - t0);
+  }
+  m.ms_lookup = median(l) + double(sink & 1) * 1e-12;
   return m;
 }
 
@@ -198,16 +211,16 @@ int main(int argc, char** argv) {
       fmt::print("build on the trace clock: BVH {:.1f} ms, collection {:.1f} ms = {:.1f}x the BVH\n\n", bvh_clock_ms,
                  all_clock_ms - bvh_clock_ms, (all_clock_ms - bvh_clock_ms) / bvh_clock_ms);
       fmt::print("| workload | rays | steps/ray plain | steps/ray shafts | steps saved | box tests/ray plain / shafts "
-                 "| tri tests/ray plain / shafts | ms plain | ms shafts | speedup |\n");
-      fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                 "| tri tests/ray plain / shafts | ms plain | ms shafts | speedup | lookup ns/ray |\n");
+      fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
       for (const RaySet& set : sets) {
         const Measure m = measure(acc, set, reps);
         const double n = double(std::max<size_t>(1, set.rays.size()));
-        fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.1f} / {:.1f} | {:.1f} / {:.1f} | {:.2f} | {:.2f} | {:.2f}x |\n",
+        fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.1f} / {:.1f} | {:.1f} / {:.1f} | {:.2f} | {:.2f} | {:.2f}x | {:.1f} |\n",
                    set.name, set.rays.size(), m.without.traversal_steps / n, m.with.traversal_steps / n,
                    100.0 * (1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps))),
                    m.without.ray_box_tests / n, m.with.ray_box_tests / n, m.without.ray_tri_tests / n,
-                   m.with.ray_tri_tests / n, m.ms_without, m.ms_with, m.ms_without / m.ms_with);
+                   m.with.ray_tri_tests / n, m.ms_without, m.ms_with, m.ms_without / m.ms_with, m.ms_lookup * 1e6 / n);
         if (out.is_open())
           out << sname << "," << v.base << "," << cfg.budget_rel << "," << cfg.dir_res << "," << set.name << ","
               << set.rays.size() << "," << m.without.traversal_steps / n << "," << m.with.traversal_steps / n << ","

@@ -25,8 +25,10 @@ class GroupListBuilder {
  public:
   static constexpr int kMaxGroup = 64;
 
-  /// members[i] uses samples [i s, (i + 1) s) of `samples`, s = samples_per_shaft.
-  GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft> members,
+  /// members[i] uses samples [i s, (i + 1) s) of `samples`, s = samples_per_shaft. Only the
+  /// group shaft must be placed in the voxel: members are used for their cones only (their
+  /// tests take the group's box difference), so shafts of any voxel may stand for them.
+  GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft* const> members,
                    const ShaftSamples& samples, int samples_per_shaft)
       : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft) {
     inner_ = voxel_margin_box(group.voxel());
@@ -37,6 +39,10 @@ class GroupListBuilder {
   /// others' lists are incomplete and must be rebuilt with a raised threshold).
   uint64_t build(double min_prob, int max_len, uint64_t active, std::vector<uint32_t>* lists) {
     for (uint64_t m = active; m; m &= m - 1) lists[std::countr_zero(m)].clear();
+    // count / per >= min_prob as an integer count (same decision, no division per member).
+    need_ = 0;
+    while (need_ < per_ && double(need_) / double(per_) < min_prob) ++need_;
+    if (per_ > 0 && double(need_) / double(per_) < min_prob) need_ = per_ + 1;
     uint64_t live = active;
     stack_.clear();
     stack_.push_back({tree_.root, active});
@@ -59,12 +65,12 @@ class GroupListBuilder {
       uint64_t over = 0;
       for (uint64_t m = mask; m; m &= m - 1) {
         const int i = std::countr_zero(m);
-        if (members_[size_t(i)].overlaps(diff)) over |= uint64_t(1) << i;
+        if (members_[size_t(i)]->overlaps(diff)) over |= uint64_t(1) << i;
       }
       if (!over) continue;
       uint64_t stop = over;
       if (!leaf) {
-        const uint64_t open = expanding(box, over, min_prob);
+        const uint64_t open = expanding(box, over);
         stop = over & ~open;
         if (open) push_children_far_first(node, open);
       }
@@ -109,7 +115,7 @@ class GroupListBuilder {
           const Shaft::BoxDiff diff = group_.diff(box);
           for (uint64_t r = m & ~twice; r; r &= r - 1) {
             const int i = std::countr_zero(r);
-            if (members_[size_t(i)].overlaps(diff)) o |= uint64_t(1) << i;
+            if (members_[size_t(i)]->overlaps(diff)) o |= uint64_t(1) << i;
           }
         }
         over[c] = o;
@@ -125,11 +131,12 @@ class GroupListBuilder {
 
   /// Members in `mask` whose hit probability of box is >= min_prob (hitProbability of
   /// CandidateListBuilder, evaluated for all sample rays in one loop).
-  uint64_t expanding(const Bounds3& b, uint64_t mask, double min_prob) {
+  uint64_t expanding(const Bounds3& b, uint64_t mask) {
     const float* __restrict ox = samples_.ox.data(); const float* __restrict oy = samples_.oy.data();
     const float* __restrict oz = samples_.oz.data(); const float* __restrict ix = samples_.ix.data();
     const float* __restrict iy = samples_.iy.data(); const float* __restrict iz = samples_.iz.data();
     const float* __restrict ht = samples_.hit_t.data();
+    const int need = need_;
     uint64_t open = 0;
     for (uint64_t m = mask; m; m &= m - 1) {
       const int s = std::countr_zero(m);
@@ -143,7 +150,7 @@ class GroupListBuilder {
         const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
         count += tn <= tf ? 1 : 0;
       }
-      if (per_ == 0 || double(count) / double(per_) >= min_prob) open |= uint64_t(1) << s;
+      if (count >= need) open |= uint64_t(1) << s;
     }
     return open;
   }
@@ -153,7 +160,7 @@ class GroupListBuilder {
     const Vec3& dir = group_.center_dir();
     if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
       // Members agree on the sign of every centre component (the caller groups them so).
-      const bool left_near = members_[0].center_dir()[tree_.split_axis[node]] > 0.0f;
+      const bool left_near = members_[0]->center_dir()[tree_.split_axis[node]] > 0.0f;
       stack_.push_back({left_near ? kids[1] : kids[0], mask});
       stack_.push_back({left_near ? kids[0] : kids[1], mask});
       return;
@@ -168,9 +175,10 @@ class GroupListBuilder {
 
   const TreeView& tree_;
   const Shaft& group_;
-  std::span<const Shaft> members_;
+  std::span<const Shaft* const> members_;
   const ShaftSamples& samples_;
   int per_;
+  int need_ = 0;  ///< sample rays that must enter a box for its node to be expanded
   std::vector<Item> stack_, cull_stack_;
   std::vector<uint64_t> over_;
   uint32_t culled_[kMaxGroup];

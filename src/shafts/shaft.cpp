@@ -94,12 +94,12 @@ Shaft::Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& 
   center_dir_ = normalize(c);
 }
 
-Ray Shaft::sample_ray(const float rnd[5]) const {
+Ray Shaft::sample_ray(const Bounds3& voxel, const ShaftGrid::CellRange& cell, const float rnd[5]) {
   Ray r;
-  const Vec3 d = voxel_.diagonal();
-  r.org = voxel_.lo + Vec3{d.x * rnd[0], d.y * rnd[1], d.z * rnd[2]};
-  r.dir = normalize(ShaftGrid::face_direction(cell_, cell_.u0 + (cell_.u1 - cell_.u0) * rnd[3],
-                                              cell_.v0 + (cell_.v1 - cell_.v0) * rnd[4]));
+  const Vec3 d = voxel.diagonal();
+  r.org = voxel.lo + Vec3{d.x * rnd[0], d.y * rnd[1], d.z * rnd[2]};
+  r.dir = normalize(ShaftGrid::face_direction(cell, cell.u0 + (cell.u1 - cell.u0) * rnd[3],
+                                              cell.v0 + (cell.v1 - cell.v0) * rnd[4]));
   r.tmin = 0.0f;
   r.tmax = kInfinity;
   return r;

@@ -3,10 +3,12 @@
 #include "rayscout/shafts/shaft_collection.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
@@ -18,6 +20,13 @@
 
 namespace rayscout {
 namespace {
+
+/// Thread CPU time in ms (RAYSCOUT_SHAFTS_DEBUG phase timings; 1 thread).
+double cpu_ms() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
 
 uint64_t splitmix64(uint64_t& s) {
   uint64_t z = (s += 0x9E3779B97F4A7C15ull);
@@ -110,20 +119,145 @@ Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, c
   return sel;
 }
 
+/// Random numbers of the sample rays of one shaft (voxel x cell `sid`): depend only on the
+/// seed and the shaft id. Latin hypercube when config.stratified.
+class SampleStream {
+ public:
+  SampleStream(uint64_t sid, const ShaftConfig& config)
+      : rng_((uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull)), n_(config.samples),
+        stratified_(config.stratified) {
+    if (stratified_)
+      for (auto& p : perm_) {
+        for (int i = 0; i < n_; ++i) p[i] = uint8_t(i);
+        for (int i = n_ - 1; i > 0; --i) std::swap(p[i], p[splitmix64(rng_) % uint64_t(i + 1)]);
+      }
+  }
+  /// The 5 numbers of sample ray k (k < config.samples, drawn in order).
+  void next(int k, float rnd[5]) {
+    for (int d = 0; d < 5; ++d) rnd[d] = uniform01(rng_);
+    if (stratified_)
+      for (int d = 0; d < 5; ++d) rnd[d] = std::min((float(perm_[d][k]) + rnd[d]) / float(n_), 0.99999994f);
+  }
+  float uniform() { return uniform01(rng_); }
+
+ private:
+  uint64_t rng_;
+  int n_;
+  bool stratified_;
+  uint8_t perm_[5][256];
+};
+
+std::atomic<uint64_t> g_traced{0};  // debug count of traced shared sample rays
+
+void store_sample(detail::ShaftSamples& samples, size_t k, const Vec3& org, const Vec3& dir, float hit_t) {
+  samples.ox[k] = org.x; samples.oy[k] = org.y; samples.oz[k] = org.z;
+  samples.ix[k] = 1.0f / dir.x; samples.iy[k] = 1.0f / dir.y; samples.iz[k] = 1.0f / dir.z;
+  samples.hit_t[k] = hit_t;
+}
+
 /// Fills samples [at, at + config.samples) with the sample rays of shaft (voxel x cell `sid`)
-/// and their closest-hit distances. The random numbers depend only on the seed and the shaft id.
-void make_samples(const Shaft& shaft, uint64_t sid, const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
-                  detail::ShaftSamples& samples, size_t at) {
-  uint64_t rng = (uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull);
+/// and their closest-hit distances.
+void make_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, uint64_t sid,
+                  const ShaftCollection::TraceFn& trace, const ShaftConfig& config, detail::ShaftSamples& samples,
+                  size_t at) {
+  SampleStream stream(sid, config);
   for (int s = 0; s < config.samples; ++s) {
     float rnd[5];
-    for (float& r : rnd) r = uniform01(rng);
-    const Ray ray = shaft.sample_ray(rnd);
-    const size_t k = at + size_t(s);
-    samples.ox[k] = ray.org.x; samples.oy[k] = ray.org.y; samples.oz[k] = ray.org.z;
-    samples.ix[k] = 1.0f / ray.dir.x; samples.iy[k] = 1.0f / ray.dir.y; samples.iz[k] = 1.0f / ray.dir.z;
-    samples.hit_t[k] = trace(ray);
+    stream.next(s, rnd);
+    const Ray ray = Shaft::sample_ray(voxel, cell, rnd);
+    store_sample(samples, at + size_t(s), ray.org, ray.dir, trace(ray));
   }
+}
+
+/// One sample ray in the shared pool (one record: deposits land at random places, and one
+/// cache line per deposit beats seven).
+struct PooledSample {
+  float org[3], inv_dir[3], hit_t;
+};
+
+/// Sample rays shared along their paths (ray reuse): for one direction cell, voxels are
+/// visited upstream first (along the cell's face axis); a voxel still short of samples shoots
+/// its own, and each traced ray also gives a sample to every later listed voxel it crosses
+/// before its hit (origin uniform on its chord through that voxel, so origins stay about
+/// uniform in the voxel; hit distance shortened accordingly). Fills pool[(cell * listed +
+/// li) * per ...] for listed voxel index li; count[cell * listed + li] = samples stored.
+void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, const std::vector<int32_t>& listed_index,
+                    const std::vector<uint8_t>& shaft_selected, const std::vector<Shaft>& cell_shafts,
+                    const ShaftCollection::TraceFn& trace, const ShaftConfig& config, std::vector<PooledSample>& pool,
+                    std::vector<uint8_t>& count) {
+  const uint32_t cells = grid.cells_per_voxel();
+  const int per = config.samples;
+  const auto res = grid.res();
+  const Bounds3& box = grid.box();
+  Vec3 size;
+  for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, cells, 1), [&](const auto& range) {
+    for (uint32_t cell = range.begin(); cell != range.end(); ++cell) {
+      const ShaftGrid::CellRange cr = grid.cell_range(cell);
+      // Listed voxels sorted upstream first along the face axis (stable: by voxel id within a layer).
+      std::vector<uint32_t> order(listed.size());
+      for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+      auto layer = [&](uint32_t li) {
+        const uint32_t v = listed[li];
+        const int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
+        return cr.sign > 0 ? idx[cr.axis] : res[cr.axis] - 1 - idx[cr.axis];
+      };
+      std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return layer(a) < layer(b); });
+      // Cell-major layout: this task's deposits stay within one compact region of the pool.
+      auto wants = [&](uint32_t li) {
+        const size_t k = size_t(cell) * listed.size() + li;
+        return count[k] < per && (shaft_selected.empty() || shaft_selected[uint64_t(listed[li]) * cells + cell]);
+      };
+      auto deposit = [&](uint32_t li, const Vec3& org, const Vec3& dir, float hit_t) {
+        const size_t k = size_t(cell) * listed.size() + li;
+        pool[k * size_t(per) + count[k]] = {{org.x, org.y, org.z}, {1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z}, hit_t};
+        ++count[k];
+      };
+      for (const uint32_t li : order) {
+        if (!wants(li)) continue;
+        const uint32_t v = listed[li];
+        const Bounds3 vbox = grid.voxel_box(v);
+        const ShaftGrid::CellRange& crange = cell_shafts[cell].cell();
+        SampleStream stream(uint64_t(v) * cells + cell, config);
+        for (int k = 0; wants(li); ++k) {
+          float rnd[5];
+          stream.next(k, rnd);
+          const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
+          const float hit_t = trace(ray);
+          g_traced.fetch_add(1, std::memory_order_relaxed);
+          deposit(li, ray.org, ray.dir, hit_t);
+          // 3D-DDA through the grid up to the hit.
+          int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
+          float t_next[3], t_delta[3];
+          int step[3];
+          for (int a = 0; a < 3; ++a) {
+            const float d = ray.dir[a];
+            step[a] = d > 0.0f ? 1 : -1;
+            if (d == 0.0f || !(size[a] > 0.0f)) {
+              t_next[a] = t_delta[a] = kInfinity;
+              continue;
+            }
+            const float bound = box.lo[a] + float(idx[a] + (d > 0.0f ? 1 : 0)) * size[a];
+            t_next[a] = std::max(0.0f, (bound - ray.org[a]) / d);
+            t_delta[a] = size[a] / std::fabs(d);
+          }
+          for (int guard = 0; guard < res[0] + res[1] + res[2] + 3; ++guard) {
+            const int a = t_next[0] <= t_next[1] && t_next[0] <= t_next[2] ? 0 : (t_next[1] <= t_next[2] ? 1 : 2);
+            const float t_in = t_next[a];
+            if (!(t_in < hit_t)) break;
+            idx[a] += step[a];
+            if (idx[a] < 0 || idx[a] >= res[a]) break;
+            t_next[a] += t_delta[a];
+            const int32_t wi = listed_index[grid.voxel_id(idx[0], idx[1], idx[2])];
+            if (wi < 0 || !wants(uint32_t(wi))) continue;
+            const float t_out = std::min(std::min(t_next[0], t_next[1]), std::min(t_next[2], hit_t));
+            const float t = t_in + (t_out - t_in) * stream.uniform();
+            deposit(uint32_t(wi), ray.org + ray.dir * t, ray.dir, hit_t - t);
+          }
+        }
+      }
+    }
+  });
 }
 
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
@@ -153,7 +287,7 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples));
-  make_samples(shaft, uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace, config, samples, 0);
+  make_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace, config, samples, 0);
   build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
 }
 
@@ -262,7 +396,10 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   if (nvox * cells >= (size_t(1) << 32) - 64)
     throw InputError("shafts: too many shafts (" + std::to_string(nvox * cells) + ")");
 
+  const bool debug = std::getenv("RAYSCOUT_SHAFTS_DEBUG") != nullptr;
+  const double c0 = debug ? cpu_ms() : 0.0;
   Selection sel = select_shafts(grid, tris, sample_rays, config);
+  const double c1 = debug ? cpu_ms() : 0.0;
   std::vector<uint8_t>& voxel_listed = sel.voxel_listed;
   std::vector<uint8_t>& shaft_selected = sel.shaft_selected;
   std::vector<uint32_t> listed;
@@ -288,10 +425,22 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   std::vector<Shaft> group_shafts;
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
   const size_t per = size_t(config.samples);
+  std::vector<PooledSample> pool;
+  if (config.reuse_rays && tree.size() > 0) {
+    std::vector<int32_t> listed_index(nvox, -1);
+    for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
+    pool.resize(listed.size() * cells * per);
+    std::vector<uint8_t> count(listed.size() * cells, 0);
+    g_traced = 0;
+    shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
+    if (debug)
+      std::fprintf(stderr, "shared samples: %.1f ms CPU, traced %llu rays for %zu shafts x %zu samples\n", cpu_ms() - c1,
+                   (unsigned long long)g_traced.load(), listed.size() * cells, per);
+  }
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
     detail::ShaftSamples samples, one;
-    std::vector<Shaft> members;
+    std::vector<const Shaft*> members;
     std::vector<uint32_t> member_cells;
     std::vector<std::vector<uint32_t>> lists(detail::GroupListBuilder::kMaxGroup);
     for (size_t li = range.begin(); li != range.end(); ++li) {
@@ -305,16 +454,28 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         member_cells.clear();
         for (uint32_t cell : groups[gi].cells) {
           if (!shaft_selected.empty() && !shaft_selected[uint64_t(voxel) * cells + cell]) continue;
-          members.push_back(cell_shafts[cell]);
-          members.back().set_voxel(grid, voxel);
+          members.push_back(&cell_shafts[cell]);  // cones only (GroupListBuilder)
           member_cells.push_back(cell);
         }
         if (members.empty()) continue;
         Shaft group = group_shafts[gi];
         group.set_voxel(grid, voxel);
         samples.resize(members.size() * per);
-        for (size_t m = 0; m < members.size(); ++m)
-          make_samples(members[m], uint64_t(voxel) * cells + member_cells[m], trace, config, samples, m * per);
+        const Bounds3 vbox = grid.voxel_box(voxel);
+        for (size_t m = 0; m < members.size(); ++m) {
+          if (pool.empty()) {
+            make_samples(vbox, members[m]->cell(), uint64_t(voxel) * cells + member_cells[m], trace, config, samples,
+                         m * per);
+            continue;
+          }
+          const PooledSample* from = pool.data() + (member_cells[m] * listed.size() + li) * per;
+          for (size_t k = 0; k < per; ++k) {
+            const size_t i = m * per + k;
+            samples.ox[i] = from[k].org[0]; samples.oy[i] = from[k].org[1]; samples.oz[i] = from[k].org[2];
+            samples.ix[i] = from[k].inv_dir[0]; samples.iy[i] = from[k].inv_dir[1]; samples.iz[i] = from[k].inv_dir[2];
+            samples.hit_t[i] = from[k].hit_t;
+          }
+        }
         const uint64_t all = members.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members.size()) - 1;
         uint64_t ok = 0;
         if (tree.size() > 0) {
@@ -331,7 +492,9 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
                                     {&one.ix, &samples.ix}, {&one.iy, &samples.iy}, {&one.iz, &samples.iz},
                                     {&one.hit_t, &samples.hit_t}})
               std::copy_n(src->begin() + std::ptrdiff_t(m * per), per, dst->begin());
-            build_with_retries(tree, members[m], one, config, min_prob, 0, list, vl.retries, vl.fallbacks);
+            Shaft shaft = *members[m];
+            shaft.set_voxel(grid, voxel);
+            build_with_retries(tree, shaft, one, config, min_prob, 0, list, vl.retries, vl.fallbacks);
           }
           const uint32_t cell = member_cells[m];
           if (std::getenv("RAYSCOUT_SHAFTS_CHECK")) {
@@ -359,6 +522,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     }
   });
 
+  const double c2 = debug ? cpu_ms() : 0.0;
   // Serial packing with deduplication keeps offsets independent of the thread count.
   ShaftStats& st = col.stats_;
   st.res = grid.res();
@@ -432,6 +596,9 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
   st.lookup_bytes = (col.voxel_base_.size() + col.entries_.size()) * sizeof(uint32_t);
   st.list_bytes = col.lists_.size() * col.bytes_per_entry();
+  if (debug)
+    std::fprintf(stderr, "build_grid CPU ms: selection %.1f, lists %.1f, packing %.1f\n", c1 - c0, c2 - c1,
+                 cpu_ms() - c2);
   st.build_rounds = 1;
   st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
   return col;

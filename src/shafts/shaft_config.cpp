@@ -10,6 +10,8 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   c.voxels = o.get_int("voxels", c.voxels);
   c.dir_res = int(o.get_int("dir_res", c.dir_res));
   c.samples = int(o.get_int("samples", c.samples));
+  c.stratified = o.get_bool("stratified", c.stratified);
+  c.reuse_rays = o.get_bool("reuse_rays", c.reuse_rays);
   c.min_prob = o.get_double("min_prob", c.min_prob);
   c.max_list = int(o.get_int("max_list", c.max_list));
   c.retries = int(o.get_int("retries", c.retries));
@@ -26,6 +28,7 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   if (c.voxels < 0) bad("voxels must be >= 0");
   if (c.dir_res < 1 || c.dir_res > 64) bad("dir_res must be in 1..64");
   if (c.samples < 1 || c.samples > 1000) bad("samples must be in 1..1000");
+  if (c.stratified && c.samples > 256) bad("samples must be <= 256 with stratified=1");
   if (c.max_list < 1 || c.max_list > 31) bad("max_list must be in 1..31");
   if (c.retries < 0) bad("retries must be >= 0");
   if (c.select != "occupied" && c.select != "camera") bad("select must be occupied or camera");

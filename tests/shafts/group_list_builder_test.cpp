@@ -56,7 +56,9 @@ TEST(GroupListBuilder, MembersGetTheirOwnAlgorithm1Lists) {
       const int max_len = trial % 3 == 0 ? 3 : 31;  // small limit: some members overflow
       const double min_prob = trial % 2 ? 0.5 : 0.3;
       std::vector<std::vector<uint32_t>> lists(members.size());
-      detail::GroupListBuilder gb(tree, group, members, samples, per);
+      std::vector<const Shaft*> member_ptrs;
+      for (const Shaft& m : members) member_ptrs.push_back(&m);
+      detail::GroupListBuilder gb(tree, group, member_ptrs, samples, per);
       const uint64_t ok = gb.build(min_prob, max_len, (uint64_t(1) << members.size()) - 1, lists.data());
       for (size_t m = 0; m < members.size(); ++m) {
         detail::ShaftSamples one;

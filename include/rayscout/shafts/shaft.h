@@ -81,7 +81,11 @@ class Shaft {
   }
   /// Ray i of a uniform random sample: origin uniform in the (unpadded) voxel, direction
   /// uniform in the cell's face coordinates. rnd holds 5 numbers in [0, 1).
-  Ray sample_ray(const float rnd[5]) const;
+  Ray sample_ray(const float rnd[5]) const { return sample_ray(voxel_, cell_, rnd); }
+  /// The same for any voxel box and cell (no shaft needed).
+  static Ray sample_ray(const Bounds3& voxel, const ShaftGrid::CellRange& cell, const float rnd[5]);
+  /// The direction interval of the shaft.
+  const ShaftGrid::CellRange& cell() const { return cell_; }
   /// Direction of the cell centre (orders children near-first, Algorithm 1 lines 9-14).
   const Vec3& center_dir() const { return center_dir_; }
   /// Number of separating axes kept (for tests).

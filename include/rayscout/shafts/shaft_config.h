@@ -19,10 +19,17 @@ struct ShaftConfig {
   long voxels = 0;
   /// Direction cells per cube-map face edge: 6 d^2 direction cells per voxel.
   int dir_res = 4;
-  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). 8 keeps the step
-  /// reduction on Sibenik, Sponza and Conference (shadow/AO/diffuse within +-1.5 points of 20
-  /// samples) and the sample-ray tracing, the larger part of the build, falls by 60 %.
-  int samples = 8;
+  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). 4 Latin-hypercube
+  /// samples (stratified) save as many or more steps than 8 independent ones on Sibenik,
+  /// Sponza and Conference, and the build is ~13 % faster (docs/shafts.md, run 4).
+  int samples = 4;
+  /// Latin-hypercube sample rays: each of the 5 dimensions (origin x, y, z; direction u, v)
+  /// is split into `samples` strata, one sample per stratum (random pairing); off = independent
+  /// uniform samples.
+  bool stratified = true;
+  /// Share sample rays along their paths: a traced sample ray also serves every later listed
+  /// voxel it crosses before its hit (same direction cell), so far fewer rays are traced.
+  bool reuse_rays = false;
   /// Expand a node when its hit probability is >= this; < 0 = (k-1)/k for a k-ary BVH.
   double min_prob = -1.0;
   /// Maximum candidate list length (at most 31: the length is packed into 5 bits).
