@@ -149,6 +149,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine");
   app.add_flag("--sweep", sweep, "sweep budget_rel and dir_res (shadow, ao, diffuse) instead of the table");
   app.add_option("--csv", csv, "also write rows as CSV to this file");
+  std::string profile_side;
+  app.add_option("--profile-side", profile_side, "plain|lists: only trace that side reps times per ray set (for perf stat)");
   CLI11_PARSE(app, argc, argv);
 
   const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
@@ -213,6 +215,19 @@ int main(int argc, char** argv) {
       fmt::print("| workload | rays | steps/ray plain | steps/ray shafts | steps saved | box tests/ray plain / shafts "
                  "| tri tests/ray plain / shafts | ms plain | ms shafts | speedup | lookup ns/ray |\n");
       fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      if (!profile_side.empty()) {
+        for (const RaySet& set : sets) {
+          HitBatch hits;
+          std::vector<uint8_t> occ;
+          const double t0 = now_ms();
+          for (int r = 0; r < reps; ++r) {
+            if (set.occlusion) acc.occluded(set.rays, occ, nullptr, profile_side == "lists");
+            else acc.intersect(set.rays, hits, nullptr, profile_side == "lists");
+          }
+          fmt::print("{} {}: {:.2f} ms per pass\n", set.name, profile_side, (now_ms() - t0) / reps);
+        }
+        continue;
+      }
       for (const RaySet& set : sets) {
         const Measure m = measure(acc, set, reps);
         const double n = double(std::max<size_t>(1, set.rays.size()));

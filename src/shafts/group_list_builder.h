@@ -32,6 +32,7 @@ class GroupListBuilder {
                    const ShaftSamples& samples, int samples_per_shaft)
       : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft) {
     inner_ = voxel_margin_box(group.voxel());
+    hit_.resize(samples.size());
   }
 
   /// Algorithm 1 with threshold min_prob for every member in `active`; lists[i] receives
@@ -62,11 +63,7 @@ class GroupListBuilder {
       // Members and group share the voxel, hence the box difference.
       const Shaft::BoxDiff diff = group_.diff(box);
       if (std::popcount(mask) > 1 && !group_.overlaps(diff)) continue;
-      uint64_t over = 0;
-      for (uint64_t m = mask; m; m &= m - 1) {
-        const int i = std::countr_zero(m);
-        if (members_[size_t(i)]->overlaps(diff)) over |= uint64_t(1) << i;
-      }
+      const uint64_t over = overlapping(diff, mask);
       if (!over) continue;
       uint64_t stop = over;
       if (!leaf) {
@@ -92,6 +89,18 @@ class GroupListBuilder {
     uint64_t mask;
   };
 
+  /// Members in mask whose shaft overlaps the box with difference d. (One member at a time:
+  /// measured faster than one loop over all members' axes, whose per-member reduction costs
+  /// more than it saves.)
+  uint64_t overlapping(const Shaft::BoxDiff& d, uint64_t mask) const {
+    uint64_t over = 0;
+    for (uint64_t r = mask; r; r &= r - 1) {
+      const int i = std::countr_zero(r);
+      if (members_[size_t(i)]->overlaps(d)) over |= uint64_t(1) << i;
+    }
+    return over;
+  }
+
   /// cullNodeSubtree(node) for every member in mask, into culled_ (detail::cull_subtree;
   /// a child's box difference is computed once for all members).
   void cull_subtrees(uint32_t node, uint64_t mask) {
@@ -110,14 +119,7 @@ class GroupListBuilder {
       uint64_t* over = over_.data();
       for (size_t c = 0; c < kids.size(); ++c) {
         const Bounds3& box = tree_.bounds[kids[c]];
-        uint64_t o = 0;
-        if (!box.empty()) {
-          const Shaft::BoxDiff diff = group_.diff(box);
-          for (uint64_t r = m & ~twice; r; r &= r - 1) {
-            const int i = std::countr_zero(r);
-            if (members_[size_t(i)]->overlaps(diff)) o |= uint64_t(1) << i;
-          }
-        }
+        const uint64_t o = box.empty() ? 0 : overlapping(group_.diff(box), m & ~twice);
         over[c] = o;
         twice |= once & o;
         once |= o;
@@ -136,21 +138,25 @@ class GroupListBuilder {
     const float* __restrict oz = samples_.oz.data(); const float* __restrict ix = samples_.ix.data();
     const float* __restrict iy = samples_.iy.data(); const float* __restrict iz = samples_.iz.data();
     const float* __restrict ht = samples_.hit_t.data();
-    const int need = need_;
+    // All members' sample rays in one vectorised loop (members outside `mask` are computed
+    // too: cheaper than a gather), then a count per member.
+    const size_t n = samples_.size();
+    int32_t* __restrict hit = hit_.data();
+    for (size_t i = 0; i < n; ++i) {
+      const float x0 = (b.lo.x - ox[i]) * ix[i], x1 = (b.hi.x - ox[i]) * ix[i];
+      const float y0 = (b.lo.y - oy[i]) * iy[i], y1 = (b.hi.y - oy[i]) * iy[i];
+      const float z0 = (b.lo.z - oz[i]) * iz[i], z1 = (b.hi.z - oz[i]) * iz[i];
+      const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+      const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
+      hit[i] = tn <= tf ? 1 : 0;
+    }
     uint64_t open = 0;
     for (uint64_t m = mask; m; m &= m - 1) {
       const int s = std::countr_zero(m);
-      const size_t begin = size_t(s) * size_t(per_), end = begin + size_t(per_);
+      const int32_t* h = hit + size_t(s) * size_t(per_);
       int count = 0;
-      for (size_t i = begin; i < end; ++i) {
-        const float x0 = (b.lo.x - ox[i]) * ix[i], x1 = (b.hi.x - ox[i]) * ix[i];
-        const float y0 = (b.lo.y - oy[i]) * iy[i], y1 = (b.hi.y - oy[i]) * iy[i];
-        const float z0 = (b.lo.z - oz[i]) * iz[i], z1 = (b.hi.z - oz[i]) * iz[i];
-        const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
-        const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
-        count += tn <= tf ? 1 : 0;
-      }
-      if (count >= need) open |= uint64_t(1) << s;
+      for (int k = 0; k < per_; ++k) count += h[k];
+      if (count >= need_) open |= uint64_t(1) << s;
     }
     return open;
   }
@@ -178,7 +184,8 @@ class GroupListBuilder {
   std::span<const Shaft* const> members_;
   const ShaftSamples& samples_;
   int per_;
-  int need_ = 0;  ///< sample rays that must enter a box for its node to be expanded
+  int need_ = 0;              ///< sample rays that must enter a box for its node to be expanded
+  std::vector<int32_t> hit_;  ///< per sample ray: enters the current box before its hit
   std::vector<Item> stack_, cull_stack_;
   std::vector<uint64_t> over_;
   uint32_t culled_[kMaxGroup];

@@ -63,6 +63,13 @@ class Shaft {
     }
     return separated == 0;
   }
+  /// Axis slots of the float test (unused slots are zero axes, which always pass).
+  static constexpr int kAxes = 24;
+  /// Float axes, positive / negative parts of component k (kAxes values each), and the
+  /// tolerance: for callers that test many shafts at once (GroupListBuilder).
+  const float* axes_pos(int k) const { return pos_[k]; }
+  const float* axes_neg(int k) const { return neg_[k]; }
+  float tolerance() const { return tol_; }
   /// Conservative: false only when no ray of the shaft can reach any point of b.
   bool overlaps(const Bounds3& b) const { return !b.empty() && overlaps(diff(b)); }
   /// The exact test in double (reference for tests): same axes, no tolerance.
@@ -94,7 +101,6 @@ class Shaft {
   const Bounds3& voxel() const { return voxel_; }
 
  private:
-  static constexpr int kAxes = 24;  ///< 19 axes at most, padded with zero axes (always pass)
   std::array<double, 3> vlo_{}, vhi_{};
   float fvlo_[3] = {}, fvhi_[3] = {};  ///< the padded voxel rounded outward to float
   /// Axes split in positive and negative parts per component: n.x maximised over a box is
