@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -439,7 +440,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   }
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
-    detail::ShaftSamples samples, one;
+    detail::ShaftSamples samples;
     std::vector<const Shaft*> members;
     std::vector<uint32_t> member_cells;
     std::vector<std::vector<uint32_t>> lists(detail::GroupListBuilder::kMaxGroup);
@@ -477,38 +478,27 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
           }
         }
         const uint64_t all = members.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members.size()) - 1;
-        uint64_t ok = 0;
         if (tree.size() > 0) {
           detail::GroupListBuilder builder(tree, group, members, samples, config.samples);
-          ok = builder.build(min_prob, config.max_list, all, lists.data());
+          uint64_t failed = all & ~builder.build(min_prob, config.max_list, all, lists.data());
+          // Overflowing members retry together with raised thresholds (Algorithm 1 retries),
+          // then fall back to cullNodeSubtree(root).
+          for (int i = 0; failed && i < config.retries; ++i) {
+            vl.retries += size_t(std::popcount(failed));
+            failed &= ~builder.build(min_prob + double(i + 1) / 20.0, config.max_list, failed, lists.data());
+          }
+          for (uint64_t f = failed; f; f &= f - 1) {
+            const int m = std::countr_zero(f);
+            ++vl.fallbacks;
+            lists[m].clear();
+            const uint32_t n = detail::cull_subtree(tree, members[m]->at_voxel(grid, voxel), tree.root);
+            if (n != detail::kNoNode) lists[m].push_back(n);
+          }
         }
         for (size_t m = 0; m < members.size(); ++m) {
           std::vector<uint32_t>& list = lists[m];
           if (tree.size() == 0) list.clear();
-          else if (!(ok >> m & 1)) {
-            // Overflow: this member alone, with raised thresholds (Algorithm 1 retries).
-            one.resize(per);
-            for (auto [dst, src] : {std::pair{&one.ox, &samples.ox}, {&one.oy, &samples.oy}, {&one.oz, &samples.oz},
-                                    {&one.ix, &samples.ix}, {&one.iy, &samples.iy}, {&one.iz, &samples.iz},
-                                    {&one.hit_t, &samples.hit_t}})
-              std::copy_n(src->begin() + std::ptrdiff_t(m * per), per, dst->begin());
-            Shaft shaft = *members[m];
-            shaft.set_voxel(grid, voxel);
-            build_with_retries(tree, shaft, one, config, min_prob, 0, list, vl.retries, vl.fallbacks);
-          }
           const uint32_t cell = member_cells[m];
-          if (std::getenv("RAYSCOUT_SHAFTS_CHECK")) {
-            std::vector<uint32_t> ref;
-            size_t r = 0, f = 0;
-            build_one(tree, grid, {voxel, cell}, trace, config, min_prob, one, ref, r, f);
-            if (ref != list) {
-              std::fprintf(stderr, "mismatch voxel %u cell %u:", voxel, cell);
-              for (auto x : ref) std::fprintf(stderr, " %u", x);
-              std::fprintf(stderr, " |");
-              for (auto x : list) std::fprintf(stderr, " %u", x);
-              std::fprintf(stderr, "\n");
-            }
-          }
           if (list.empty()) {
             vl.status[cell] = 2;
             continue;
