@@ -299,7 +299,7 @@ struct CellGroup {
   ShaftGrid::CellRange range;
 };
 
-std::vector<CellGroup> cell_groups(const ShaftGrid& grid) {
+std::vector<CellGroup> cell_groups(const ShaftGrid& grid, bool split_by_sign) {
   const int d = grid.dir_res();
   std::vector<CellGroup> groups;
   for (int face = 0; face < 6; ++face) {
@@ -314,7 +314,7 @@ std::vector<CellGroup> cell_groups(const ShaftGrid& grid) {
         return Shaft(grid, {0, cell}).center_dir()[comp] > 0.0f;
       };
       for (int i = 1; i <= d; ++i)
-        if (i == d || positive(i) != positive(begin) || i - begin == 8) {
+        if (i == d || (split_by_sign && positive(i) != positive(begin)) || i - begin == 8) {
           out.push_back({begin, i});
           begin = i;
         }
@@ -422,7 +422,9 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   // Cones are the same in every voxel: made once, moved to each voxel.
   std::vector<Shaft> cell_shafts;
   for (uint32_t cell = 0; cell < cells; ++cell) cell_shafts.emplace_back(grid, ShaftCoord{0, cell});
-  const std::vector<CellGroup> groups = cell_groups(grid);
+  // Bvh2 lists keep their per-shaft order only when the members agree on the child order
+  // (centre-direction signs); k-ary trees are ordered by the group direction anyway.
+  const std::vector<CellGroup> groups = cell_groups(grid, tree.arity == 2 || std::getenv("RAYSCOUT_SHAFTS_QUAD"));
   std::vector<Shaft> group_shafts;
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
   const size_t per = size_t(config.samples);
@@ -523,24 +525,20 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   st.length_histogram.assign(32, 0);
   col.voxel_base_.assign(nvox, kNoVoxel);
   col.entries_.assign(listed.size() * cells, 0);
-  struct ListHash {
-    const std::vector<uint32_t>* area;
-    size_t operator()(const std::pair<uint32_t, uint32_t>& k) const {
-      uint64_t h = 1469598103934665603ull ^ k.second;
-      for (uint32_t i = 0; i < k.second; ++i) h = (h ^ (*area)[k.first + i]) * 1099511628211ull;
-      return size_t(h);
-    }
+  // Deduplication: open addressing over list contents (slots hold offset << 5 | length,
+  // plus 1; 0 = free), sized for every listed shaft at load <= 1/2.
+  size_t capacity = 1024;
+  while (capacity < 2 * listed.size() * cells) capacity *= 2;
+  std::vector<uint32_t> slot_list(capacity, 0), slot_hash(capacity, 0);
+  auto hash_list = [&](uint32_t offset, uint32_t len) {
+    uint64_t h = 1469598103934665603ull ^ len;
+    for (uint32_t i = 0; i < len; ++i) h = (h ^ col.lists_[offset + i]) * 1099511628211ull;
+    return uint32_t(h ^ (h >> 32));
   };
-  struct ListEq {
-    const std::vector<uint32_t>* area;
-    bool operator()(const std::pair<uint32_t, uint32_t>& a, const std::pair<uint32_t, uint32_t>& b) const {
-      return a.second == b.second &&
-             std::equal(area->begin() + a.first, area->begin() + a.first + a.second, area->begin() + b.first);
-    }
-  };
-  // Keys index col.lists_; a candidate is appended first and dropped again when a twin exists.
-  std::unordered_map<std::pair<uint32_t, uint32_t>, uint32_t, ListHash, ListEq> known(
-      1024, ListHash{&col.lists_}, ListEq{&col.lists_});
+  size_t unique = 0;
+  // Entry boxes are quantised once per tree node.
+  std::vector<QBox> qcache(col.boxed_ ? tree.size() : 0);
+  std::vector<uint8_t> qdone(qcache.size(), 0);
   size_t total_len = 0, nonempty = 0;
   for (size_t li = 0; li < listed.size(); ++li) {
     const VoxelLists& vl = out[li];
@@ -560,18 +558,42 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
       const size_t pos = vl.begin[cell];
       const uint32_t offset = uint32_t(col.lists_.size());
       for (uint32_t k = 0; k < len; ++k) col.lists_.push_back(tree.ref[vl.data[pos + k]]);
-      auto [it, inserted] = known.try_emplace({offset, len}, offset);
-      if (!inserted) {
+      const uint32_t h = hash_list(offset, len);
+      size_t slot = h & (capacity - 1);
+      uint32_t at = offset;
+      bool twin = false;
+      for (; slot_list[slot] != 0; slot = (slot + 1) & (capacity - 1)) {
+        if (slot_hash[slot] != h) continue;
+        const uint32_t packed = slot_list[slot] - 1, o = packed >> 5;
+        if ((packed & 31u) == len &&
+            std::equal(col.lists_.begin() + o, col.lists_.begin() + o + len, col.lists_.begin() + offset)) {
+          at = o;
+          twin = true;
+          break;
+        }
+      }
+      if (twin) {
         col.lists_.resize(offset);
         st.dedup_saved_bytes += len * col.bytes_per_entry();
-      } else if (col.boxed_) {
-        QBox q[31];
-        for (uint32_t k = 0; k < len; ++k) q[k] = col.quantize(tree.bounds[vl.data[pos + k]]);
-        for (int row = 0; row < 6; ++row)
-          for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(row < 3 ? q[k].lo[row] : q[k].hi[row - 3]);
+      } else {
+        if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
+        slot_list[slot] = ((offset << 5) | len) + 1;
+        slot_hash[slot] = h;
+        ++unique;
+        if (col.boxed_) {
+          QBox q[31];
+          for (uint32_t k = 0; k < len; ++k) {
+            const uint32_t node = vl.data[pos + k];
+            if (!qdone[node]) {
+              qcache[node] = col.quantize(tree.bounds[node]);
+              qdone[node] = 1;
+            }
+            q[k] = qcache[node];
+          }
+          for (int row = 0; row < 6; ++row)
+            for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(row < 3 ? q[k].lo[row] : q[k].hi[row - 3]);
+        }
       }
-      const uint32_t at = it->second;
-      if (at >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
       col.entries_[base + cell] = (at << 5) | len;
       ++st.length_histogram[len];
       total_len += len;
@@ -582,7 +604,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   col.lists_.shrink_to_fit();
   if (col.boxed_) col.boxes_.resize(col.boxes_.size() + 8, 0);  // SIMD rows read 8 bytes
   col.boxes_.shrink_to_fit();
-  st.unique_lists = known.size();
+  st.unique_lists = unique;
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
   st.lookup_bytes = (col.voxel_base_.size() + col.entries_.size()) * sizeof(uint32_t);
   st.list_bytes = col.lists_.size() * col.bytes_per_entry();
