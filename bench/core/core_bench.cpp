@@ -6,8 +6,10 @@
 // timed the same way. Work counters come from a separate, untimed run.
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@
 #include <tbb/global_control.h>
 
 #include "rayscout/accelerators.h"
+#include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/render/workloads.h"
 #include "rayscout/scene/load_scene.h"
@@ -51,13 +54,23 @@ std::unique_ptr<Accelerator> build(const Column& c, const Scene& scene) {
 // Shadow and AO rays are any-hit queries; primary and diffuse rays want the closest hit.
 bool any_hit(Workload w) { return w == Workload::Shadow || w == Workload::Ao; }
 
+// CPU time of the whole process in ms (every thread), immune to being descheduled.
+double process_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
+bool g_cpu_time = false;  // --cpu-time: time traces by process CPU time instead of wall time
+
 double trace_ms(const Accelerator& a, const RayBatch& rays, bool occluded, TraceStats* stats = nullptr) {
   HitBatch hits;
   std::vector<uint8_t> occ;
   const auto start = Clock::now();
+  const double cpu0 = g_cpu_time ? process_cpu_ms() : 0.0;
   if (occluded) a.occluded(rays, occ, stats);
   else a.intersect(rays, hits, stats);
-  return ms_since(start);
+  return g_cpu_time ? process_cpu_ms() - cpu0 : ms_since(start);
 }
 
 struct Options {
@@ -66,14 +79,33 @@ struct Options {
   std::vector<int> threads = {1, 2};
   int width = 1024, height = 1024, repeat = 5, build_repeat = 3;
   bool embree_variants = true;  ///< also Embree robust=off and packet=16 columns
+  bool bvh2 = true;             ///< the bvh2 column
+  std::vector<std::string> extra;  ///< extra columns "label:accel[:key=value,...]"
 };
 
+// Parses "label:accel[:key=value,key=value]" into a column.
+Column parse_column(const std::string& spec) {
+  const size_t a = spec.find(':');
+  if (a == std::string::npos) throw std::runtime_error("--column '" + spec + "': expected label:accel[:options]");
+  const size_t b = spec.find(':', a + 1);
+  Column c{spec.substr(0, a), spec.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1), {}};
+  for (size_t p = b; p != std::string::npos && p + 1 < spec.size();) {
+    const size_t q = spec.find(',', p + 1);
+    c.options.push_back(spec.substr(p + 1, q == std::string::npos ? std::string::npos : q - p - 1));
+    p = q;
+  }
+  return c;
+}
+
 int run(const Options& opt) {
+  // Columns 0..2 are bvh2, bvh, embree (the ratios use them); a left-out bvh2 is not timed.
   std::vector<Column> columns = {{"bvh2", "bvh2", {}}, {"bvh", "bvh", {}}, {"embree", "embree", {}}};
   if (opt.embree_variants) {
     columns.push_back({"embree-fast", "embree", {"robust=off"}});
     columns.push_back({"embree-p16", "embree", {"packet=16"}});
   }
+  for (const auto& e : opt.extra) columns.push_back(parse_column(e));
+  auto timed = [&](size_t c) { return c != 0 || opt.bvh2; };
   const auto& known = accelerators();
   for (const auto& c : columns)
     if (std::none_of(known.begin(), known.end(), [&](const AcceleratorInfo& a) { return a.name == c.accel; })) {
@@ -116,6 +148,7 @@ int run(const Options& opt) {
       std::vector<std::unique_ptr<Accelerator>> accels(columns.size());
       for (int r = 0; r < opt.build_repeat; ++r)
         for (size_t c = 0; c < columns.size(); ++c) {
+          if (!timed(c)) { build_ms[c].push_back(0); continue; }
           accels[c] = build(columns[c], scene);
           build_ms[c].push_back(accels[c]->build_info().build_ms);
         }
@@ -131,24 +164,51 @@ int run(const Options& opt) {
       for (const auto& w : opt.workloads) {
         const RayBatch& rays = ray_sets[w];
         const bool occluded = any_hit(parse_workload(w));
-        for (const auto& a : accels) trace_ms(*a, rays, occluded);  // warm-up
+        for (const auto& a : accels)
+          if (a) trace_ms(*a, rays, occluded);  // warm-up
         std::vector<std::vector<double>> times(columns.size());
         for (int r = 0; r < opt.repeat; ++r)
-          for (size_t c = 0; c < columns.size(); ++c) times[c].push_back(trace_ms(*accels[c], rays, occluded));
+          for (size_t c = 0; c < columns.size(); ++c)
+            times[c].push_back(timed(c) ? trace_ms(*accels[c], rays, occluded) : 0.0);
         std::vector<double> mrays;
-        for (const auto& t : times) mrays.push_back(double(rays.size()) / (median(t) * 1e3));
+        for (size_t c = 0; c < columns.size(); ++c)
+          mrays.push_back(timed(c) ? double(rays.size()) / (median(times[c]) * 1e3) : 0.0);
         trace_table += fmt::format("| {} | {}{} | {} | {} |", scene_name, w, occluded ? " (any hit)" : "", rays.size(), threads);
         for (double m : mrays) trace_table += fmt::format(" {:.2f} |", m);
         double best = 0;
         for (size_t c = 0; c < columns.size(); ++c)
           if (columns[c].accel == "embree") best = std::max(best, mrays[c]);
         trace_table += fmt::format(" **{:.2f}** | {:.2f} | {:.2f} |\n", mrays[1] / mrays[2], mrays[1] / best, mrays[0] / mrays[2]);
-        fmt::print(stderr, "  {} {} threads: bvh {:.2f}, embree {:.2f} Mrays/s\n", w, threads, mrays[1], mrays[2]);
+        fmt::print(stderr, "  {} {} threads: bvh {:.2f}, embree {:.2f} Mrays/s", w, threads, mrays[1], mrays[2]);
+        for (size_t c = 5 - (opt.embree_variants ? 0 : 2); c < columns.size(); ++c)
+          fmt::print(stderr, ", {} {:.2f} ({:.3f}x embree)", columns[c].label, mrays[c], mrays[c] / mrays[2]);
+        fmt::print(stderr, "\n");
 
         if (threads == opt.threads.back()) {
           TraceStats s2, sw;
-          trace_ms(*accels[0], rays, occluded, &s2);
+          if (opt.bvh2) trace_ms(*accels[0], rays, occluded, &s2);
           trace_ms(*accels[1], rays, occluded, &sw);
+          for (size_t c = 5 - (opt.embree_variants ? 0 : 2); c < columns.size(); ++c)
+            if (columns[c].accel == "bvh") {
+              TraceStats sx;
+              trace_ms(*accels[c], rays, occluded, &sx);
+              const double n = double(std::max<size_t>(1, rays.size()));
+              if (const auto* wa = dynamic_cast<const WideBvhAccelerator*>(accels[c].get())) {
+                const WideBvh& wb = wa->bvh();
+                size_t slots = 0, leaves = 0, leaf_tris = 0;
+                for (const WideNode& nd : wb.nodes) {
+                  slots += nd.count;
+                  for (uint32_t k = 0; k < nd.count; ++k)
+                    if (WideRef::is_leaf(nd.child[k])) { ++leaves; leaf_tris += WideRef::leaf_count(nd.child[k]); }
+                }
+                fmt::print(stderr, "    {} tree: {} nodes, {:.2f} children/node, {} leaves, {:.2f} tris/leaf, {} blocks\n", columns[c].label,
+                           wb.nodes.size(), double(slots) / double(wb.nodes.size()), leaves, double(leaf_tris) / double(leaves),
+                           wb.leaf_blocks.size());
+              }
+              fmt::print(stderr, "    {} counters: {:.1f} nodes, {:.1f} boxes, {:.2f} tris per ray; {:.1f} MB\n", columns[c].label,
+                         sx.traversal_steps / n, sx.ray_box_tests / n, sx.ray_tri_tests / n,
+                         accels[c]->build_info().memory_bytes / 1048576.0);
+            }
           const double n = double(std::max<size_t>(1, rays.size()));
           counter_table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | {:.2f} |\n", scene_name, w,
                                        s2.traversal_steps / n, s2.ray_box_tests / n, s2.ray_tri_tests / n,
@@ -181,8 +241,14 @@ int main(int argc, char** argv) {
   app.add_option("--build-repeat", opt.build_repeat, "Builds per accelerator (median)")->capture_default_str();
   bool no_variants = false;
   app.add_flag("--no-embree-variants", no_variants, "Leave out the embree robust=off and packet=16 columns");
+  bool no_bvh2 = false;
+  app.add_flag("--no-bvh2", no_bvh2, "Leave out the bvh2 column (its numbers print as 0)");
+  app.add_option("--column", opt.extra, "Extra column label:accel[:key=value,...] (repeatable), e.g. bvh-p1:bvh:presplit=0.1");
+  app.add_flag("--cpu-time", rayscout::g_cpu_time,
+               "Time traces by process CPU time (all threads summed; for 1 thread on a loaded machine)");
   CLI11_PARSE(app, argc, argv);
   opt.embree_variants = !no_variants;
+  opt.bvh2 = !no_bvh2;
   try {
     return rayscout::run(opt);
   } catch (const std::exception& e) {

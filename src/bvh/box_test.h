@@ -101,4 +101,33 @@ inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float
 #endif
 }
 
+#if defined(__AVX2__)
+/// intersect_children for rays whose origin and inverse direction are finite (no slab
+/// distance can be NaN): the same result bit for bit, with a shorter dependency chain.
+/// Without NaNs, max and min are associative, so the three axes combine as a tree; and the
+/// robust far scale f(t) = t * (t < 0 ? kRobustScaleNegative : kRobustScale) is monotone
+/// (rounding is monotone, and f < 0 exactly for t < 0), so min over axes of f(t1) equals
+/// f(min over axes of t1): one scale per node instead of one per axis.
+inline uint32_t intersect_children_finite(const WideNode& node, const WideRay& r, float tmax, float* dist) {
+  const char* base = reinterpret_cast<const char*>(&node);
+  auto plane = [&](size_t off) { return _mm256_load_ps(reinterpret_cast<const float*>(base + off)); };
+  const __m256 t0x = _mm256_mul_ps(_mm256_sub_ps(plane(r.near_off[0]), r.ox), r.ix);
+  const __m256 t0y = _mm256_mul_ps(_mm256_sub_ps(plane(r.near_off[1]), r.oy), r.iy);
+  const __m256 t0z = _mm256_mul_ps(_mm256_sub_ps(plane(r.near_off[2]), r.oz), r.iz);
+  const __m256 t1x = _mm256_mul_ps(_mm256_sub_ps(plane(r.far_off[0]), r.ox), r.ix);
+  const __m256 t1y = _mm256_mul_ps(_mm256_sub_ps(plane(r.far_off[1]), r.oy), r.iy);
+  const __m256 t1z = _mm256_mul_ps(_mm256_sub_ps(plane(r.far_off[2]), r.oz), r.iz);
+  const __m256 tnear = _mm256_max_ps(_mm256_max_ps(t0x, t0y), _mm256_max_ps(t0z, r.tmin));
+  const __m256 t1 = _mm256_min_ps(_mm256_min_ps(t1x, t1y), t1z);
+  const __m256 tfar = _mm256_mul_ps(t1, _mm256_blendv_ps(_mm256_set1_ps(kRobustScale), _mm256_set1_ps(kRobustScaleNegative), t1));
+  _mm256_store_ps(dist, tnear);
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  return uint32_t(_mm256_cmp_ps_mask(tnear, tfar, _CMP_LE_OQ) & _mm256_cmp_ps_mask(tnear, _mm256_set1_ps(tmax), _CMP_LE_OQ));
+#else
+  return uint32_t(_mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ),
+                                                   _mm256_cmp_ps(tnear, _mm256_set1_ps(tmax), _CMP_LE_OQ))));
+#endif
+}
+#endif
+
 }  // namespace rayscout::detail

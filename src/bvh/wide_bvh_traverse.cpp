@@ -1,5 +1,6 @@
 // WideBvh single-ray traversal: SIMD test of 8 child boxes, ordered closest hit, any hit.
 #include <bit>
+#include <cmath>
 
 #include "rayscout/bvh/wide_bvh.h"
 #include "cull_interval.h"
@@ -15,10 +16,40 @@ struct Entry {
   float dist;  // entry distance of the ref's box
 };
 
+// True when no slab distance of the ray can be NaN: a NaN needs 0 * inf, i.e. an infinite
+// inverse direction component (or a non-finite origin).
+bool finite_ray(const Ray& ray, const Vec3& inv_dir) {
+  return std::isfinite(inv_dir.x) && std::isfinite(inv_dir.y) && std::isfinite(inv_dir.z) &&
+         std::isfinite(ray.org.x) && std::isfinite(ray.org.y) && std::isfinite(ray.org.z);
+}
+
+// The 8 child boxes of a node: the shorter-chain test when the ray is finite (AVX2 only).
+template <bool Finite>
+inline uint32_t test_children(const WideNode& node, const detail::WideRay& wr, float tmax, float* dist) {
+#if defined(__AVX2__)
+  if constexpr (Finite) return detail::intersect_children_finite(node, wr, tmax, dist);
+#endif
+  return detail::intersect_children(node, wr, tmax, dist);
+}
+
 }  // namespace
 
 template <bool CaptureStats>
 Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+  const RayPrecomp rp(ray.dir);
+  return finite_ray(ray, rp.inv_dir) ? intersect_impl<CaptureStats, true>(ray, start, stats)
+                                     : intersect_impl<CaptureStats, false>(ray, start, stats);
+}
+
+template <bool CaptureStats>
+bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+  const RayPrecomp rp(ray.dir);
+  return finite_ray(ray, rp.inv_dir) ? occluded_impl<CaptureStats, true>(ray, start, stats)
+                                     : occluded_impl<CaptureStats, false>(ray, start, stats);
+}
+
+template <bool CaptureStats, bool Finite>
+Hit WideBvh::intersect_impl(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
   Hit best;
   if (nodes.empty()) return best;
   best.t = ray.tmax;
@@ -71,7 +102,7 @@ Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceSta
       }
       const WideNode& node = nodes[e.ref];
       box_tests += node.count;
-      uint32_t mask = detail::intersect_children(node, wr, cull_t, dist);
+      uint32_t mask = test_children<Finite>(node, wr, cull_t, dist);
       if (mask == 0) break;
       if ((mask & (mask - 1)) == 0) {  // one child: no stack traffic
         const int c = std::countr_zero(mask);
@@ -113,8 +144,8 @@ Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceSta
   return best;
 }
 
-template <bool CaptureStats>
-bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+template <bool CaptureStats, bool Finite>
+bool WideBvh::occluded_impl(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
   if (nodes.empty()) return false;
   const RayPrecomp rp(ray.dir);
   const detail::CullInterval cull(bounds, ray);
@@ -150,7 +181,7 @@ bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceSta
     }
     const WideNode& node = nodes[ref];
     box_tests += node.count;
-    uint32_t mask = detail::intersect_children(node, wr, box_tmax, dist);
+    uint32_t mask = test_children<Finite>(node, wr, box_tmax, dist);
     // Unordered: sorting by distance measured slower for shadow and AO rays on Sponza.
     while (mask) {
       const int c = 31 - std::countl_zero(mask);  // last slot pushed first: slot 0 on top
