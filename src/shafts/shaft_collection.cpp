@@ -429,7 +429,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
   const size_t per = size_t(config.samples);
   std::vector<PooledSample> pool;
-  if (config.reuse_rays && tree.size() > 0) {
+  if (config.reuse_rays > 0 && tree.size() > 0) {
     std::vector<int32_t> listed_index(nvox, -1);
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
     pool.resize(listed.size() * cells * per);

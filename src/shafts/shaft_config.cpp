@@ -11,7 +11,8 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   c.dir_res = int(o.get_int("dir_res", c.dir_res));
   c.samples = int(o.get_int("samples", c.samples));
   c.stratified = o.get_bool("stratified", c.stratified);
-  c.reuse_rays = o.get_bool("reuse_rays", c.reuse_rays);
+  if (o.has("reuse_rays")) c.reuse_rays = o.get_bool("reuse_rays", false) ? 1 : 0;
+  else o.get_bool("reuse_rays", false);  // marks the key as known
   c.min_prob = o.get_double("min_prob", c.min_prob);
   c.max_list = int(o.get_int("max_list", c.max_list));
   c.retries = int(o.get_int("retries", c.retries));

@@ -19,6 +19,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
     : triangles_(scene.triangles), base_(base) {
   ShaftConfig config = config_in;
   if (config.entry_boxes < 0) config.entry_boxes = base == Base::Wide ? 1 : 0;
+  if (config.reuse_rays < 0) config.reuse_rays = base == Base::Wide ? 1 : 0;
   const auto t0 = std::chrono::steady_clock::now();
   TreeView tree;
   Bounds3 box;

@@ -320,7 +320,7 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
     ShaftConfig c = fine_config(512, 3);
     c.samples = samples;
     c.stratified = stratified;
-    c.reuse_rays = reuse;
+    c.reuse_rays = reuse ? 1 : 0;
     const ShaftsAccelerator acc(scene, base, c);
     HitBatch got;
     std::vector<uint8_t> ogot;
