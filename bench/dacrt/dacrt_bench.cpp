@@ -281,9 +281,12 @@ int main(int argc, char** argv) {
           {"order only (sec. 4.3)", {"order=sampled"}},
           {"skip only (eq. 5)", {"skip=on"}},
           {"cost + order", {"cost=sampled", "order=sampled"}},
-          {"all three (dacrt-rs)", {"cost=sampled", "order=sampled", "skip=on"}},
+          {"all three (paper)", {"cost=sampled", "order=sampled", "skip=on"}},
           {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
-          {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}}};
+          {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
+          {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
+          {"all three, sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
+          {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
       auto counted = [&](const Accelerator& a) {
         TraceStats st;
         for (const auto& s : sets) trace(a, s, &st);

@@ -9,12 +9,13 @@
 #include <cstring>
 #include <limits>
 
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) || defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
 #include "rayscout/core/triangle.h"
 #include "rayscout/dacrt/dacrt_config.h"
+#include "avx2_util.h"
 #include "ray_record.h"
 
 // g++ 12 reports a false "__Y may be used uninitialized" inside its own AVX-512 headers.
@@ -138,15 +139,44 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     const int h = __builtin_popcount(hit);
     w += h;
     m += (n - i) - h;
+    i = n;
   }
-#else
+#elif defined(__AVX2__)
+  const __m256 lox = _mm256_set1_ps(box.lo.x), loy = _mm256_set1_ps(box.lo.y), loz = _mm256_set1_ps(box.lo.z);
+  const __m256 hix = _mm256_set1_ps(box.hi.x), hiy = _mm256_set1_ps(box.hi.y), hiz = _mm256_set1_ps(box.hi.z);
+  const __m256 robust = _mm256_set1_ps(kRobustScale), slack = _mm256_set1_ps(kHitSlack);
+  const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
+  const float* base = reinterpret_cast<const float*>(rays);
+  constexpr size_t kAhead = 32;
+  for (; i + 8 <= n; i += 8) {
+    if (i + kAhead + 8 <= n)
+      for (int k = 0; k < 8; k += 2) _mm_prefetch(reinterpret_cast<const char*>(rays + rid[i + kAhead + k]), _MM_HINT_T0);
+    const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rid + i));
+    const __m256i off = _mm256_slli_epi32(id, 3);
+    const __m256 ox = _mm256_i32gather_ps(base + 0, off, 4), oy = _mm256_i32gather_ps(base + 1, off, 4);
+    const __m256 oz = _mm256_i32gather_ps(base + 2, off, 4);
+    __m256 tnear = _mm256_i32gather_ps(base + 3, off, 4);
+    const __m256 ix = _mm256_i32gather_ps(base + 4, off, 4), iy = _mm256_i32gather_ps(base + 5, off, 4);
+    const __m256 iz = _mm256_i32gather_ps(base + 6, off, 4), t = _mm256_i32gather_ps(base + 7, off, 4);
+    __m256 tfar = _mm256_add_ps(t, _mm256_mul_ps(_mm256_and_ps(t, abs_mask), slack));  // filter_tmax
+    avx2::slab(lox, hix, ox, ix, robust, tnear, tfar);
+    avx2::slab(loy, hiy, oy, iy, robust, tnear, tfar);
+    avx2::slab(loz, hiz, oz, iz, robust, tnear, tfar);
+    const int hit = _mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ));
+    // Full-width stores of the packed ids: w, m <= i, so they end inside the chunk just read.
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(rid + w), avx2::compress(id, hit));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(scratch + m), avx2::compress(id, ~hit & 0xFF));
+    const int h = __builtin_popcount(unsigned(hit));
+    w += h;
+    m += 8 - h;
+  }
+#endif
   for (; i < n; ++i) {
     float tnear;
     const uint32_t id = rid[i];
     if (ray_hits_box(rays[id], box, tnear)) rid[w++] = id;
     else scratch[m++] = id;
   }
-#endif
   std::memcpy(rid + w, scratch, m * sizeof(uint32_t));
   return w;
 }
@@ -165,41 +195,6 @@ struct BoxSoa {
     lox[i] = b.lo.x; loy[i] = b.lo.y; loz[i] = b.lo.z; hix[i] = b.hi.x; hiy[i] = b.hi.y; hiz[i] = b.hi.z;
   }
 };
-
-/// One ray against boxes[0, count): entry[i] = entry distance when hit, NaN otherwise (an
-/// axis-parallel ray may enter at +inf and still count as a conservative hit).
-inline void ray_vs_boxes(const RayRecord& r, const BoxSoa& boxes, float* entry) {
-#if defined(__AVX512F__)
-  const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
-  const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
-  const __m512 robust = _mm512_set1_ps(kRobustScale), nan = _mm512_set1_ps(std::numeric_limits<float>::quiet_NaN());
-  for (int i = 0; i < boxes.count; i += 16) {
-    __m512 tnear = _mm512_set1_ps(r.tmin), tfar = _mm512_set1_ps(filter_tmax(r.t));
-    auto slab = [&](const float* lo, const float* hi, __m512 o, __m512 inv) {
-      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(lo + i), o), inv);
-      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(hi + i), o), inv);
-      const __mmask16 swap = _mm512_cmp_ps_mask(t0, t1, _CMP_GT_OQ);
-      const __m512 a = _mm512_mask_blend_ps(swap, t0, t1);
-      const __m512 b = _mm512_mul_ps(_mm512_mask_blend_ps(swap, t1, t0), robust);
-      tnear = _mm512_max_ps(a, tnear);
-      tfar = _mm512_min_ps(b, tfar);
-    };
-    slab(boxes.lox, boxes.hix, ox, ix);
-    slab(boxes.loy, boxes.hiy, oy, iy);
-    slab(boxes.loz, boxes.hiz, oz, iz);
-    const __mmask16 hit = _mm512_cmp_ps_mask(tnear, tfar, _CMP_LE_OQ);
-    _mm512_store_ps(entry + i, _mm512_mask_blend_ps(hit, nan, tnear));
-  }
-#else
-  for (int i = 0; i < boxes.count; ++i) {
-    Bounds3 b;
-    b.lo = {boxes.lox[i], boxes.loy[i], boxes.loz[i]};
-    b.hi = {boxes.hix[i], boxes.hiy[i], boxes.hiz[i]};
-    float tnear;
-    entry[i] = ray_hits_box(r, b, tnear) ? tnear : std::numeric_limits<float>::quiet_NaN();
-  }
-#endif
-}
 
 /// Algorithm 2 for one sample ray against the candidate pairs (lb[j], rb[j]): c_L, c_R count
 /// the boxes hit; of rays hitting both, the nearer entry gets the vote (n_L, n_R), an equal
@@ -250,6 +245,47 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     auto add = [&](uint32_t* p, __mmask16 m) {
       __m512i v = _mm512_load_si512(p + i);
       _mm512_store_si512(p + i, _mm512_mask_add_epi32(v, m, v, one));
+    };
+    add(hits_l, hl);
+    add(hits_r, hr);
+    add(votes_l, left);
+    add(votes_r, right);
+  }
+#elif defined(__AVX2__)
+  const __m256 ox = _mm256_set1_ps(r.ox), oy = _mm256_set1_ps(r.oy), oz = _mm256_set1_ps(r.oz);
+  const __m256 ix = _mm256_set1_ps(r.ix), iy = _mm256_set1_ps(r.iy), iz = _mm256_set1_ps(r.iz);
+  const __m256 robust = _mm256_set1_ps(kRobustScale), tmin = _mm256_set1_ps(r.tmin),
+               tmax = _mm256_set1_ps(filter_tmax(r.t));
+  // Returns the hit mask as all-ones lanes.
+  auto test = [&](const BoxSoa& b, int i, __m256& tnear, __m256& tfar) {
+    tnear = tmin;
+    tfar = tmax;
+    avx2::slab(_mm256_load_ps(b.lox + i), _mm256_load_ps(b.hix + i), ox, ix, robust, tnear, tfar);
+    avx2::slab(_mm256_load_ps(b.loy + i), _mm256_load_ps(b.hiy + i), oy, iy, robust, tnear, tfar);
+    avx2::slab(_mm256_load_ps(b.loz + i), _mm256_load_ps(b.hiz + i), oz, iz, robust, tnear, tfar);
+    return _mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ);
+  };
+  const __m256 up = goes_up ? _mm256_castsi256_ps(_mm256_set1_epi32(-1)) : _mm256_setzero_ps();
+  for (int i = 0; i < lb.count; i += 8) {
+    __m256 nl, nr, fl, fr;
+    const __m256 hl = test(lb, i, nl, fl), hr = test(rb, i, nr, fr);
+    const __m256 both = _mm256_and_ps(hl, hr);
+    __m256 left, right;
+    if (rule == DacrtVotes::Sign) {
+      left = _mm256_and_ps(both, up);
+      right = _mm256_andnot_ps(left, both);
+    } else if (rule == DacrtVotes::Interval) {
+      left = _mm256_and_ps(both, _mm256_cmp_ps(fl, nr, _CMP_LT_OQ));
+      right = _mm256_andnot_ps(left, _mm256_and_ps(both, _mm256_cmp_ps(fr, nl, _CMP_LT_OQ)));
+    } else {
+      left = _mm256_and_ps(both, _mm256_or_ps(_mm256_cmp_ps(nl, nr, _CMP_LT_OQ),
+                                              _mm256_and_ps(up, _mm256_cmp_ps(nl, nr, _CMP_EQ_OQ))));
+      right = _mm256_andnot_ps(left, both);
+    }
+    // An all-ones lane is -1: subtracting it counts one.
+    auto add = [&](uint32_t* p, __m256 m) {
+      __m256i* q = reinterpret_cast<__m256i*>(p + i);
+      _mm256_store_si256(q, _mm256_sub_epi32(_mm256_load_si256(q), _mm256_castps_si256(m)));
     };
     add(hits_l, hl);
     add(hits_r, hr);

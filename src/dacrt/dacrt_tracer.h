@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "box_kernels.h"
+#include "leaf_avx2.h"
 #include "leaf_kernels.h"
 #include "leaf_simd.h"
 #include "rayscout/core/trace_stats.h"
@@ -63,8 +64,8 @@ class DacrtTracer {
 
   void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
     uint64_t tests;
-#if defined(__AVX512F__)
-    // 16 rays per triangle test; a handful of rays against many triangles stays scalar.
+#if defined(__AVX512F__) || defined(__AVX2__)
+    // 16 (AVX-512) or 8 (AVX2) rays per triangle test; a handful of rays stays scalar.
     if (nr >= 8)
       tests = leaf_simd<kOccluded>(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits, ctx_.occ);
     else

@@ -1,0 +1,161 @@
+// AVX2 leaf kernel (when AVX-512 is not available): 8 rays against one triangle at a time,
+// the same float operations in the same order as core's intersect_triangle (watertight,
+// Woop et al. 2013) and leaf_simd.h, so hits are bit-identical; lanes with an exactly-zero
+// edge function take the scalar path (its double recomputation).
+#pragma once
+
+#if defined(__AVX2__) && !defined(__AVX512F__)
+
+#include <immintrin.h>
+
+#include <cstddef>
+#include <cstdint>
+
+#include "leaf_kernels.h"
+#include "ray_record.h"
+
+namespace rayscout::dacrt {
+
+static_assert(sizeof(RayPrecomp) == 36, "leaf_simd gathers RayPrecomp as 9 words");
+
+/// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
+/// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
+template <bool kAny>
+__attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+                                             const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out,
+                                             uint8_t* occ) {
+  const float* rbase = reinterpret_cast<const float*>(rays);
+  const float* pbase = reinterpret_cast<const float*>(pre);
+  const int* pibase = reinterpret_cast<const int*>(pre);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i izero = _mm256_setzero_si256(), ione = _mm256_set1_epi32(1);
+  const __m256i sign = _mm256_set1_epi32(int(0x80000000u));
+  auto mask_of = [](int bits) {  // lane mask bits -> all-ones lanes
+    const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(bits), lane), lane));
+  };
+  uint64_t tests = 0;
+  for (size_t i = 0; i < nr; i += 8) {
+    const int valid = nr - i >= 8 ? 0xFF : int((1u << (nr - i)) - 1u);
+    const __m256 vmask = mask_of(valid);
+    alignas(32) uint32_t ids[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (int l = 0; l < 8; ++l)
+      if ((valid >> l) & 1) ids[l] = rid[i + l];
+    const __m256i id = _mm256_load_si256(reinterpret_cast<const __m256i*>(ids));
+    const __m256i off8 = _mm256_slli_epi32(id, 3);
+    const __m256i off9 = _mm256_add_epi32(off8, id);
+    auto gf = [&](const float* b, __m256i off) { return _mm256_mask_i32gather_ps(zero, b, off, vmask, 4); };
+    auto gi = [&](const int* b, __m256i off) {
+      return _mm256_mask_i32gather_epi32(izero, b, off, _mm256_castps_si256(vmask), 4);
+    };
+    const __m256 ox = gf(rbase + 0, off8), oy = gf(rbase + 1, off8), oz = gf(rbase + 2, off8);
+    const __m256 tmin = gf(rbase + 3, off8);
+    __m256 best_t = gf(rbase + 7, off8);
+    const __m256i kx = gi(pibase + 0, off9), ky = gi(pibase + 1, off9), kz = gi(pibase + 2, off9);
+    const __m256 sx = gf(pbase + 3, off9), sy = gf(pbase + 4, off9), sz = gf(pbase + 5, off9);
+    __m256i best_p = kAny ? izero : gi(reinterpret_cast<const int*>(out.prim), id);
+    __m256 best_u = zero, best_v = zero;
+    int changed = 0;
+    // Retired any-hit rays (t = -inf) cost no tests, as in the scalar kernel.
+    int active = kAny ? valid & _mm256_movemask_ps(_mm256_cmp_ps(best_t, _mm256_set1_ps(-kInfinity), _CMP_NEQ_OQ))
+                      : valid;
+    const __m256 x0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kx, izero)), x1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kx, ione));
+    const __m256 y0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(ky, izero)), y1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(ky, ione));
+    const __m256 z0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kz, izero)), z1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kz, ione));
+    auto pick = [](__m256 m0, __m256 m1, __m256 x, __m256 y, __m256 z) {
+      return _mm256_blendv_ps(_mm256_blendv_ps(z, y, m1), x, m0);
+    };
+    for (size_t j = 0; j < nt && active; ++j) {
+      const uint32_t p = tid[j];
+      const Triangle& tri = tris[p];
+      tests += uint64_t(__builtin_popcount(unsigned(active)));
+      auto rel = [&](const Vec3& w, __m256& rx, __m256& ry, __m256& rz) {
+        const __m256 wx = _mm256_sub_ps(_mm256_set1_ps(w.x), ox);
+        const __m256 wy = _mm256_sub_ps(_mm256_set1_ps(w.y), oy);
+        const __m256 wz = _mm256_sub_ps(_mm256_set1_ps(w.z), oz);
+        const __m256 k = pick(z0, z1, wx, wy, wz);
+        rx = _mm256_sub_ps(pick(x0, x1, wx, wy, wz), _mm256_mul_ps(sx, k));
+        ry = _mm256_sub_ps(pick(y0, y1, wx, wy, wz), _mm256_mul_ps(sy, k));
+        rz = _mm256_mul_ps(sz, k);
+      };
+      __m256 ax, ay, az, bx, by, bz, cx, cy, cz;
+      rel(tri.v0, ax, ay, az);
+      rel(tri.v1, bx, by, bz);
+      rel(tri.v2, cx, cy, cz);
+      const __m256 eu = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
+      const __m256 ev = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
+      const __m256 ew = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
+      auto bits = [](__m256 m) { return _mm256_movemask_ps(m); };
+      const int zero_edge = active & (bits(_mm256_cmp_ps(eu, zero, _CMP_EQ_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_EQ_OQ)) |
+                                      bits(_mm256_cmp_ps(ew, zero, _CMP_EQ_OQ)));
+      const int neg = bits(_mm256_cmp_ps(eu, zero, _CMP_LT_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_LT_OQ)) |
+                      bits(_mm256_cmp_ps(ew, zero, _CMP_LT_OQ));
+      const int pos = bits(_mm256_cmp_ps(eu, zero, _CMP_GT_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_GT_OQ)) |
+                      bits(_mm256_cmp_ps(ew, zero, _CMP_GT_OQ));
+      const __m256 det = _mm256_add_ps(_mm256_add_ps(eu, ev), ew);
+      int hit = active & ~zero_edge & ~(neg & pos) & bits(_mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
+      __m256 tt = zero, u = zero, v = zero;
+      if (hit) {
+        tt = _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(eu, az), _mm256_mul_ps(ev, bz)), _mm256_mul_ps(ew, cz)), det);
+        hit &= bits(_mm256_cmp_ps(tt, tmin, _CMP_GE_OQ)) & bits(_mm256_cmp_ps(tt, best_t, _CMP_LE_OQ));
+        if (!kAny) {
+          // is_closer: nearer, or equally near with a smaller triangle id (unsigned compare).
+          const int nearer = bits(_mm256_cmp_ps(tt, best_t, _CMP_LT_OQ));
+          const __m256i smaller = _mm256_cmpgt_epi32(_mm256_xor_si256(best_p, sign),
+                                                     _mm256_xor_si256(_mm256_set1_epi32(int(p)), sign));
+          const int tie = bits(_mm256_cmp_ps(tt, best_t, _CMP_EQ_OQ)) & bits(_mm256_castsi256_ps(smaller));
+          hit &= nearer | tie;
+          u = _mm256_div_ps(ev, det);
+          v = _mm256_div_ps(ew, det);
+        }
+      }
+      if (zero_edge) {
+        alignas(32) float lt[8], lu[8], lv[8], bt[8], lox[8], loy[8], loz[8], ltmin[8];
+        alignas(32) uint32_t lp[8];
+        _mm256_store_ps(lt, tt); _mm256_store_ps(lu, u); _mm256_store_ps(lv, v); _mm256_store_ps(bt, best_t);
+        _mm256_store_ps(lox, ox); _mm256_store_ps(loy, oy); _mm256_store_ps(loz, oz); _mm256_store_ps(ltmin, tmin);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(lp), best_p);
+        for (int l = 0; l < 8; ++l) {
+          if (!((zero_edge >> l) & 1)) continue;
+          float t1, u1, v1;
+          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), pre[ids[l]], tri, ltmin[l], bt[l], t1, u1, v1) &&
+                         (kAny || is_closer(t1, p, bt[l], lp[l]));
+          if (h) { hit |= 1 << l; lt[l] = t1; lu[l] = u1; lv[l] = v1; }
+        }
+        tt = _mm256_load_ps(lt); u = _mm256_load_ps(lu); v = _mm256_load_ps(lv);
+      }
+      if (!hit) continue;
+      changed |= hit;
+      if (kAny) {
+        active &= ~hit;
+      } else {
+        const __m256 hm = mask_of(hit);
+        best_t = _mm256_blendv_ps(best_t, tt, hm);
+        best_u = _mm256_blendv_ps(best_u, u, hm);
+        best_v = _mm256_blendv_ps(best_v, v, hm);
+        best_p = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(best_p),
+                                                      _mm256_castsi256_ps(_mm256_set1_epi32(int(p))), hm));
+      }
+    }
+    if (!changed) continue;
+    alignas(32) float lt[8], lu[8], lv[8];
+    alignas(32) uint32_t lp[8];
+    _mm256_store_ps(lt, best_t); _mm256_store_ps(lu, best_u); _mm256_store_ps(lv, best_v);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lp), best_p);
+    for (int l = 0; l < 8; ++l) {
+      if (!((changed >> l) & 1)) continue;
+      const uint32_t r = ids[l];
+      if (kAny) {
+        occ[r] = 1;
+        retire(rays[r]);
+      } else {
+        rays[r].t = lt[l]; out.prim[r] = lp[l]; out.u[r] = lu[l]; out.v[r] = lv[l];
+      }
+    }
+  }
+  return tests;
+}
+
+}  // namespace rayscout::dacrt
+
+#endif  // __AVX2__ && !__AVX512F__
