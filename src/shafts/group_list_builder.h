@@ -119,7 +119,12 @@ class GroupListBuilder {
       uint64_t* over = over_.data();
       for (size_t c = 0; c < kids.size(); ++c) {
         const Bounds3& box = tree_.bounds[kids[c]];
-        const uint64_t o = box.empty() ? 0 : overlapping(group_.diff(box), m & ~twice);
+        uint64_t o = 0;
+        const uint64_t open = m & ~twice;
+        if (!box.empty() && open) {
+          const Shaft::BoxDiff diff = group_.diff(box);
+          if (std::popcount(open) == 1 || group_.overlaps(diff)) o = overlapping(diff, open);
+        }
         over[c] = o;
         twice |= once & o;
         once |= o;

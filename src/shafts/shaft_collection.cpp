@@ -3,6 +3,7 @@
 #include "rayscout/shafts/shaft_collection.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <chrono>
@@ -192,18 +193,24 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
   const Bounds3& box = grid.box();
   Vec3 size;
   for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
+  // Listed voxels upstream first for each of the 6 face directions (stable: by voxel id within a layer).
+  std::array<std::vector<uint32_t>, 6> orders;
+  for (int face = 0; face < 6; ++face) {
+    const int axis = face / 2;
+    const bool positive = face % 2 == 0;
+    std::vector<std::pair<int, uint32_t>> keyed(listed.size());
+    for (uint32_t li = 0; li < listed.size(); ++li) {
+      const uint32_t v = listed[li];
+      const int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
+      keyed[li] = {positive ? idx[axis] : res[axis] - 1 - idx[axis], li};
+    }
+    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [layer, li] : keyed) orders[size_t(face)].push_back(li);
+  }
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, cells, 1), [&](const auto& range) {
     for (uint32_t cell = range.begin(); cell != range.end(); ++cell) {
       const ShaftGrid::CellRange cr = grid.cell_range(cell);
-      // Listed voxels sorted upstream first along the face axis (stable: by voxel id within a layer).
-      std::vector<uint32_t> order(listed.size());
-      for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-      auto layer = [&](uint32_t li) {
-        const uint32_t v = listed[li];
-        const int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
-        return cr.sign > 0 ? idx[cr.axis] : res[cr.axis] - 1 - idx[cr.axis];
-      };
-      std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return layer(a) < layer(b); });
+      const std::vector<uint32_t>& order = orders[size_t(2 * cr.axis + (cr.sign > 0 ? 0 : 1))];
       // Cell-major layout: this task's deposits stay within one compact region of the pool.
       auto wants = [&](uint32_t li) {
         const size_t k = size_t(cell) * listed.size() + li;
