@@ -38,7 +38,7 @@ const std::vector<Entry>& registry() {
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<Bvh2Accelerator>(s.triangles, bvh_config_from_options(o));
        }},
-      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2, plus leaf_block, presplit)"},
+      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2, plus leaf_block, presplit, presplit_pieces)"},
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<WideBvhAccelerator>(s.triangles, bvh_config_from_options(o, wide_bvh_default_config()));
        }},

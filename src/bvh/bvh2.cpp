@@ -13,7 +13,7 @@
 namespace rayscout {
 
 Bvh2 Bvh2::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
-  detail::PrimReferences refs = detail::presplit_triangles(tris, config.presplit);
+  detail::PrimReferences refs = detail::presplit_triangles(tris, config.presplit, config.presplit_max_pieces);
   Bvh2 bvh;
   bvh.depth_ = detail::build_binned_sah(refs.boxes, config, bvh.nodes, bvh.prim_ids);
   if (!(config.presplit > 0.0f)) return bvh;  // references are the triangles themselves

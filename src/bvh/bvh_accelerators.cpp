@@ -50,7 +50,8 @@ BvhBuildConfig wide_bvh_default_config() {
   BvhBuildConfig c;
   c.max_leaf_size = 8;
   c.leaf_block = kTriangleBlockWidth;
-  c.presplit = 0.05f;
+  c.presplit = 0.1f;
+  c.presplit_max_pieces = 2;
   return c;
 }
 
@@ -62,10 +63,13 @@ BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const 
   c.intersection_cost = float(options.get_double("intersection_cost", c.intersection_cost));
   c.leaf_block = int(options.get_int("leaf_block", c.leaf_block));
   c.presplit = float(options.get_double("presplit", c.presplit));
+  c.presplit_max_pieces = int(options.get_int("presplit_pieces", c.presplit_max_pieces));
   if (c.leaf_block < 1 || c.leaf_block > 15)
     throw InputError("bvh option leaf_block=" + std::to_string(c.leaf_block) + ": must be in [1, 15]");
   if (!(c.presplit >= 0.0f && c.presplit <= 4.0f))
     throw InputError("bvh option presplit=" + std::to_string(c.presplit) + ": must be in [0, 4]");
+  if (c.presplit_max_pieces < 1 || c.presplit_max_pieces > 65)
+    throw InputError("bvh option presplit_pieces=" + std::to_string(c.presplit_max_pieces) + ": must be in [1, 65]");
   if (c.bins < 2 || c.bins > 256) throw InputError("bvh option bins=" + std::to_string(c.bins) + ": must be in [2, 256]");
   if (c.max_leaf_size < 1 || c.max_leaf_size > 15)
     throw InputError("bvh option max_leaf_size=" + std::to_string(c.max_leaf_size) + ": must be in [1, 15]");

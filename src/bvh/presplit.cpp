@@ -89,7 +89,7 @@ void split_into(const Triangle& tri, const Bounds3& box, uint32_t n, const Bound
 
 }  // namespace
 
-PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget) {
+PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces) {
   const size_t n = tris.size();
   PrimReferences refs;
   std::vector<Bounds3> boxes(n);
@@ -119,9 +119,10 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget) 
   // Karras and Aila find the scale by bisection so the floored counts meet the budget: the
   // plain budget / mean priority gave a scene-dependent 4-45 % of it (Sponza 0.3 -> 3.5 %).
   const double target = double(budget) * double(n);
+  const double max_extra = double(std::clamp(max_pieces, 1, 65) - 1);
   auto extra_refs = [&](double s) {
     double sum = 0.0;
-    for (size_t i = 0; i < n; ++i) sum += std::min(64.0, std::floor(double(priority[i]) * s));
+    for (size_t i = 0; i < n; ++i) sum += std::min(max_extra, std::floor(double(priority[i]) * s));
     return sum;
   };
   double lo = 0.0, hi = total.p > 0 ? target / total.p : 0.0;
@@ -133,7 +134,7 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget) 
   const double scale = lo;
   std::vector<uint32_t> count(n), offset(n + 1, 0);
   for (size_t i = 0; i < n; ++i) {
-    count[i] = 1 + uint32_t(std::min(64.0, std::floor(double(priority[i]) * scale)));
+    count[i] = 1 + uint32_t(std::min(max_extra, std::floor(double(priority[i]) * scale)));
     offset[i + 1] = offset[i] + count[i];
   }
   refs.boxes.resize(offset[n]);

@@ -22,7 +22,8 @@ struct PrimReferences {
 /// box wastes the most area (priority (A_box - A_tri)^0.3), and splits each along the coarsest
 /// plane of a global power-of-two grid over the scene, clipping the triangle so every piece
 /// box is tight. Every point of a triangle stays inside one of its boxes (clip points are
-/// padded outward). budget = 0 gives one reference per triangle.
-PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget);
+/// padded outward). budget = 0 gives one reference per triangle. A triangle gets at most
+/// max_pieces references (clamped to [1, 65]).
+PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces);
 
 }  // namespace rayscout::detail
