@@ -431,7 +431,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   for (uint32_t cell = 0; cell < cells; ++cell) cell_shafts.emplace_back(grid, ShaftCoord{0, cell});
   // Bvh2 lists keep their per-shaft order only when the members agree on the child order
   // (centre-direction signs); k-ary trees are ordered by the group direction anyway.
-  const std::vector<CellGroup> groups = cell_groups(grid, tree.arity == 2 || std::getenv("RAYSCOUT_SHAFTS_QUAD"));
+  const std::vector<CellGroup> groups = cell_groups(grid, tree.split_order);
   std::vector<Shaft> group_shafts;
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
   const size_t per = size_t(config.samples);

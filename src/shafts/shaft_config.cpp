@@ -20,6 +20,7 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   c.coverage = o.get_double("coverage", c.coverage);
   c.prepass_width = int(o.get_int("prepass_width", c.prepass_width));
   c.seed = unsigned(o.get_int("seed", c.seed));
+  c.collapse = int(o.get_int("collapse", c.collapse));
   c.wide_sampling = o.get_bool("wide_sampling", c.wide_sampling);
   if (o.has("entry_boxes")) c.entry_boxes = o.get_bool("entry_boxes", false) ? 1 : 0;
   else o.get_bool("entry_boxes", false);  // marks the key as known
@@ -32,6 +33,7 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   if (c.stratified && c.samples > 256) bad("samples must be <= 256 with stratified=1");
   if (c.max_list < 1 || c.max_list > 31) bad("max_list must be in 1..31");
   if (c.retries < 0) bad("retries must be >= 0");
+  if (c.collapse < 1 || c.collapse > 4) bad("collapse must be in 1..4");
   if (c.select != "occupied" && c.select != "camera") bad("select must be occupied or camera");
   if (!(c.coverage > 0 && c.coverage <= 1)) bad("coverage must be in (0, 1]");
   if (c.prepass_width < 1) bad("prepass_width must be >= 1");

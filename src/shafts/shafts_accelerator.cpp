@@ -26,7 +26,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   if (base_ == Base::Binary) {
     bvh2_ = Bvh2::build(triangles_, bvh_config);
     bvh_build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    tree = TreeView::from_bvh2(bvh2_);
+    tree = TreeView::from_bvh2(bvh2_, config.collapse);
     if (!bvh2_.nodes.empty()) box = bvh2_.nodes[0].bounds;
   } else {
     wide_ = WideBvh::build(triangles_, bvh_config);

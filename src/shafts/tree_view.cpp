@@ -3,25 +3,35 @@
 
 namespace rayscout {
 
-TreeView TreeView::from_bvh2(const Bvh2& bvh) {
+TreeView TreeView::from_bvh2(const Bvh2& bvh, int levels) {
   TreeView t;
   t.arity = 2;
+  t.split_order = levels <= 1;
   const size_t n = bvh.nodes.size();
   t.bounds.resize(n);
   t.ref.resize(n);
   t.split_axis.resize(n);
   t.child_begin.resize(n + 1);
   t.child.reserve(n);
+  std::vector<uint32_t> frontier, next;
   for (size_t i = 0; i < n; ++i) {
     const Bvh2Node& node = bvh.nodes[i];
     t.bounds[i] = node.bounds;
     t.ref[i] = uint32_t(i);
-    t.split_axis[i] = int8_t(node.axis);
+    t.split_axis[i] = t.split_order ? int8_t(node.axis) : int8_t(-1);
     t.child_begin[i] = uint32_t(t.child.size());
-    if (!node.is_leaf()) {
-      t.child.push_back(node.first);
-      t.child.push_back(node.first + 1);
+    if (node.is_leaf()) continue;
+    frontier.assign({node.first, node.first + 1});
+    for (int l = 1; l < levels; ++l) {
+      next.clear();
+      for (uint32_t c : frontier) {
+        const Bvh2Node& cn = bvh.nodes[c];
+        if (cn.is_leaf()) next.push_back(c);
+        else next.insert(next.end(), {cn.first, cn.first + 1});
+      }
+      frontier.swap(next);
     }
+    t.child.insert(t.child.end(), frontier.begin(), frontier.end());
   }
   t.child_begin[n] = uint32_t(t.child.size());
   return t;
@@ -30,6 +40,7 @@ TreeView TreeView::from_bvh2(const Bvh2& bvh) {
 TreeView TreeView::from_wide(const WideBvh& bvh) {
   TreeView t;
   t.arity = kWideWidth;
+  t.split_order = false;
   const size_t n = bvh.nodes.size();
   if (n == 0) {
     t.child_begin.push_back(0);

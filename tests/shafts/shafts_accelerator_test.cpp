@@ -305,7 +305,8 @@ TEST(ShaftsOptions, EntryBoxesEitherWayMatchBruteForce) {
   }
 }
 
-// Sample-ray variants (independent, stratified, shared along their paths) change only the
+// Sample-ray variants (independent, stratified, shared along their paths) and the collapsed
+// Bvh2 walk change only the
 // lists' shape: hits stay exact and the binary lists still cut steps.
 TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 37));
@@ -314,10 +315,12 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   std::vector<uint8_t> oref;
   BruteForce(scene.triangles).intersect(rays, ref);
   BruteForce(scene.triangles).occluded(rays, oref);
-  for (auto [base, samples, stratified, reuse] :
-       {std::tuple{Base::Binary, 8, false, false}, std::tuple{Base::Binary, 4, true, true},
-        std::tuple{Base::Wide, 5, true, true}, std::tuple{Base::Wide, 3, false, false}}) {
+  for (auto [base, samples, stratified, reuse, collapse] :
+       {std::tuple{Base::Binary, 8, false, false, 1}, std::tuple{Base::Binary, 4, true, true, 1},
+        std::tuple{Base::Binary, 4, true, false, 2}, std::tuple{Base::Wide, 5, true, true, 1},
+        std::tuple{Base::Wide, 3, false, false, 1}}) {
     ShaftConfig c = fine_config(512, 3);
+    c.collapse = collapse;
     c.samples = samples;
     c.stratified = stratified;
     c.reuse_rays = reuse ? 1 : 0;

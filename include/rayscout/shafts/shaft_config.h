@@ -56,6 +56,9 @@ struct ShaftConfig {
   /// -1 (default) = on for shafts-wide, off for shafts (Bvh2 tests its start entries itself);
   /// 0 = off, 1 = on.
   int entry_boxes = -1;
+  /// shafts (Bvh2): Algorithm 1 walks the Bvh2 collapsed by this many levels per step (1 =
+  /// the binary tree itself; 2 = 4-ary, 3 = 8-ary view of the same nodes).
+  int collapse = 1;
   /// Seed of the sample rays (the result is the same for any thread count).
   unsigned seed = 1;
 

@@ -21,6 +21,7 @@ struct TreeView {
   std::vector<uint32_t> child;
   std::vector<int8_t> split_axis;     ///< Bvh2: left child is nearer when dir[axis] > 0; -1 = order by box centre
   int arity = 2;                      ///< k of the k-ary BVH (min hit probability (k-1)/k)
+  bool split_order = true;            ///< children ordered by split_axis (else by box centre)
   uint32_t root = 0;                  ///< node index of the root
 
   size_t size() const { return bounds.size(); }
@@ -29,8 +30,10 @@ struct TreeView {
     return {child.data() + child_begin[i], child.data() + child_begin[i + 1]};
   }
 
-  /// Node i = Bvh2 node i.
-  static TreeView from_bvh2(const Bvh2& bvh);
+  /// Node i = Bvh2 node i. levels > 1: a node's children are its Bvh2 descendants `levels`
+  /// generations down (or leaves above that), so lists skip intermediate levels and the build
+  /// walks a shallower tree; children are then ordered by box centre. arity stays 2.
+  static TreeView from_bvh2(const Bvh2& bvh, int levels = 1);
   /// Wide nodes first (index = node id), then one entry per leaf reference.
   static TreeView from_wide(const WideBvh& bvh);
 };
