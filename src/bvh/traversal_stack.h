@@ -17,6 +17,10 @@ class TraversalStack {
     }
   }
   void push(const Entry& e) { data_[size_++] = e; }
+  /// The first free slot, for writing several entries at once (then call grow).
+  Entry* top() { return data_ + size_; }
+  /// Marks n entries written at top() as pushed.
+  void grow(size_t n) { size_ += n; }
   Entry pop() { return data_[--size_]; }
   bool empty() const { return size_ == 0; }
 
