@@ -225,32 +225,39 @@ bool WideBvh::occluded_impl(const Ray& ray, std::span<const uint32_t> start, Tra
   detail::BlockHits bh;
   bool hit = false;
   while (!stack.empty() && !hit) {
-    const uint32_t ref = stack.pop();
-    ++steps;
-    if (WideRef::is_leaf(ref)) {
-      const uint32_t first = WideRef::leaf_first(ref), count = WideRef::leaf_count(ref);
-      for (uint32_t slot = first, end = first + count; slot < end && !hit;) {
-        const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
-        const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
-        detail::intersect_block(leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, ray.tmax, bh);
-        slot += n;
-        tri_tests += n;  // every valid lane was tested
-        hit = bh.hit != 0;
-        for (uint32_t m = bh.fallback; m && !hit; m &= m - 1) {
-          float t, u, v;
-          hit = intersect_triangle(ray.org, rp, leaf_blocks[block].get(std::countr_zero(m)), ray.tmin, ray.tmax, t, u, v);
+    uint32_t ref = stack.pop();
+    for (;;) {
+      ++steps;
+      if (WideRef::is_leaf(ref)) {
+        const uint32_t first = WideRef::leaf_first(ref), count = WideRef::leaf_count(ref);
+        for (uint32_t slot = first, end = first + count; slot < end && !hit;) {
+          const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
+          const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
+          detail::intersect_block(leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, ray.tmax, bh);
+          slot += n;
+          tri_tests += n;  // every valid lane was tested
+          hit = bh.hit != 0;
+          for (uint32_t m = bh.fallback; m && !hit; m &= m - 1) {
+            float t, u, v;
+            hit = intersect_triangle(ray.org, rp, leaf_blocks[block].get(std::countr_zero(m)), ray.tmin, ray.tmax, t, u, v);
+          }
         }
+        break;
       }
-      continue;
-    }
-    const WideNode& node = nodes[ref];
-    box_tests += node.count;
-    uint32_t mask = test_children<Finite>(node, wr, box_tmax, dist);
-    // Unordered: sorting by distance measured slower for shadow and AO rays on Sponza.
-    while (mask) {
-      const int c = 31 - std::countl_zero(mask);  // last slot pushed first: slot 0 on top
-      mask &= ~(1u << c);
-      stack.push(node.child[c]);
+      const WideNode& node = nodes[ref];
+      box_tests += node.count;
+      uint32_t mask = test_children<Finite>(node, wr, box_tmax, dist);
+      if (mask == 0) break;
+      // Unordered, lowest slot first (sorting by distance measured slower for shadow and AO
+      // rays on Sponza): the lowest hit slot is visited next without a stack round trip, the
+      // others are pushed last slot first, so the next lowest is on top.
+      const int first_c = std::countr_zero(mask);
+      for (mask &= mask - 1; mask;) {
+        const int c = 31 - std::countl_zero(mask);
+        mask &= ~(1u << c);
+        stack.push(node.child[c]);
+      }
+      ref = node.child[first_c];
     }
   }
   if constexpr (CaptureStats) {
