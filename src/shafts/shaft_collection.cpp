@@ -149,7 +149,7 @@ class SampleStream {
   uint8_t perm_[5][256];
 };
 
-std::atomic<uint64_t> g_traced{0};  // debug count of traced shared sample rays
+std::atomic<uint64_t> g_traced{0}, g_dda_steps{0}, g_dda_deposits{0};  // debug count of traced shared sample rays
 
 void store_sample(detail::ShaftSamples& samples, size_t k, const Vec3& org, const Vec3& dir, float hit_t) {
   samples.ox[k] = org.x; samples.oy[k] = org.y; samples.oz[k] = org.z;
@@ -208,6 +208,7 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
     for (const auto& [layer, li] : keyed) orders[size_t(face)].push_back(li);
   }
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, cells, 1), [&](const auto& range) {
+    uint64_t dda_steps = 0, dda_deposits = 0;
     for (uint32_t cell = range.begin(); cell != range.end(); ++cell) {
       const ShaftGrid::CellRange cr = grid.cell_range(cell);
       const std::vector<uint32_t>& order = orders[size_t(2 * cr.axis + (cr.sign > 0 ? 0 : 1))];
@@ -256,8 +257,10 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
             idx[a] += step[a];
             if (idx[a] < 0 || idx[a] >= res[a]) break;
             t_next[a] += t_delta[a];
+            ++dda_steps;
             const int32_t wi = listed_index[grid.voxel_id(idx[0], idx[1], idx[2])];
             if (wi < 0 || !wants(uint32_t(wi))) continue;
+            ++dda_deposits;
             const float t_out = std::min(std::min(t_next[0], t_next[1]), std::min(t_next[2], hit_t));
             const float t = t_in + (t_out - t_in) * stream.uniform();
             deposit(uint32_t(wi), ray.org + ray.dir * t, ray.dir, hit_t - t);
@@ -265,6 +268,8 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
         }
       }
     }
+    g_dda_steps += dda_steps;
+    g_dda_deposits += dda_deposits;
   });
 }
 
@@ -391,8 +396,9 @@ ShaftCollection::QBox ShaftCollection::quantize(const Bounds3& box) const {
 
 ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGrid& grid,
                                             std::span<const Triangle> tris, const TraceFn& trace,
-                                            const RayBatch& sample_rays, const ShaftConfig& config) {
+                                            const RayBatch& sample_rays, const ShaftConfig& config_in) {
   const auto t_start = std::chrono::steady_clock::now();
+  const ShaftConfig config = config_in.resolved(tree.arity);
   if (config.max_list < 1 || config.max_list > 31)
     throw InputError("shafts: max_list must be in 1..31 (got " + std::to_string(config.max_list) + ")");
   ShaftCollection col;
@@ -442,10 +448,13 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     pool.resize(listed.size() * cells * per);
     std::vector<uint8_t> count(listed.size() * cells, 0);
     g_traced = 0;
+    g_dda_steps = 0;
+    g_dda_deposits = 0;
     shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
     if (debug)
-      std::fprintf(stderr, "shared samples: %.1f ms CPU, traced %llu rays for %zu shafts x %zu samples\n", cpu_ms() - c1,
-                   (unsigned long long)g_traced.load(), listed.size() * cells, per);
+      std::fprintf(stderr, "shared samples: %.1f ms CPU, traced %llu rays for %zu shafts x %zu samples; DDA steps %llu, deposits %llu\n",
+                   cpu_ms() - c1, (unsigned long long)g_traced.load(), listed.size() * cells, per,
+                   (unsigned long long)g_dda_steps.load(), (unsigned long long)g_dda_deposits.load());
   }
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
@@ -625,8 +634,9 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
 
 ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
                                        std::span<const Triangle> tris, const TraceFn& trace,
-                                       const RayBatch& sample_rays, const ShaftConfig& config) {
+                                       const RayBatch& sample_rays, const ShaftConfig& config_in) {
   const auto t_start = std::chrono::steady_clock::now();
+  const ShaftConfig config = config_in.resolved(tree.arity);
   if (config.dir_res < 1 || config.dir_res > 64)
     throw InputError("shafts: dir_res must be in 1..64 (got " + std::to_string(config.dir_res) + ")");
   const size_t budget = config.budget_mib > 0.0 ? size_t(config.budget_mib * 1048576.0)
@@ -688,9 +698,11 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
   bool settled = false;
   for (int it = 0; it < 8 && !settled; ++it) {
     const double real_n = double(ShaftGrid(box, ShaftGrid::cubical_resolution(box, n), 1).voxel_count());
+    const double p0 = cpu_ms();
     const double mem = std::max(1.0, predict(n));
     if (std::getenv("RAYSCOUT_SHAFTS_DEBUG"))
-      std::fprintf(stderr, "pilot n=%.0f voxels %.0f predicted %.0f budget %zu\n", n, real_n, mem, budget);
+      std::fprintf(stderr, "pilot n=%.0f voxels %.0f predicted %.0f budget %zu (%.1f ms CPU)\n", n, real_n, mem, budget,
+                   cpu_ms() - p0);
     if (mem <= 0.97 * double(budget)) {
       feasible_n = std::max(feasible_n, n);
       settled = mem >= 0.8 * double(budget);

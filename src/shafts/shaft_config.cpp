@@ -29,7 +29,7 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   if (!(c.budget_rel > 0)) bad("budget_rel must be > 0");
   if (c.voxels < 0) bad("voxels must be >= 0");
   if (c.dir_res < 1 || c.dir_res > 64) bad("dir_res must be in 1..64");
-  if (c.samples < 1 || c.samples > 1000) bad("samples must be in 1..1000");
+  if (c.samples != -1 && (c.samples < 1 || c.samples > 1000)) bad("samples must be in 1..1000 (or -1 = auto)");
   if (c.stratified && c.samples > 256) bad("samples must be <= 256 with stratified=1");
   if (c.max_list < 1 || c.max_list > 31) bad("max_list must be in 1..31");
   if (c.retries < 0) bad("retries must be >= 0");

@@ -17,9 +17,7 @@ namespace rayscout {
 ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config_in,
                                      const BvhBuildConfig& bvh_config)
     : triangles_(scene.triangles), base_(base) {
-  ShaftConfig config = config_in;
-  if (config.entry_boxes < 0) config.entry_boxes = base == Base::Wide ? 1 : 0;
-  if (config.reuse_rays < 0) config.reuse_rays = base == Base::Wide ? 1 : 0;
+  const ShaftConfig config = config_in.resolved(base == Base::Binary ? 2 : kWideWidth);
   const auto t0 = std::chrono::steady_clock::now();
   TreeView tree;
   Bounds3 box;

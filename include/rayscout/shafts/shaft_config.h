@@ -19,10 +19,11 @@ struct ShaftConfig {
   long voxels = 0;
   /// Direction cells per cube-map face edge: 6 d^2 direction cells per voxel.
   int dir_res = 4;
-  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). 4 Latin-hypercube
-  /// samples (stratified) save as many or more steps than 8 independent ones on Sibenik,
-  /// Sponza and Conference, and the build is ~13 % faster (docs/shafts.md, run 4).
-  int samples = 4;
+  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). -1 (default) = 4
+  /// for shafts, 3 for shafts-wide: stratified, they save as many or more steps than 8
+  /// independent ones on Sibenik, Sponza and Conference, and build faster (docs/shafts.md,
+  /// run 4). With the wide threshold 7/8 both 3 and 4 mean "all sample rays enter the box".
+  int samples = -1;
   /// Latin-hypercube sample rays: each of the 5 dimensions (origin x, y, z; direction u, v)
   /// is split into `samples` strata, one sample per stratum (random pairing); off = independent
   /// uniform samples.
@@ -62,6 +63,15 @@ struct ShaftConfig {
   /// Seed of the sample rays (the result is the same for any thread count).
   unsigned seed = 1;
 
+  /// The automatic values (-1) resolved for a BVH of the given arity (2 = Bvh2): samples,
+  /// reuse_rays, entry_boxes.
+  ShaftConfig resolved(int arity) const {
+    ShaftConfig c = *this;
+    if (c.samples < 0) c.samples = arity == 2 ? 4 : 3;
+    if (c.reuse_rays < 0) c.reuse_rays = arity == 2 ? 0 : 1;
+    if (c.entry_boxes < 0) c.entry_boxes = arity == 2 ? 0 : 1;
+    return c;
+  }
   /// Reads the keys above from options (--accel-opt key=value); throws InputError on a bad value.
   static ShaftConfig from_options(const AcceleratorOptions& options);
 };
