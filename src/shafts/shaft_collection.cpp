@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <sstream>
 #include <stdexcept>
@@ -606,8 +607,13 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
             }
             q[k] = qcache[node];
           }
+          // The rows follow the list's ids in the same area: one cache line serves both.
+          uint8_t rows[6 * 31];
           for (int row = 0; row < 6; ++row)
-            for (uint32_t k = 0; k < len; ++k) col.boxes_.push_back(row < 3 ? q[k].lo[row] : q[k].hi[row - 3]);
+            for (uint32_t k = 0; k < len; ++k) rows[size_t(row) * len + k] = row < 3 ? q[k].lo[row] : q[k].hi[row - 3];
+          const size_t at_rows = col.lists_.size();
+          col.lists_.resize(at_rows + (6 * len + 3) / 4, 0);
+          std::memcpy(col.lists_.data() + at_rows, rows, 6 * size_t(len));
         }
       }
       col.entries_[base + cell] = (at << 5) | len;
@@ -617,13 +623,12 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
       st.max_list = std::max(st.max_list, int(len));
     }
   }
+  if (col.boxed_) col.lists_.resize(col.lists_.size() + 2, 0);  // SIMD rows read 8 bytes
   col.lists_.shrink_to_fit();
-  if (col.boxed_) col.boxes_.resize(col.boxes_.size() + 8, 0);  // SIMD rows read 8 bytes
-  col.boxes_.shrink_to_fit();
   st.unique_lists = unique;
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
   st.lookup_bytes = (col.voxel_base_.size() + col.entries_.size()) * sizeof(uint32_t);
-  st.list_bytes = col.lists_.size() * col.bytes_per_entry();
+  st.list_bytes = col.lists_.size() * sizeof(uint32_t);  // ids (and entry-box rows)
   if (debug)
     std::fprintf(stderr, "build_grid CPU ms: selection %.1f, lists %.1f, packing %.1f\n", c1 - c0, c2 - c1,
                  cpu_ms() - c2);

@@ -2,6 +2,7 @@
 #include "rayscout/shafts/shafts_accelerator.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -99,9 +100,40 @@ void ShaftsAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<
   std::mutex mutex;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64), [&](const auto& range) {
     TraceStats local;
-    for (size_t i = range.begin(); i != range.end(); ++i) {
+    // Lookups are software-pipelined: a ray is classified kFar rays ahead (its entry is
+    // prefetched) and looked up kNear rays ahead (its list is prefetched), so the two cache
+    // misses of a lookup overlap earlier rays' traversals. Same candidates as lookup(ray).
+    constexpr size_t kFar = 8, kNear = 4, kRing = 16;
+    struct Slot {
+      ShaftCoord coord;
+      bool classified = false;
+      Candidates c;
+    };
+    Slot ring[kRing];
+    const size_t end = range.end();
+    auto classify_ahead = [&](size_t j) {
+      Slot& s = ring[j % kRing];
+      s.classified = collection_.grid().classify(rays[j], s.coord);
+      if (s.classified)
+        if (const uint32_t* e = collection_.entry_address(s.coord)) __builtin_prefetch(e);
+    };
+    auto lookup_ahead = [&](size_t j) {
+      Slot& s = ring[j % kRing];
+      s.c = s.classified ? collection_.lookup(s.coord) : Candidates{};
+      if (!s.c.list.empty()) __builtin_prefetch(s.c.list.data());
+      if (s.c.boxes) __builtin_prefetch(s.c.boxes);
+    };
+    if (use_lists) {
+      for (size_t j = range.begin(); j < std::min(range.begin() + kFar, end); ++j) classify_ahead(j);
+      for (size_t j = range.begin(); j < std::min(range.begin() + kNear, end); ++j) lookup_ahead(j);
+    }
+    for (size_t i = range.begin(); i != end; ++i) {
       const Ray ray = rays[i];
-      const Candidates c = use_lists ? collection_.lookup(ray) : Candidates{};
+      if (use_lists) {
+        if (i + kFar < end) classify_ahead(i + kFar);
+        if (i + kNear < end) lookup_ahead(i + kNear);
+      }
+      const Candidates c = use_lists ? ring[i % kRing].c : Candidates{};
       if (c.nothing) continue;  // the shaft reaches no geometry: a miss
       if (c.boxes && !c.list.empty()) {
         trace_boxed<Stats, Any>(ray, c, i, hits, occ, local);

@@ -95,7 +95,15 @@ class ShaftCollection {
     if (base == kNoVoxel) return {};
     const uint32_t e = entries_[base + c.cell];
     if (e == kEmptyList) return {{}, nullptr, true};
-    return {{lists_.data() + (e >> 5), e & 31u}, boxed_ ? boxes_.data() + 6 * size_t(e >> 5) : nullptr, false};
+    const uint32_t* ids = lists_.data() + (e >> 5);
+    const uint32_t len = e & 31u;
+    return {{ids, len}, boxed_ ? reinterpret_cast<const uint8_t*>(ids + len) : nullptr, false};
+  }
+  /// Where the entry of a classified shaft lives (nullptr: its voxel has no table); for
+  /// prefetching ahead of lookup(c).
+  const uint32_t* entry_address(ShaftCoord c) const {
+    const uint32_t base = voxel_base_[c.voxel];
+    return base == kNoVoxel ? nullptr : entries_.data() + base + c.cell;
   }
   const ShaftGrid& grid() const { return grid_; }
   const ShaftStats& stats() const { return stats_; }
@@ -109,10 +117,11 @@ class ShaftCollection {
 
   ShaftGrid grid_;
   bool boxed_ = false;
-  std::vector<uint8_t> boxes_;  ///< 6 bytes per lists_ entry when boxed_ (layout: Candidates::boxes)
   float qlo_[3][256] = {}, qhi_[3][256] = {};  ///< dequantisation: rounded down / up
   std::vector<uint32_t> voxel_base_;
   std::vector<uint32_t> entries_;
+  /// The list area: per unique list its node references, then (boxed_) its entry-box rows
+  /// (6 len bytes, padded to 4; layout: Candidates::boxes), so a lookup touches one region.
   std::vector<uint32_t> lists_;
   ShaftStats stats_;
 };
