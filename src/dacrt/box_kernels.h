@@ -90,17 +90,8 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
   const __m512 hix = _mm512_set1_ps(box.hi.x), hiy = _mm512_set1_ps(box.hi.y), hiz = _mm512_set1_ps(box.hi.z);
   const __m512 robust = _mm512_set1_ps(kRobustScale), slack = _mm512_set1_ps(kHitSlack);
   const float* base = reinterpret_cast<const float*>(rays);
-  auto test = [&](__m512i id, __mmask16 valid) -> __mmask16 {
-    const __m512i off = _mm512_slli_epi32(id, 3);
-    const __m512 z = _mm512_setzero_ps();
-    const __m512 ox = _mm512_mask_i32gather_ps(z, valid, off, base + 0, 4);
-    const __m512 oy = _mm512_mask_i32gather_ps(z, valid, off, base + 1, 4);
-    const __m512 oz = _mm512_mask_i32gather_ps(z, valid, off, base + 2, 4);
-    __m512 tnear = _mm512_mask_i32gather_ps(z, valid, off, base + 3, 4);
-    const __m512 ix = _mm512_mask_i32gather_ps(z, valid, off, base + 4, 4);
-    const __m512 iy = _mm512_mask_i32gather_ps(z, valid, off, base + 5, 4);
-    const __m512 iz = _mm512_mask_i32gather_ps(z, valid, off, base + 6, 4);
-    const __m512 t = _mm512_mask_i32gather_ps(z, valid, off, base + 7, 4);
+  auto test_fields = [&](__m512 ox, __m512 oy, __m512 oz, __m512 tnear, __m512 ix, __m512 iy, __m512 iz, __m512 t,
+                         __mmask16 valid) -> __mmask16 {
     __m512 tfar = _mm512_add_ps(t, _mm512_mul_ps(_mm512_abs_ps(t), slack));  // filter_tmax
     auto slab = [&](__m512 lo, __m512 hi, __m512 o, __m512 inv) {
       const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo, o), inv);
@@ -116,12 +107,44 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     slab(loz, hiz, oz, iz);
     return _mm512_mask_cmp_ps_mask(valid, tnear, tfar, _CMP_LE_OQ);
   };
+  // The tail: 8 gathers of the records' fields.
+  auto test = [&](__m512i id, __mmask16 valid) -> __mmask16 {
+    const __m512i off = _mm512_slli_epi32(id, 3);
+    const __m512 z = _mm512_setzero_ps();
+    auto g = [&](int f) { return _mm512_mask_i32gather_ps(z, valid, off, base + f, 4); };
+    return test_fields(g(0), g(1), g(2), g(3), g(4), g(5), g(6), g(7), valid);
+  };
+  // Full chunks: 16 aligned 32-byte record loads transposed into 8 field vectors, cheaper
+  // than 8 gathers (24 shuffles instead of 128 gathered loads).
+  const __m512i lo_lanes = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+  const __m512i hi_lanes = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+  auto test_full = [&](const uint32_t* ids) -> __mmask16 {
+    __m512 r[8];
+    for (int k = 0; k < 8; ++k)  // record k in the low half, record k + 8 in the high half
+      r[k] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(base + 8 * size_t(ids[k]))),
+                                _mm256_load_ps(base + 8 * size_t(ids[k + 8])), 1);
+    __m512 s[8];
+    for (int q = 0; q < 2; ++q) {  // records 4q..4q+3 (and + 8)
+      const __m512 t0 = _mm512_unpacklo_ps(r[4 * q], r[4 * q + 1]), t1 = _mm512_unpackhi_ps(r[4 * q], r[4 * q + 1]);
+      const __m512 t2 = _mm512_unpacklo_ps(r[4 * q + 2], r[4 * q + 3]), t3 = _mm512_unpackhi_ps(r[4 * q + 2], r[4 * q + 3]);
+      s[4 * q + 0] = _mm512_shuffle_ps(t0, t2, 0x44);  // field f (lanes 0, 2) and f + 4 (lanes 1, 3)
+      s[4 * q + 1] = _mm512_shuffle_ps(t0, t2, 0xEE);
+      s[4 * q + 2] = _mm512_shuffle_ps(t1, t3, 0x44);
+      s[4 * q + 3] = _mm512_shuffle_ps(t1, t3, 0xEE);
+    }
+    __m512 f[8];
+    for (int k = 0; k < 4; ++k) {
+      f[k] = _mm512_permutex2var_ps(s[k], lo_lanes, s[4 + k]);
+      f[k + 4] = _mm512_permutex2var_ps(s[k], hi_lanes, s[4 + k]);
+    }
+    return test_fields(f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], 0xFFFF);
+  };
   constexpr size_t kAhead = 64;  // ids ahead whose records are prefetched: gathers then hit cache
   for (; i + 16 <= n; i += 16) {
     if (i + kAhead + 16 <= n)
       for (int k = 0; k < 16; k += 2) _mm_prefetch(reinterpret_cast<const char*>(rays + rid[i + kAhead + k]), _MM_HINT_T0);
     const __m512i id = _mm512_loadu_si512(rid + i);
-    const __mmask16 hit = test(id, 0xFFFF);
+    const __mmask16 hit = test_full(rid + i);
     // Full-width stores of the compressed ids: w, m <= i, so they end inside the chunk just
     // loaded (never past ids not yet read, never past the end of scratch).
     _mm512_storeu_si512(rid + w, _mm512_maskz_compress_epi32(hit, id));
