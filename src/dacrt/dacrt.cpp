@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <new>
 #include <numeric>
 
 #include <tbb/global_control.h>
@@ -11,6 +13,7 @@
 #include <tbb/task_group.h>
 
 #include "dacrt_tracer.h"
+#include "ray_setup.h"
 
 namespace rayscout {
 
@@ -35,16 +38,50 @@ void for_range(bool parallel, size_t n, F&& f) {
     for (size_t i = 0; i < n; ++i) f(i);
 }
 
+/// Uninitialised, 64-byte aligned storage that only grows.
+template <typename T>
+class Buffer {
+ public:
+  T* get(size_t n) {
+    if (n > capacity_) {
+      data_.reset();
+      void* p = std::aligned_alloc(64, (std::max<size_t>(n, 1) * sizeof(T) + 63) & ~size_t(63));
+      if (!p) throw std::bad_alloc();
+      data_.reset(static_cast<T*>(p));
+      capacity_ = n;
+    }
+    return data_.get();
+  }
+
+ private:
+  struct Free { void operator()(T* p) const { std::free(p); } };
+  std::unique_ptr<T, Free> data_;
+  size_t capacity_ = 0;
+};
+
 }  // namespace
 
+struct Dacrt::Arena {
+  Buffer<RayRecord> rec;
+  Buffer<dacrt::RayShear> shear;
+  Buffer<uint32_t> rid, scratch, tid;
+  // Triangle boxes and centres with their bounds, filled once (the triangles never change).
+  Buffer<dacrt::TriBox> boxes;
+  Buffer<uint8_t> bin_idx;
+  Bounds3 box, cb;
+  bool triangles_ready = false;
+};
+
 Dacrt::Dacrt(std::span<const Triangle> triangles, const DacrtConfig& config, std::string name)
-    : triangles_(triangles), config_(config), name_(std::move(name)) {}
+    : triangles_(triangles), config_(config), name_(std::move(name)), arena_(std::make_unique<Arena>()) {}
+
+Dacrt::~Dacrt() = default;
 
 size_t Dacrt::scratch_bytes(size_t n_rays, size_t n_triangles, size_t tasks) {
-  const size_t per_ray = sizeof(RayRecord) + sizeof(RayPrecomp) + 2 * sizeof(uint32_t);  // + rid, scratch
-  const size_t per_tri = sizeof(Vec3) + sizeof(Bounds3);
-  const size_t per_task = n_triangles * sizeof(uint32_t) +
-                          sizeof(dacrt::DacrtTracer<false, false>);  // tid array, binning buffers
+  const size_t per_ray = sizeof(RayRecord) + sizeof(dacrt::RayShear) + 2 * sizeof(uint32_t);  // + rid, scratch
+  const size_t per_tri = sizeof(dacrt::TriBox);
+  const size_t per_task = n_triangles * (sizeof(uint32_t) + sizeof(uint8_t)) +
+                          sizeof(dacrt::DacrtTracer<false, false>);  // tid, bin per triangle, binning buffers
   return n_rays * per_ray + n_triangles * per_tri + tasks * per_task;
 }
 
@@ -58,31 +95,41 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   if (n == 0 || nt == 0) return;
   const bool par = config_.parallel;
 
-  // Allocated once per call, sizes from |R|, |T| and the task count only.
-  std::vector<RayRecord> rec(n);
-  std::vector<RayPrecomp> pre(n, RayPrecomp(Vec3(0, 0, 1)));
-  std::vector<uint32_t> rid(n), scratch(n), tid(tasks * nt);
-  std::vector<Vec3> centroids(nt);
-  std::vector<Bounds3> boxes(nt);
-  for_range(par, n, [&](size_t i) {
-    const Vec3 d(rays.dx[i], rays.dy[i], rays.dz[i]);
-    pre[i] = RayPrecomp(d);
-    const Vec3& inv = pre[i].inv_dir;
-    rec[i] = {rays.ox[i], rays.oy[i], rays.oz[i], rays.tmin[i], inv.x, inv.y, inv.z, rays.tmax[i]};
-    rid[i] = uint32_t(i);
-  });
-  Bounds3 box, cb;
-  for (size_t p = 0; p < nt; ++p) {
-    boxes[p] = triangles_[p].bounds();
-    centroids[p] = boxes[p].center();
-    box.extend(boxes[p]);
-    cb.extend(centroids[p]);
+  // The kept buffers, or (a concurrent call) buffers of this call only.
+  std::unique_lock lock(arena_mutex_, std::try_to_lock);
+  std::unique_ptr<Arena> own;
+  Arena& a = lock.owns_lock() ? *arena_ : *(own = std::make_unique<Arena>());
+  RayRecord* rec = a.rec.get(n);
+  dacrt::RayShear* shear = a.shear.get(n);
+  uint32_t* rid = a.rid.get(n);
+  uint32_t* scratch = a.scratch.get(n);
+  uint32_t* tid = a.tid.get(tasks * nt);
+  uint8_t* bin_idx = a.bin_idx.get(tasks * nt);
+  if (!a.triangles_ready) {
+    dacrt::TriBox* boxes = a.boxes.get(nt);
+    a.box = a.cb = Bounds3{};
+    for (size_t p = 0; p < nt; ++p) {
+      const Bounds3 b = triangles_[p].bounds();
+      boxes[p] = dacrt::TriBox(b);
+      a.box.extend(b);
+      a.cb.extend(b.center());
+    }
+    a.triangles_ready = true;
   }
+  const Bounds3 box = a.box, cb = a.cb;
+
+  // Ray records, shears and ids in contiguous blocks (one per thread when parallel).
+  const size_t blocks = par && n > 65536 ? std::min<size_t>(64, n / 16384) : 1;
+  std::vector<float> block_magnitude(blocks, 0.0f);
+  auto setup_block = [&](size_t b) {
+    block_magnitude[b] = dacrt::setup_rays(rays, n * b / blocks, n * (b + 1) / blocks, rec, shear, rid);
+  };
+  if (blocks == 1) setup_block(0);
+  else tbb::parallel_for(size_t(0), blocks, setup_block);
 
   float magnitude = std::max(max_component(abs(box.lo)), max_component(abs(box.hi)));
-  for (size_t i = 0; i < n; ++i)
-    magnitude = std::max(magnitude, std::max(std::fabs(rays.ox[i]), std::max(std::fabs(rays.oy[i]), std::fabs(rays.oz[i]))));
-  dacrt::TraceContext ctx{&config_, rec.data(), pre.data(), triangles_.data(), centroids.data(), boxes.data(),
+  for (const float m : block_magnitude) magnitude = std::max(magnitude, m);
+  dacrt::TraceContext ctx{&config_, rec, shear, triangles_.data(), a.boxes.get(nt),
                           {nullptr, nullptr, nullptr}, nullptr, dacrt::pad_for(magnitude)};
   if constexpr (kOccluded) ctx.occ = occluded->data();
   else ctx.hits = {hits->prim.data(), hits->u.data(), hits->v.data()};
@@ -91,15 +138,15 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   std::vector<DacrtDetails> task_details(tasks);
   auto run_task = [&](size_t k) {
     const size_t begin = n * k / tasks, end = n * (k + 1) / tasks;
-    uint32_t* my_tid = tid.data() + k * nt;
+    uint32_t* my_tid = tid + k * nt;
     std::iota(my_tid, my_tid + nt, 0u);
     auto go = [&](auto tracer) {
-      tracer->run(rid.data() + begin, end - begin, my_tid, nt, box, cb);
+      tracer->run(rid + begin, end - begin, my_tid, nt, box, cb);
       task_stats[k] = tracer->stats;
       task_details[k] = tracer->details;
     };
-    if (stats) go(std::make_unique<dacrt::DacrtTracer<true, kOccluded>>(ctx, scratch.data() + begin, config_.seed + k));
-    else go(std::make_unique<dacrt::DacrtTracer<false, kOccluded>>(ctx, scratch.data() + begin, config_.seed + k));
+    if (stats) go(std::make_unique<dacrt::DacrtTracer<true, kOccluded>>(ctx, scratch + begin, bin_idx + k * nt, config_.seed + k));
+    else go(std::make_unique<dacrt::DacrtTracer<false, kOccluded>>(ctx, scratch + begin, bin_idx + k * nt, config_.seed + k));
   };
   if (tasks == 1) {
     run_task(0);

@@ -2,6 +2,8 @@
 // candidates, the midpoint split when |R|/|T| is small, and the ray sampling of Algorithm 2.
 #pragma once
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,46 +11,77 @@
 
 namespace rayscout::dacrt {
 
+/// Bounds3 of two SIMD rows (x, y, z, unused).
+inline Bounds3 to_bounds(__m128 lo, __m128 hi) {
+  alignas(16) float l[4], h[4];
+  _mm_store_ps(l, lo);
+  _mm_store_ps(h, hi);
+  return {Vec3(l[0], l[1], l[2]), Vec3(h[0], h[1], h[2])};
+}
+
 template <bool kStats, bool kOccluded>
 bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
                                            const Bounds3& cb, bool sample, Split& s) {
   const int axis = s.axis = cb.largest_axis();
   const float lo = cb.lo[axis], extent = cb.hi[axis] - lo;
-  const Vec3* cent = ctx_.centroids;
+  const TriBox* tb = ctx_.tri_boxes;
   bool separated = false;
   if (extent > 0.0f && std::isfinite(extent)) {
     if (double(nr) <= cfg_.midpoint_ratio * double(nt)) {
       // Few rays per triangle: a cheap midpoint split (sec. 5), sampling only orders and skips.
       const float mid = lo + 0.5f * extent;
-      s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return cent[p][axis] < mid; }) - tid);
+      s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return tb[p].center(axis) < mid; }) - tid);
       separated = s.n_left > 0 && s.n_left < nt;
       if (separated) finish_sides(tid, nt, s);
     } else {
       const int k = cfg_.bins;
       const float scale = float(k) / extent;
-      auto bin_of = [&](uint32_t p) { return std::clamp(int((cent[p][axis] - lo) * scale), 0, k - 1); };
-      Bin* bins = bins_;
+      // Two bin sets, even and odd triangles, so consecutive triangles of one bin do not
+      // wait for each other's stores; each triangle's bin is kept for the partition below.
+      const __m128 half = _mm_set1_ps(0.5f), pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
+      for (int set = 0; set < 2; ++set)
+        for (int j = 0; j < k; ++j) { vbins_[set][j] = {pinf, ninf, pinf, ninf}; counts_[set][j] = 0; }
+      uint8_t* bin_idx = bin_idx_;
+      auto add = [&](int set, size_t i) {
+        const TriBox& t = tb[tid[i]];
+        const __m128 blo = _mm_load_ps(t.lo), bhi = _mm_load_ps(t.hi);
+        const __m128 c = _mm_mul_ps(_mm_add_ps(blo, bhi), half);  // Bounds3::center()
+        const int b = std::clamp(int((t.center(axis) - lo) * scale), 0, k - 1);
+        bin_idx[i] = uint8_t(b);
+        VBin& v = vbins_[set][b];
+        // min(x, acc) / max(x, acc) are std::min(acc, x) / std::max(acc, x) of Bounds3::extend.
+        v.lo = _mm_min_ps(blo, v.lo); v.hi = _mm_max_ps(bhi, v.hi);
+        v.clo = _mm_min_ps(c, v.clo); v.chi = _mm_max_ps(c, v.chi);
+        ++counts_[set][b];
+      };
+      size_t i = 0;
+      for (; i + 2 <= nt; i += 2) { add(0, i); add(1, i + 1); }
+      if (i < nt) add(0, i);
+      VBin* bins = vbins_[0];
+      for (int j = 0; j < k; ++j) {
+        const VBin& o = vbins_[1][j];
+        VBin& b = bins[j];
+        b.lo = _mm_min_ps(o.lo, b.lo); b.hi = _mm_max_ps(o.hi, b.hi);
+        b.clo = _mm_min_ps(o.clo, b.clo); b.chi = _mm_max_ps(o.chi, b.chi);
+        counts_[0][j] += counts_[1][j];
+      }
+      const uint32_t* count = counts_[0];
       Bin* left = left_;
       Bin* right = right_;
-      for (int j = 0; j < k; ++j) bins[j] = Bin{};
-      for (size_t i = 0; i < nt; ++i) {
-        const uint32_t p = tid[i];
-        Bin& b = bins[bin_of(p)];
-        b.box.extend(ctx_.tri_boxes[p]);
-        b.cb.extend(cent[p]);
-        ++b.n;
-      }
       // left[j] = bins 0..j, right[j] = bins j+1..k-1 (candidate j, 0 <= j < k - 1).
-      Bin acc;
-      for (int j = 0; j < k - 1; ++j) {
-        acc.box.extend(bins[j].box); acc.cb.extend(bins[j].cb); acc.n += bins[j].n;
-        left[j] = acc;
-      }
-      acc = Bin{};
-      for (int j = k - 1; j > 0; --j) {
-        acc.box.extend(bins[j].box); acc.cb.extend(bins[j].cb); acc.n += bins[j].n;
-        right[j - 1] = acc;
-      }
+      VBin acc = {pinf, ninf, pinf, ninf};
+      uint32_t n_acc = 0;
+      auto sweep = [&](int j, Bin& out) {
+        const VBin& b = bins[j];
+        acc.lo = _mm_min_ps(b.lo, acc.lo); acc.hi = _mm_max_ps(b.hi, acc.hi);
+        acc.clo = _mm_min_ps(b.clo, acc.clo); acc.chi = _mm_max_ps(b.chi, acc.chi);
+        n_acc += count[j];
+        out.box = to_bounds(acc.lo, acc.hi); out.cb = to_bounds(acc.clo, acc.chi); out.n = n_acc;
+      };
+      for (int j = 0; j < k - 1; ++j) sweep(j, left[j]);
+      acc = {pinf, ninf, pinf, ninf};
+      n_acc = 0;
+      for (int j = k - 1; j > 0; --j) sweep(j, right[j - 1]);
       uint32_t* hits_l = hits_l_; uint32_t* hits_r = hits_r_;
       uint32_t* votes_l = votes_l_; uint32_t* votes_r = votes_r_;
       std::fill_n(hits_l, k, 0u); std::fill_n(hits_r, k, 0u);
@@ -97,7 +130,16 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         if (cost <= best) { best = cost; jmin = j; }  // Algorithm 1, line 14: <=
       }
       if (jmin >= 0) {
-        s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return bin_of(p) <= jmin; }) - tid);
+        // std::partition's scheme on the kept bins: a position, once passed, is not read again.
+        size_t a = 0, e = nt;
+        for (;;) {
+          while (a < e && bin_idx[a] <= jmin) ++a;
+          while (a < e && bin_idx[e - 1] > jmin) --e;
+          if (a >= e) break;
+          std::swap(tid[a], tid[e - 1]);
+          ++a; --e;
+        }
+        s.n_left = a;
         s.box[0] = left[jmin].box; s.cb[0] = left[jmin].cb;
         s.box[1] = right[jmin].box; s.cb[1] = right[jmin].cb;
         separated = true;
@@ -123,11 +165,18 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
 
 template <bool kStats, bool kOccluded>
 void DacrtTracer<kStats, kOccluded>::finish_sides(const uint32_t* tid, size_t nt, Split& s) const {
-  for (int c = 0; c < 2; ++c) { s.box[c] = Bounds3{}; s.cb[c] = Bounds3{}; }
-  for (size_t i = 0; i < nt; ++i) {
-    const int c = i < s.n_left ? 0 : 1;
-    s.box[c].extend(ctx_.tri_boxes[tid[i]]);
-    s.cb[c].extend(ctx_.centroids[tid[i]]);
+  const __m128 half = _mm_set1_ps(0.5f);
+  for (int c = 0; c < 2; ++c) {
+    __m128 blo = _mm_set1_ps(kInfinity), bhi = _mm_set1_ps(-kInfinity), clo = blo, chi = bhi;
+    for (size_t i = c == 0 ? 0 : s.n_left, end = c == 0 ? s.n_left : nt; i < end; ++i) {
+      const TriBox& t = ctx_.tri_boxes[tid[i]];
+      const __m128 lo = _mm_load_ps(t.lo), hi = _mm_load_ps(t.hi);
+      const __m128 cen = _mm_mul_ps(_mm_add_ps(lo, hi), half);
+      blo = _mm_min_ps(lo, blo); bhi = _mm_max_ps(hi, bhi);
+      clo = _mm_min_ps(cen, clo); chi = _mm_max_ps(cen, chi);
+    }
+    s.box[c] = to_bounds(blo, bhi);
+    s.cb[c] = to_bounds(clo, chi);
   }
 }
 

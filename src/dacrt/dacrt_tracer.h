@@ -20,10 +20,9 @@ namespace rayscout::dacrt {
 struct TraceContext {
   const DacrtConfig* config;
   RayRecord* rays;            ///< per ray id
-  const RayPrecomp* pre;      ///< per ray id, watertight-test constants
+  const RayShear* pre;        ///< per ray id, watertight-test constants
   const Triangle* tris;       ///< per triangle id
-  const Vec3* centroids;      ///< per triangle id, centre of its box (binning key)
-  const Bounds3* tri_boxes;   ///< per triangle id
+  const TriBox* tri_boxes;    ///< per triangle id, its bounding box (centre = binning key)
   HitOut hits;                ///< closest-hit outputs (intersect)
   uint8_t* occ;               ///< any-hit outputs (occluded)
   float pad;                  ///< world-space box padding of filtering, pad_for(max coordinate)
@@ -43,8 +42,9 @@ struct Split {
 template <bool kStats, bool kOccluded>
 class DacrtTracer {
  public:
-  DacrtTracer(const TraceContext& ctx, uint32_t* scratch, uint64_t seed)
-      : ctx_(ctx), cfg_(*ctx.config), scratch_(scratch), rng_(seed | 1) {}
+  /// scratch: >= |R| ray ids of this task; bin_idx: >= |T| bytes.
+  DacrtTracer(const TraceContext& ctx, uint32_t* scratch, uint8_t* bin_idx, uint64_t seed)
+      : ctx_(ctx), cfg_(*ctx.config), scratch_(scratch), bin_idx_(bin_idx), rng_(seed | 1) {}
 
   /// Traces rays rid[0, nr) against triangles tid[0, nt) of the given box and centroid bounds.
   void run(uint32_t* rid, size_t nr, uint32_t* tid, size_t nt, const Bounds3& box, const Bounds3& cb) {
@@ -146,10 +146,14 @@ class DacrtTracer {
   const TraceContext& ctx_;
   const DacrtConfig& cfg_;
   uint32_t* scratch_;
+  uint8_t* bin_idx_;  // bin of each triangle position of the node being split
   uint64_t rng_;
   // Binning and sampling buffers, reused by every node (no per-node allocation).
   struct Bin { Bounds3 box, cb; uint32_t n = 0; };
-  Bin bins_[256], left_[256], right_[256];
+  struct VBin { __m128 lo, hi, clo, chi; };  // box and centroid bounds, rows x, y, z, unused
+  Bin left_[256], right_[256];
+  VBin vbins_[2][256];
+  uint32_t counts_[2][256];
   BoxSoa lb_, rb_;
   alignas(64) uint32_t hits_l_[256], hits_r_[256], votes_l_[256], votes_r_[256];
 };

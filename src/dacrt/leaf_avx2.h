@@ -16,12 +16,10 @@
 
 namespace rayscout::dacrt {
 
-static_assert(sizeof(RayPrecomp) == 36, "leaf_simd gathers RayPrecomp as 9 words");
-
 /// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
 /// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
 template <bool kAny>
-__attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+__attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pre, const uint32_t* rid, size_t nr,
                                              const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out,
                                              uint8_t* occ) {
   const float* rbase = reinterpret_cast<const float*>(rays);
@@ -43,7 +41,7 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* 
       if ((valid >> l) & 1) ids[l] = rid[i + l];
     const __m256i id = _mm256_load_si256(reinterpret_cast<const __m256i*>(ids));
     const __m256i off8 = _mm256_slli_epi32(id, 3);
-    const __m256i off9 = _mm256_add_epi32(off8, id);
+    const __m256i off4 = _mm256_slli_epi32(id, 2);
     auto gf = [&](const float* b, __m256i off) { return _mm256_mask_i32gather_ps(zero, b, off, vmask, 4); };
     auto gi = [&](const int* b, __m256i off) {
       return _mm256_mask_i32gather_epi32(izero, b, off, _mm256_castps_si256(vmask), 4);
@@ -51,8 +49,10 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* 
     const __m256 ox = gf(rbase + 0, off8), oy = gf(rbase + 1, off8), oz = gf(rbase + 2, off8);
     const __m256 tmin = gf(rbase + 3, off8);
     __m256 best_t = gf(rbase + 7, off8);
-    const __m256i kx = gi(pibase + 0, off9), ky = gi(pibase + 1, off9), kz = gi(pibase + 2, off9);
-    const __m256 sx = gf(pbase + 3, off9), sy = gf(pbase + 4, off9), sz = gf(pbase + 5, off9);
+    const __m256i kk = gi(pibase + 3, off4), byte = _mm256_set1_epi32(0xFF);
+    const __m256i kx = _mm256_and_si256(kk, byte), ky = _mm256_and_si256(_mm256_srli_epi32(kk, 8), byte);
+    const __m256i kz = _mm256_srli_epi32(kk, 16);
+    const __m256 sx = gf(pbase + 0, off4), sy = gf(pbase + 1, off4), sz = gf(pbase + 2, off4);
     __m256i best_p = kAny ? izero : gi(reinterpret_cast<const int*>(out.prim), id);
     __m256 best_u = zero, best_v = zero;
     int changed = 0;
@@ -118,7 +118,7 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* 
         for (int l = 0; l < 8; ++l) {
           if (!((zero_edge >> l) & 1)) continue;
           float t1, u1, v1;
-          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), pre[ids[l]], tri, ltmin[l], bt[l], t1, u1, v1) &&
+          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), to_precomp(pre[ids[l]]), tri, ltmin[l], bt[l], t1, u1, v1) &&
                          (kAny || is_closer(t1, p, bt[l], lp[l]));
           if (h) { hit |= 1 << l; lt[l] = t1; lu[l] = u1; lv[l] = v1; }
         }

@@ -19,13 +19,13 @@ struct HitOut {
 };
 
 /// Closest hit of rays rid[0, nr) over triangles tid[0, nt). Returns ray-triangle tests.
-__attribute__((noinline)) inline uint64_t leaf_intersect(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+__attribute__((noinline)) inline uint64_t leaf_intersect(RayRecord* rays, const RayShear* pre, const uint32_t* rid, size_t nr,
                                const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out) {
   for (size_t i = 0; i < nr; ++i) {
     const uint32_t r = rid[i];
     RayRecord& ray = rays[r];
     const Vec3 org(ray.ox, ray.oy, ray.oz);
-    const RayPrecomp& rp = pre[r];
+    const RayPrecomp rp = to_precomp(pre[r]);
     float best_t = ray.t, best_u = 0, best_v = 0;
     uint32_t best = out.prim[r];
     const uint32_t before = best;
@@ -45,7 +45,7 @@ __attribute__((noinline)) inline uint64_t leaf_intersect(RayRecord* rays, const 
 
 /// Any hit of rays rid[0, nr) over triangles tid[0, nt); a blocked ray is marked in occ and
 /// retired. Returns ray-triangle tests (a ray stops at its first hit; retired rays cost none).
-__attribute__((noinline)) inline uint64_t leaf_occluded(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+__attribute__((noinline)) inline uint64_t leaf_occluded(RayRecord* rays, const RayShear* pre, const uint32_t* rid, size_t nr,
                               const Triangle* tris, const uint32_t* tid, size_t nt, uint8_t* occ) {
   uint64_t tests = 0;
   for (size_t i = 0; i < nr; ++i) {
@@ -53,7 +53,7 @@ __attribute__((noinline)) inline uint64_t leaf_occluded(RayRecord* rays, const R
     RayRecord& ray = rays[r];
     if (occ[r]) continue;
     const Vec3 org(ray.ox, ray.oy, ray.oz);
-    const RayPrecomp& rp = pre[r];
+    const RayPrecomp rp = to_precomp(pre[r]);
     for (size_t j = 0; j < nt; ++j) {
       float t, u, v;
       ++tests;

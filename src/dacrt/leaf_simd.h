@@ -19,12 +19,10 @@
 
 namespace rayscout::dacrt {
 
-static_assert(sizeof(RayPrecomp) == 36, "leaf_simd gathers RayPrecomp as 9 words");
-
 /// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
 /// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
 template <bool kAny>
-__attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* pre, const uint32_t* rid, size_t nr,
+__attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pre, const uint32_t* rid, size_t nr,
                                              const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out,
                                              uint8_t* occ) {
   const float* rbase = reinterpret_cast<const float*>(rays);
@@ -37,18 +35,19 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* 
     const __mmask16 valid = nr - i >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (nr - i)) - 1u);
     const __m512i id = _mm512_maskz_loadu_epi32(valid, rid + i);
     const __m512i off8 = _mm512_slli_epi32(id, 3);
-    const __m512i off9 = _mm512_add_epi32(off8, id);
+    const __m512i off4 = _mm512_slli_epi32(id, 2);
     const __m512 ox = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 0, 4);
     const __m512 oy = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 1, 4);
     const __m512 oz = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 2, 4);
     const __m512 tmin = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 3, 4);
     __m512 best_t = _mm512_mask_i32gather_ps(zero, valid, off8, rbase + 7, 4);
-    const __m512i kx = _mm512_mask_i32gather_epi32(izero, valid, off9, pibase + 0, 4);
-    const __m512i ky = _mm512_mask_i32gather_epi32(izero, valid, off9, pibase + 1, 4);
-    const __m512i kz = _mm512_mask_i32gather_epi32(izero, valid, off9, pibase + 2, 4);
-    const __m512 sx = _mm512_mask_i32gather_ps(zero, valid, off9, pbase + 3, 4);
-    const __m512 sy = _mm512_mask_i32gather_ps(zero, valid, off9, pbase + 4, 4);
-    const __m512 sz = _mm512_mask_i32gather_ps(zero, valid, off9, pbase + 5, 4);
+    const __m512i kk = _mm512_mask_i32gather_epi32(izero, valid, off4, pibase + 3, 4);
+    const __m512i byte = _mm512_set1_epi32(0xFF);
+    const __m512i kx = _mm512_and_si512(kk, byte), ky = _mm512_and_si512(_mm512_srli_epi32(kk, 8), byte);
+    const __m512i kz = _mm512_srli_epi32(kk, 16);
+    const __m512 sx = _mm512_mask_i32gather_ps(zero, valid, off4, pbase + 0, 4);
+    const __m512 sy = _mm512_mask_i32gather_ps(zero, valid, off4, pbase + 1, 4);
+    const __m512 sz = _mm512_mask_i32gather_ps(zero, valid, off4, pbase + 2, 4);
     __m512i best_p = kAny ? izero
                           : _mm512_mask_i32gather_epi32(izero, valid, id, reinterpret_cast<const int*>(out.prim), 4);
     __m512 best_u = zero, best_v = zero;
@@ -113,7 +112,7 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayPrecomp* 
         for (int l = 0; l < 16; ++l) {
           if (!((zero_edge >> l) & 1)) continue;
           float t1, u1, v1;
-          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), pre[lid[l]], tri, ltmin[l], bt[l], t1, u1, v1) &&
+          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), to_precomp(pre[lid[l]]), tri, ltmin[l], bt[l], t1, u1, v1) &&
                          (kAny || is_closer(t1, p, bt[l], lp[l]));
           if (h) { hit |= __mmask16(1u << l); lt[l] = t1; lu[l] = u1; lv[l] = v1; }
         }

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "rayscout/core/triangle.h"
+
 namespace rayscout::dacrt {
 
 /// Per-ray state of one trace call; index = ray id. t shrinks as hits are found; a ray that
@@ -14,6 +16,39 @@ struct alignas(32) RayRecord {
   float ix, iy, iz, t;  ///< 1 / direction (as RayPrecomp::inv_dir), current closest t
 };
 static_assert(sizeof(RayRecord) == 32);
+
+/// The watertight test's per-ray constants (RayPrecomp without inv_dir, which RayRecord
+/// holds) in 16 bytes: shear sx, sy, sz and the axes packed as kx | ky << 8 | kz << 16.
+struct alignas(16) RayShear {
+  float sx, sy, sz;
+  uint32_t k;
+};
+static_assert(sizeof(RayShear) == 16);
+
+/// The RayPrecomp of core's intersect_triangle for a RayShear (inv_dir is not used by it).
+inline RayPrecomp to_precomp(const RayShear& s) {
+  RayPrecomp p(Vec3(0.0f, 0.0f, 1.0f));
+  p.kx = int(s.k & 0xFF); p.ky = int((s.k >> 8) & 0xFF); p.kz = int(s.k >> 16);
+  p.sx = s.sx; p.sy = s.sy; p.sz = s.sz;
+  return p;
+}
+
+/// RayShear of core's RayPrecomp(dir) (the same operations).
+inline RayShear shear_of(const RayPrecomp& p) {
+  return {p.sx, p.sy, p.sz, uint32_t(p.kx) | uint32_t(p.ky) << 8 | uint32_t(p.kz) << 16};
+}
+
+/// A triangle's bounding box as two 16-byte rows (lo, hi; the 4th lanes are 0), so binning
+/// extends bins with one SIMD min and max each. Its centre is center(), as Bounds3::center().
+struct alignas(32) TriBox {
+  float lo[4], hi[4];
+  TriBox() = default;
+  explicit TriBox(const Bounds3& b) : lo{b.lo.x, b.lo.y, b.lo.z, 0.0f}, hi{b.hi.x, b.hi.y, b.hi.z, 0.0f} {}
+  Bounds3 bounds() const { return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}; }
+  /// Centre along one axis, exactly Bounds3::center()[axis].
+  float center(int axis) const { return (lo[axis] + hi[axis]) * 0.5f; }
+};
+static_assert(sizeof(TriBox) == 32);
 
 /// Marks an any-hit ray as done.
 inline void retire(RayRecord& r) {

@@ -4,6 +4,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -35,6 +37,7 @@ class Dacrt final : public Accelerator {
  public:
   /// Keeps a view of triangles (they must outlive the accelerator). name: registry name.
   Dacrt(std::span<const Triangle> triangles, const DacrtConfig& config, std::string name = "dacrt");
+  ~Dacrt() override;
 
   std::string name() const override { return name_; }
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
@@ -57,6 +60,13 @@ class Dacrt final : public Accelerator {
   std::span<const Triangle> triangles_;
   DacrtConfig config_;
   std::string name_;
+  /// Per-call buffers kept between calls (grown to the largest call, never initialised
+  /// beyond what a call writes), so repeated batches do not page-fault fresh memory; the
+  /// triangle boxes and centres are computed at the first call. A concurrent call that finds
+  /// it in use allocates its own.
+  struct Arena;
+  mutable std::unique_ptr<Arena> arena_;
+  mutable std::mutex arena_mutex_;
   mutable size_t last_memory_ = 0;
   mutable DacrtDetails last_details_;
 };
