@@ -82,8 +82,10 @@ inline int vote(DacrtVotes rule, float dl, float fl, float dr, float fr, bool go
 
 /// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
 /// others follow (the set is kept whole for the sibling). scratch holds >= n ids.
+/// When prefetch is set, the entries prefetch[id] of the hitting rays are prefetched (the
+/// shear records of a child that will be a leaf).
 __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, uint32_t* rid, size_t n, const Bounds3& box,
-                             uint32_t* scratch) {
+                             uint32_t* scratch, const RayShear* prefetch = nullptr) {
   size_t w = 0, m = 0, i = 0;
 #if defined(__AVX512F__)
   const __m512 lox = _mm512_set1_ps(box.lo.x), loy = _mm512_set1_ps(box.lo.y), loz = _mm512_set1_ps(box.lo.z);
@@ -150,6 +152,8 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     _mm512_storeu_si512(rid + w, _mm512_maskz_compress_epi32(hit, id));
     _mm512_storeu_si512(scratch + m, _mm512_maskz_compress_epi32(static_cast<__mmask16>(~hit), id));
     const int h = __builtin_popcount(hit);
+    if (prefetch)
+      for (int q = 0; q < h; ++q) _mm_prefetch(reinterpret_cast<const char*>(prefetch + rid[w + q]), _MM_HINT_T0);
     w += h;
     m += 16 - h;
   }
@@ -190,6 +194,8 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(rid + w), avx2::compress(id, hit));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(scratch + m), avx2::compress(id, ~hit & 0xFF));
     const int h = __builtin_popcount(unsigned(hit));
+    if (prefetch)
+      for (int q = 0; q < h; ++q) _mm_prefetch(reinterpret_cast<const char*>(prefetch + rid[w + q]), _MM_HINT_T0);
     w += h;
     m += 8 - h;
   }

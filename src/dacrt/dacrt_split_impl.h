@@ -43,6 +43,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         for (int j = 0; j < k; ++j) { vbins_[set][j] = {pinf, ninf, pinf, ninf}; counts_[set][j] = 0; }
       uint8_t* bin_idx = bin_idx_;
       auto add = [&](int set, size_t i) {
+        if (i + 16 < nt) _mm_prefetch(reinterpret_cast<const char*>(tb + tid[i + 16]), _MM_HINT_T0);
         const TriBox& t = tb[tid[i]];
         const __m128 blo = _mm_load_ps(t.lo), bhi = _mm_load_ps(t.hi);
         const __m128 c = _mm_mul_ps(_mm_add_ps(blo, bhi), half);  // Bounds3::center()
@@ -169,6 +170,7 @@ void DacrtTracer<kStats, kOccluded>::finish_sides(const uint32_t* tid, size_t nt
   for (int c = 0; c < 2; ++c) {
     __m128 blo = _mm_set1_ps(kInfinity), bhi = _mm_set1_ps(-kInfinity), clo = blo, chi = bhi;
     for (size_t i = c == 0 ? 0 : s.n_left, end = c == 0 ? s.n_left : nt; i < end; ++i) {
+      if (i + 16 < end) _mm_prefetch(reinterpret_cast<const char*>(ctx_.tri_boxes + tid[i + 16]), _MM_HINT_T0);
       const TriBox& t = ctx_.tri_boxes[tid[i]];
       const __m128 lo = _mm_load_ps(t.lo), hi = _mm_load_ps(t.hi);
       const __m128 cen = _mm_mul_ps(_mm_add_ps(lo, hi), half);

@@ -57,9 +57,10 @@ class DacrtTracer {
   DacrtDetails details;
 
  private:
-  size_t partition(uint32_t* rid, size_t nr, const Bounds3& box) {
+  // leaf_next: the rays that hit box go to a leaf next, so their shear records are prefetched.
+  size_t partition(uint32_t* rid, size_t nr, const Bounds3& box, bool leaf_next = false) {
     if constexpr (kStats) { stats.ray_box_tests += nr; details.partition_box_tests += nr; }
-    return partition_rays(ctx_.rays, rid, nr, padded(box, ctx_.pad), scratch_);
+    return partition_rays(ctx_.rays, rid, nr, padded(box, ctx_.pad), scratch_, leaf_next ? ctx_.pre : nullptr);
   }
 
   void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
@@ -106,7 +107,7 @@ class DacrtTracer {
         if constexpr (kStats) ++details.skipped_partitions;
         node(rid, nr, ctid, cnt, s.cb[c]);
       } else {
-        const size_t h = partition(rid, nr, s.box[c]);
+        const size_t h = partition(rid, nr, s.box[c], cnt < cfg_.delta_t);
         node(rid, h, ctid, cnt, s.cb[c]);
       }
     }

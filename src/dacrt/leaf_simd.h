@@ -48,8 +48,16 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
     const __m512 sx = _mm512_mask_i32gather_ps(zero, valid, off4, pbase + 0, 4);
     const __m512 sy = _mm512_mask_i32gather_ps(zero, valid, off4, pbase + 1, 4);
     const __m512 sz = _mm512_mask_i32gather_ps(zero, valid, off4, pbase + 2, 4);
-    __m512i best_p = kAny ? izero
-                          : _mm512_mask_i32gather_epi32(izero, valid, id, reinterpret_cast<const int*>(out.prim), 4);
+    // The current closest triangle id matters only for exact ties (is_closer), so it is read
+    // lazily, for the lanes that need it (a cold random read per ray otherwise).
+    __m512i best_p = izero;
+    __mmask16 p_known = 0;
+    auto need_p = [&](__mmask16 m) {
+      m = static_cast<__mmask16>(m & ~p_known);
+      if (!m) return;
+      best_p = _mm512_mask_i32gather_epi32(best_p, m, id, reinterpret_cast<const int*>(out.prim), 4);
+      p_known |= m;
+    };
     __m512 best_u = zero, best_v = zero;
     __mmask16 changed = 0;
     // Retired any-hit rays (t = -inf) cost no tests, as in the scalar kernel.
@@ -60,19 +68,36 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
     auto pick = [](__mmask16 m0, __mmask16 m1, __m512 x, __m512 y, __m512 z) {
       return _mm512_mask_blend_ps(m0, _mm512_mask_blend_ps(m1, z, y), x);
     };
+    // Vertex w relative to the origin in the ray's sheared frame: w[kx] - sx w[kz], ...
+    auto rel_any = [&](const Vec3& w, __m512& rx, __m512& ry, __m512& rz) {
+      const __m512 wx = _mm512_sub_ps(_mm512_set1_ps(w.x), ox);
+      const __m512 wy = _mm512_sub_ps(_mm512_set1_ps(w.y), oy);
+      const __m512 wz = _mm512_sub_ps(_mm512_set1_ps(w.z), oz);
+      const __m512 k = pick(z0, z1, wx, wy, wz);
+      rx = _mm512_sub_ps(pick(x0, x1, wx, wy, wz), _mm512_mul_ps(sx, k));
+      ry = _mm512_sub_ps(pick(y0, y1, wx, wy, wz), _mm512_mul_ps(sy, k));
+      rz = _mm512_mul_ps(sz, k);
+    };
+    // The same when every lane has the same axes (kx, ky, kz) (coherent rays, the common
+    // case): the axes are picked once per group, not per triangle and lane.
+    const uint32_t k0 = uint32_t(_mm_cvtsi128_si32(_mm512_castsi512_si128(kk)));
+    const bool uniform = _mm512_mask_cmpneq_epi32_mask(valid, kk, _mm512_set1_epi32(int(k0))) == 0;
+    const int ua = int(k0 & 0xFF), ub = int((k0 >> 8) & 0xFF), uc = int(k0 >> 16);
+    static_assert(sizeof(Vec3) == 3 * sizeof(float), "w[a] reads Vec3 as float[3]");
+    const __m512 org[3] = {ox, oy, oz};
+    const __m512 oa = org[ua], ob = org[ub], oc = org[uc];
+    auto rel_uniform = [&](const Vec3& w, __m512& rx, __m512& ry, __m512& rz) {
+      const float* wp = &w.x;
+      const __m512 k = _mm512_sub_ps(_mm512_set1_ps(wp[uc]), oc);
+      rx = _mm512_sub_ps(_mm512_sub_ps(_mm512_set1_ps(wp[ua]), oa), _mm512_mul_ps(sx, k));
+      ry = _mm512_sub_ps(_mm512_sub_ps(_mm512_set1_ps(wp[ub]), ob), _mm512_mul_ps(sy, k));
+      rz = _mm512_mul_ps(sz, k);
+    };
+    auto triangles = [&](auto rel) {
     for (size_t j = 0; j < nt && active; ++j) {
       const uint32_t p = tid[j];
       const Triangle& tri = tris[p];
       tests += uint64_t(__builtin_popcount(active));
-      auto rel = [&](const Vec3& w, __m512& rx, __m512& ry, __m512& rz) {
-        const __m512 wx = _mm512_sub_ps(_mm512_set1_ps(w.x), ox);
-        const __m512 wy = _mm512_sub_ps(_mm512_set1_ps(w.y), oy);
-        const __m512 wz = _mm512_sub_ps(_mm512_set1_ps(w.z), oz);
-        const __m512 k = pick(z0, z1, wx, wy, wz);
-        rx = _mm512_sub_ps(pick(x0, x1, wx, wy, wz), _mm512_mul_ps(sx, k));
-        ry = _mm512_sub_ps(pick(y0, y1, wx, wy, wz), _mm512_mul_ps(sy, k));
-        rz = _mm512_mul_ps(sz, k);
-      };
       __m512 ax, ay, az, bx, by, bz, cx, cy, cz;
       rel(tri.v0, ax, ay, az);
       rel(tri.v1, bx, by, bz);
@@ -96,14 +121,16 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
         if (!kAny) {
           // is_closer: nearer, or equally near with a smaller triangle id.
           const __mmask16 nearer = _mm512_cmp_ps_mask(tt, best_t, _CMP_LT_OQ);
-          const __mmask16 tie = _mm512_cmp_ps_mask(tt, best_t, _CMP_EQ_OQ) &
-                                _mm512_cmplt_epu32_mask(_mm512_set1_epi32(int(p)), best_p);
+          const __mmask16 equal = hit & _mm512_cmp_ps_mask(tt, best_t, _CMP_EQ_OQ);
+          need_p(equal);
+          const __mmask16 tie = equal & _mm512_cmplt_epu32_mask(_mm512_set1_epi32(int(p)), best_p);
           hit &= nearer | tie;
           u = _mm512_div_ps(ev, det);
           v = _mm512_div_ps(ew, det);
         }
       }
       if (zero_edge) {
+        if (!kAny) need_p(zero_edge);
         alignas(64) float lt[16], lu[16], lv[16], bt[16], lox[16], loy[16], loz[16], ltmin[16];
         alignas(64) uint32_t lid[16], lp[16];
         _mm512_store_ps(lt, tt); _mm512_store_ps(lu, u); _mm512_store_ps(lv, v); _mm512_store_ps(bt, best_t);
@@ -127,9 +154,13 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
         best_u = _mm512_mask_blend_ps(hit, best_u, u);
         best_v = _mm512_mask_blend_ps(hit, best_v, v);
         best_p = _mm512_mask_blend_epi32(hit, best_p, _mm512_set1_epi32(int(p)));
+        p_known |= hit;
         changed |= hit;
       }
     }
+    };
+    if (uniform) triangles(rel_uniform);
+    else triangles(rel_any);
     if (!changed) continue;
     alignas(64) float lt[16], lu[16], lv[16];
     alignas(64) uint32_t lid[16], lp[16];
