@@ -4,6 +4,8 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
+
 #include "dacrt_rays.h"
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
@@ -38,6 +40,31 @@ TEST(DacrtMemory, DependsOnlyOnRayAndTriangleCounts) {
   HitBatch hits;
   serial.intersect(testing::random_rays(1000, 4), hits);
   EXPECT_EQ(serial.last_trace_memory_bytes(), Dacrt::scratch_bytes(1000, 2000, 1));
+}
+
+TEST(DacrtMemory, KeptBuffersGiveTheResultsOfFreshOnes) {
+  // One accelerator reuses its buffers across calls of different sizes and kinds; every
+  // call must equal the same call on a fresh accelerator, bit for bit.
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(1500, 11));
+  const DacrtConfig cfg = DacrtConfig::from_options(testing::options_of({"parallel=off"}), DacrtConfig::ray_sampled());
+  Dacrt kept(scene.triangles, cfg);
+  int seed = 20;
+  for (const size_t n : {30000u, 500u, 17u, 20000u}) {
+    const RayBatch rays = testing::random_rays(n, seed++);
+    Dacrt fresh(scene.triangles, cfg);
+    HitBatch a, b;
+    kept.intersect(rays, a);
+    fresh.intersect(rays, b);
+    EXPECT_EQ(a.prim, b.prim) << n;
+    EXPECT_EQ(a.t, b.t) << n;
+    EXPECT_EQ(a.u, b.u) << n;
+    EXPECT_EQ(a.v, b.v) << n;
+    std::vector<uint8_t> oa, ob;
+    kept.occluded(rays, oa);
+    fresh.occluded(rays, ob);
+    EXPECT_EQ(oa, ob) << n;
+    EXPECT_GT(std::count(oa.begin(), oa.end(), uint8_t(1)), 0) << n;
+  }
 }
 
 TEST(DacrtCounters, AllPairsLeafCountsExactly) {
