@@ -68,26 +68,26 @@ inline uint32_t test_children(const WideNode& node, const detail::WideRay& wr, f
 template <bool CaptureStats>
 Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
   const RayPrecomp rp(ray.dir);
-  return finite_ray(ray, rp.inv_dir) ? intersect_impl<CaptureStats, true>(ray, start, stats)
-                                     : intersect_impl<CaptureStats, false>(ray, start, stats);
+  return finite_ray(ray, rp.inv_dir) ? intersect_impl<CaptureStats, true>(ray, rp, start, stats)
+                                     : intersect_impl<CaptureStats, false>(ray, rp, start, stats);
 }
 
 template <bool CaptureStats>
 bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
   const RayPrecomp rp(ray.dir);
-  return finite_ray(ray, rp.inv_dir) ? occluded_impl<CaptureStats, true>(ray, start, stats)
-                                     : occluded_impl<CaptureStats, false>(ray, start, stats);
+  return finite_ray(ray, rp.inv_dir) ? occluded_impl<CaptureStats, true>(ray, rp, start, stats)
+                                     : occluded_impl<CaptureStats, false>(ray, rp, start, stats);
 }
 
 template <bool CaptureStats, bool Finite>
-Hit WideBvh::intersect_impl(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start,
+                            TraceStats* stats) const {
   Hit best;
   if (nodes.empty()) return best;
   best.t = ray.tmax;
   const detail::CullInterval cull(bounds, ray);
   const float box_tmin = cull.near(ray.tmin);
   float cull_t = cull.far(best.t);
-  const RayPrecomp rp(ray.dir);
   const detail::WideRay wr(ray.org, rp.inv_dir, box_tmin);
   const uint32_t root = 0;
   if (start.empty()) start = std::span<const uint32_t>(&root, 1);
@@ -209,9 +209,9 @@ Hit WideBvh::intersect_impl(const Ray& ray, std::span<const uint32_t> start, Tra
 }
 
 template <bool CaptureStats, bool Finite>
-bool WideBvh::occluded_impl(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start,
+                            TraceStats* stats) const {
   if (nodes.empty()) return false;
-  const RayPrecomp rp(ray.dir);
   const detail::CullInterval cull(bounds, ray);
   const float box_tmax = cull.far(ray.tmax);
   const detail::WideRay wr(ray.org, rp.inv_dir, cull.near(ray.tmin));

@@ -131,9 +131,9 @@ class WideBvh {
   // The traversals; Finite: the ray's origin and inverse direction are finite, so no slab
   // distance is NaN and the box test may combine axes in any order (same result, shorter chain).
   template <bool CaptureStats, bool Finite>
-  Hit intersect_impl(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
+  Hit intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   template <bool CaptureStats, bool Finite>
-  bool occluded_impl(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
+  bool occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   int depth_ = 0;
 };
 
