@@ -22,7 +22,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every command-line mistake is a usage error, exit 2 like
+    // bad input files (CLI11's own codes, 100-120, would tell a caller nothing more).
+    return app.exit(e) == 0 ? 0 : 2;
   } catch (const rayscout::InputError& e) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());
     return 2;
