@@ -157,7 +157,9 @@ TEST(Shaft, FloatTestKeepsEveryBoxTheExactTestKeeps) {
       const bool exact = shaft.overlaps_exact(b), fast = shaft.overlaps(b);
       exact_kept += exact;
       float_kept += fast;
-      if (exact) EXPECT_TRUE(fast) << "the float test culled a box the exact test keeps";
+      if (exact) {
+        EXPECT_TRUE(fast) << "the float test culled a box the exact test keeps";
+      }
     }
   }
   EXPECT_GT(exact_kept, 2000u);

@@ -1,7 +1,6 @@
 // ShaftsAccelerator: conservative lists, borders, outside origins, dedup, budget, real scenes.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <random>
 #include <set>
 #include <tuple>
@@ -19,10 +18,7 @@ namespace {
 
 using Base = ShaftsAccelerator::Base;
 
-bool small_scale() {
-  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
-  return s && std::string(s) == "small";
-}
+using testing::small_scale;
 
 ShaftConfig fine_config(long voxels, int dir_res) {
   ShaftConfig c;
@@ -336,8 +332,9 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
     EXPECT_TRUE(d.ok()) << acc.name() << " samples " << samples << ": " << d.first;
     EXPECT_EQ(oref, ogot) << acc.name() << " samples " << samples;
     // (Wide lists seed a 3-4 level tree: on these scattered rays they need not save steps.)
-    if (base == Base::Binary)
+    if (base == Base::Binary) {
       EXPECT_LT(with.traversal_steps, without.traversal_steps) << acc.name() << " samples " << samples;
+    }
     EXPECT_GT(acc.stats().listed_shafts, 1000u);
   }
 }
