@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "rayscout/core/accelerator_options.h"
@@ -10,11 +11,187 @@
 
 namespace rayscout {
 
-WideBvh WideBvh::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
-  return from_bvh2(Bvh2::build(tris, config), tris);
+namespace {
+
+// A child slot chosen by the collapse: Bvh2 node `node` becomes one wide child, a leaf
+// holding every triangle below it (leaf = true) or a wide node.
+struct Slot {
+  uint32_t node;
+  bool leaf;
+};
+
+// Greedy collapse of Bvh2 node n: open the largest-area inner child until 8 slots.
+int greedy_slots(const Bvh2& bvh, uint32_t n, Slot* out) {
+  uint32_t kids[kWideWidth];
+  int k = 0;
+  const Bvh2Node& src = bvh.nodes[n];
+  if (src.is_leaf()) {
+    kids[k++] = n;
+  } else {
+    kids[k++] = src.first;
+    kids[k++] = src.first + 1;
+  }
+  while (k < kWideWidth) {
+    int best = -1;
+    float best_area = -1.0f;
+    for (int c = 0; c < k; ++c) {
+      const Bvh2Node& m = bvh.nodes[kids[c]];
+      if (!m.is_leaf() && m.bounds.surface_area() > best_area) {
+        best = c;
+        best_area = m.bounds.surface_area();
+      }
+    }
+    if (best < 0) break;
+    const uint32_t first = bvh.nodes[kids[best]].first;
+    for (int c = k; c > best + 1; --c) kids[c] = kids[c - 1];  // keep left-to-right order
+    kids[best] = first;
+    kids[best + 1] = first + 1;
+    ++k;
+  }
+  for (int c = 0; c < k; ++c) out[c] = {kids[c], bvh.nodes[kids[c]].is_leaf()};
+  return k;
 }
 
-WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
+// The SAH collapse plan (Ylitie, Karras, Laine 2017, sec. 4.1): cost[n][i] = least SAH cost
+// of the subtree of Bvh2 node n using at most i + 1 slots of its wide parent, areas not
+// normalised (only comparisons matter).
+class SahCollapse {
+ public:
+  SahCollapse(const Bvh2& bvh, const BvhBuildConfig& config) : bvh_(bvh) {
+    const size_t n = bvh.nodes.size();
+    cost_.resize(n * kWideWidth);
+    split_.resize(n * kWideWidth);
+    as_leaf_.resize(n);
+    refs_.resize(n);
+    // Children after parents in no guaranteed order: an explicit post-order.
+    std::vector<uint32_t> order;
+    order.reserve(n);
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+      const uint32_t i = stack.back();
+      stack.pop_back();
+      order.push_back(i);
+      if (!bvh.nodes[i].is_leaf()) {
+        stack.push_back(bvh.nodes[i].first);
+        stack.push_back(bvh.nodes[i].first + 1);
+      }
+    }
+    const uint32_t max_leaf = uint32_t(std::clamp(config.collapse_max_leaf, 1, 15));
+    for (size_t o = order.size(); o-- > 0;) {
+      const uint32_t i = order[o];
+      const Bvh2Node& nd = bvh.nodes[i];
+      const float area = nd.bounds.surface_area();
+      float* c = &cost_[size_t(i) * kWideWidth];
+      uint8_t* sp = &split_[size_t(i) * kWideWidth];
+      auto leaf_cost = [&](uint32_t count) {
+        return area * (config.collapse_leaf_cost +
+                       config.collapse_block_cost * float((count + kTriangleBlockWidth - 1) / kTriangleBlockWidth));
+      };
+      if (nd.is_leaf()) {
+        refs_[i] = nd.count;
+        as_leaf_[i] = 1;
+        for (int s = 0; s < kWideWidth; ++s) c[s] = leaf_cost(nd.count), sp[s] = 0;
+        continue;
+      }
+      const uint32_t l = nd.first, r = nd.first + 1;
+      const float* cl = &cost_[size_t(l) * kWideWidth];
+      const float* cr = &cost_[size_t(r) * kWideWidth];
+      // dist[j]: the two children spread over at most j + 1 slots (j >= 1).
+      float dist[kWideWidth];
+      uint8_t dk[kWideWidth];
+      dist[0] = kInfinity;
+      for (int j = 1; j < kWideWidth; ++j) {
+        dist[j] = kInfinity;
+        for (int k = 0; k < j; ++k) {  // k + 1 slots left, j - k right
+          const float v = cl[k] + cr[j - 1 - k];
+          if (v < dist[j]) dist[j] = v, dk[j] = uint8_t(k + 1);
+        }
+      }
+      float single = area * config.collapse_node_cost + dist[kWideWidth - 1];
+      as_leaf_[i] = 0;
+      // Pieces of one pre-split triangle count once per piece here (an upper bound: the
+      // leaf may end up smaller), which spares gathering the ids of every small subtree.
+      refs_[i] = std::min<uint32_t>(refs_[l] + refs_[r], 0xFFFFu);
+      if (refs_[i] <= max_leaf && leaf_cost(refs_[i]) <= single) {
+        single = leaf_cost(refs_[i]);
+        as_leaf_[i] = 1;
+      }
+      c[0] = single;
+      sp[0] = 0;
+      for (int j = 1; j < kWideWidth; ++j) {
+        if (dist[j] < c[j - 1]) {
+          c[j] = dist[j], sp[j] = dk[j];
+        } else {
+          c[j] = c[j - 1], sp[j] = sp[j - 1];
+        }
+      }
+    }
+  }
+
+  // The slots of the wide node made from inner Bvh2 node n.
+  int slots(uint32_t n, Slot* out) const {
+    const Bvh2Node& nd = bvh_.nodes[n];
+    if (nd.is_leaf()) {
+      out[0] = {n, true};
+      return 1;
+    }
+    int k = 0;
+    // Spread the two children over the 8 slots at the least cost (the table's choice).
+    int best_k = 1;
+    float best = kInfinity;
+    for (int j = 0; j < kWideWidth - 1; ++j) {
+      const float v = cost_[size_t(nd.first) * kWideWidth + j] + cost_[size_t(nd.first + 1) * kWideWidth + (kWideWidth - 2 - j)];
+      if (v < best) best = v, best_k = j + 1;
+    }
+    emit(nd.first, best_k, out, k);
+    emit(nd.first + 1, kWideWidth - best_k, out, k);
+    return k;
+  }
+
+  // The distinct triangle ids below Bvh2 node n, sorted (pre-split pieces of one triangle merge).
+  void collect(uint32_t n, std::vector<uint32_t>& ids) const {
+    std::vector<uint32_t> stack{n};
+    while (!stack.empty()) {
+      const Bvh2Node& nd = bvh_.nodes[stack.back()];
+      stack.pop_back();
+      if (nd.is_leaf()) {
+        ids.insert(ids.end(), bvh_.prim_ids.begin() + nd.first, bvh_.prim_ids.begin() + nd.first + nd.count);
+      } else {
+        stack.push_back(nd.first);
+        stack.push_back(nd.first + 1);
+      }
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  }
+
+ private:
+  // Emits the subtree of m into at most `budget` slots.
+  void emit(uint32_t m, int budget, Slot* out, int& k) const {
+    const uint8_t s = split_[size_t(m) * kWideWidth + (budget - 1)];
+    if (s == 0) {
+      out[k++] = {m, as_leaf_[m] != 0};
+      return;
+    }
+    const Bvh2Node& nd = bvh_.nodes[m];
+    emit(nd.first, s, out, k);
+    emit(nd.first + 1, budget - s, out, k);
+  }
+
+  const Bvh2& bvh_;
+  std::vector<float> cost_;
+  std::vector<uint8_t> split_;  // 0: one slot; else slots given to the left child
+  std::vector<uint8_t> as_leaf_;
+  std::vector<uint32_t> refs_;  // leaf references below the node (pre-split pieces counted apart)
+};
+
+}  // namespace
+
+WideBvh WideBvh::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
+  return from_bvh2(Bvh2::build(tris, config), tris, config);
+}
+
+WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config) {
   WideBvh w;
   if (bvh.nodes.empty()) return w;
   w.bounds = bvh.nodes[0].bounds;
@@ -22,41 +199,19 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
   w.prim_ids.reserve(bvh.prim_ids.size());
   w.leaf_blocks.reserve(bvh.prim_ids.size() / 3 + 1);
   w.nodes.reserve(bvh.nodes.size() / 4 + 1);
+  std::unique_ptr<SahCollapse> sah;
+  if (config.collapse == CollapseMethod::Sah) sah = std::make_unique<SahCollapse>(bvh, config);
   struct Item { uint32_t wide, bvh2; int depth; };
   std::vector<Item> stack{{0, 0, 1}};
   w.nodes.emplace_back();
   w.source_node.push_back(0);
+  std::vector<uint32_t> ids;
   while (!stack.empty()) {
     const Item it = stack.back();
     stack.pop_back();
     w.depth_ = std::max(w.depth_, it.depth);
-    // Open the largest-area inner child until 8 children (Embree's BVH8 collapse).
-    uint32_t kids[kWideWidth];
-    int k = 0;
-    const Bvh2Node& src = bvh.nodes[it.bvh2];
-    if (src.is_leaf()) {
-      kids[k++] = it.bvh2;
-    } else {
-      kids[k++] = src.first;
-      kids[k++] = src.first + 1;
-    }
-    while (k < kWideWidth) {
-      int best = -1;
-      float best_area = -1.0f;
-      for (int c = 0; c < k; ++c) {
-        const Bvh2Node& n = bvh.nodes[kids[c]];
-        if (!n.is_leaf() && n.bounds.surface_area() > best_area) {
-          best = c;
-          best_area = n.bounds.surface_area();
-        }
-      }
-      if (best < 0) break;
-      const uint32_t first = bvh.nodes[kids[best]].first;
-      for (int c = k; c > best + 1; --c) kids[c] = kids[c - 1];  // keep left-to-right order
-      kids[best] = first;
-      kids[best + 1] = first + 1;
-      ++k;
-    }
+    Slot kids[kWideWidth];
+    const int k = sah ? sah->slots(it.bvh2, kids) : greedy_slots(bvh, it.bvh2, kids);
     WideNode node{};
     for (int c = 0; c < kWideWidth; ++c) {
       node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = kInfinity;
@@ -65,31 +220,37 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris) {
     node.count = uint32_t(k);
     std::vector<Item> children;
     for (int c = 0; c < k; ++c) {
-      const Bvh2Node& n = bvh.nodes[kids[c]];
+      const Bvh2Node& n = bvh.nodes[kids[c].node];
       node.lo_x[c] = n.bounds.lo.x; node.lo_y[c] = n.bounds.lo.y; node.lo_z[c] = n.bounds.lo.z;
       node.hi_x[c] = n.bounds.hi.x; node.hi_y[c] = n.bounds.hi.y; node.hi_z[c] = n.bounds.hi.z;
-      if (n.is_leaf()) {
+      if (kids[c].leaf) {
+        ids.clear();
+        if (n.is_leaf()) {
+          ids.assign(bvh.prim_ids.begin() + n.first, bvh.prim_ids.begin() + n.first + n.count);
+        } else {
+          sah->collect(kids[c].node, ids);
+        }
+        const uint32_t count = uint32_t(ids.size());
         // Pack leaves into the free lanes of the last block unless that makes the leaf span
         // more blocks than it needs (more block tests); padding lanes stay kInvalidId.
         constexpr uint32_t W = kTriangleBlockWidth;
-        if (w.prim_ids.size() + n.count + W > WideRef::kMaxFirst)
+        if (w.prim_ids.size() + count + W > WideRef::kMaxFirst)
           throw InputError("WideBvh: more than 2^27 leaf slots (too many triangles or pre-split references)");
         uint32_t first = uint32_t(w.prim_ids.size());
-        if ((first % W + n.count + W - 1) / W > (n.count + W - 1) / W) first = (first + W - 1) / W * W;
-        w.prim_ids.resize((first + n.count + W - 1) / W * W, kInvalidId);
+        if ((first % W + count + W - 1) / W > (count + W - 1) / W) first = (first + W - 1) / W * W;
+        w.prim_ids.resize((first + count + W - 1) / W * W, kInvalidId);
         w.leaf_blocks.resize(w.prim_ids.size() / W);
-        for (uint32_t k = 0; k < n.count; ++k) {
-          const uint32_t id = bvh.prim_ids[n.first + k];
-          w.prim_ids[first + k] = id;
-          w.leaf_blocks[(first + k) / W].set(int((first + k) % W), tris[id]);
+        for (uint32_t j = 0; j < count; ++j) {
+          w.prim_ids[first + j] = ids[j];
+          w.leaf_blocks[(first + j) / W].set(int((first + j) % W), tris[ids[j]]);
         }
-        w.prim_ids.resize(first + n.count);  // the next leaf may use the rest of this block
-        node.child[c] = WideRef::leaf(first, n.count);
+        w.prim_ids.resize(first + count);  // the next leaf may use the rest of this block
+        node.child[c] = WideRef::leaf(first, count);
       } else {
         node.child[c] = uint32_t(w.nodes.size());
         w.nodes.emplace_back();
-        w.source_node.push_back(kids[c]);
-        children.push_back({node.child[c], kids[c], it.depth + 1});
+        w.source_node.push_back(kids[c].node);
+        children.push_back({node.child[c], kids[c].node, it.depth + 1});
       }
     }
     w.nodes[it.wide] = node;

@@ -74,9 +74,10 @@ struct alignas(64) WideNode {
 };
 static_assert(sizeof(WideNode) == 256);
 
-/// 8-wide BVH made by collapsing a binned SAH Bvh2 (each wide node adopts the descendants of
-/// the largest-area children until it has 8, as in Wald et al., "Getting rid of packets",
-/// 2008, and Embree's BVH8). It keeps its own copy of the triangles in leaf order, four per
+/// 8-wide BVH made by collapsing a binned SAH Bvh2, either greedily (each wide node adopts the
+/// descendants of the largest-area children until it has 8, as in Wald et al., "Getting rid of
+/// packets", 2008, and Embree's BVH8) or by SAH-optimal dynamic programming (Ylitie, Karras,
+/// Laine 2017; it may also merge small subtrees into one leaf); see BvhBuildConfig::collapse. It keeps its own copy of the triangles in leaf order, four per
 /// TriangleBlock, so traversal reads leaves contiguously and tests four triangles at once;
 /// hits report the original triangle ids and are bit-identical to BruteForce (core's robust
 /// box and watertight triangle tests, the same float operations in every SIMD lane).
@@ -91,8 +92,9 @@ class WideBvh {
 
   /// Builds a Bvh2 with config, then collapses it.
   static WideBvh build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
-  /// Collapses bvh (built over tris) into 8-wide nodes.
-  static WideBvh from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris);
+  /// Collapses bvh (built over tris) into 8-wide nodes with config.collapse (and its
+  /// collapse_* costs); the other fields of config are not used here.
+  static WideBvh from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config = {});
 
   /// Closest hit of one ray (tmin <= t <= tmax, ties to the smaller id), ordered near-first.
   /// Traversal starts from `start`, a list of WideRefs (wide node ids, or leaf refs as found in
