@@ -8,10 +8,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
@@ -24,11 +21,8 @@
 namespace rayscout {
 namespace {
 
-/// Thread CPU time in ms (RAYSCOUT_SHAFTS_DEBUG phase timings; 1 thread).
-double cpu_ms() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
 uint64_t splitmix64(uint64_t& s) {
@@ -150,8 +144,6 @@ class SampleStream {
   uint8_t perm_[5][256];
 };
 
-std::atomic<uint64_t> g_traced{0}, g_dda_steps{0}, g_dda_deposits{0};  // debug count of traced shared sample rays
-
 void store_sample(detail::ShaftSamples& samples, size_t k, const Vec3& org, const Vec3& dir, float hit_t) {
   samples.ox[k] = org.x; samples.oy[k] = org.y; samples.oz[k] = org.z;
   samples.ix[k] = 1.0f / dir.x; samples.iy[k] = 1.0f / dir.y; samples.iz[k] = 1.0f / dir.z;
@@ -184,7 +176,8 @@ struct PooledSample {
 /// before its hit (origin uniform on its chord through that voxel, so origins stay about
 /// uniform in the voxel; hit distance shortened accordingly). Fills pool[(cell * listed +
 /// li) * per ...] for listed voxel index li; count[cell * listed + li] = samples stored.
-void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, const std::vector<int32_t>& listed_index,
+/// Returns the number of rays traced.
+size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, const std::vector<int32_t>& listed_index,
                     const std::vector<uint8_t>& shaft_selected, const std::vector<Shaft>& cell_shafts,
                     const ShaftCollection::TraceFn& trace, const ShaftConfig& config, std::vector<PooledSample>& pool,
                     std::vector<uint8_t>& count) {
@@ -208,8 +201,9 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
     std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (const auto& [layer, li] : keyed) orders[size_t(face)].push_back(li);
   }
+  std::atomic<size_t> traced{0};
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, cells, 1), [&](const auto& range) {
-    uint64_t dda_steps = 0, dda_deposits = 0;
+    size_t task_traced = 0;
     for (uint32_t cell = range.begin(); cell != range.end(); ++cell) {
       const ShaftGrid::CellRange cr = grid.cell_range(cell);
       const std::vector<uint32_t>& order = orders[size_t(2 * cr.axis + (cr.sign > 0 ? 0 : 1))];
@@ -234,7 +228,7 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
           stream.next(k, rnd);
           const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
           const float hit_t = trace(ray);
-          g_traced.fetch_add(1, std::memory_order_relaxed);
+          ++task_traced;
           deposit(li, ray.org, ray.dir, hit_t);
           // 3D-DDA through the grid up to the hit.
           int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
@@ -258,10 +252,8 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
             idx[a] += step[a];
             if (idx[a] < 0 || idx[a] >= res[a]) break;
             t_next[a] += t_delta[a];
-            ++dda_steps;
             const int32_t wi = listed_index[grid.voxel_id(idx[0], idx[1], idx[2])];
             if (wi < 0 || !wants(uint32_t(wi))) continue;
-            ++dda_deposits;
             const float t_out = std::min(std::min(t_next[0], t_next[1]), std::min(t_next[2], hit_t));
             const float t = t_in + (t_out - t_in) * stream.uniform();
             deposit(uint32_t(wi), ray.org + ray.dir * t, ray.dir, hit_t - t);
@@ -269,9 +261,9 @@ void shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, 
         }
       }
     }
-    g_dda_steps += dda_steps;
-    g_dda_deposits += dda_deposits;
+    traced += task_traced;
   });
+  return traced;
 }
 
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
@@ -358,7 +350,9 @@ std::string ShaftStats::summary() const {
     << " MiB); dedup saved " << dedup_saved_bytes / 1024.0 << " KiB, " << unique_lists << " unique lists\n"
     << "lists: mean length " << mean_list << ", max " << max_list << "; overflow retries "
     << overflow_retries << ", fallbacks " << overflow_fallbacks << "\n"
-    << "build " << build_ms << " ms in " << build_rounds << " round(s)";
+    << "build " << build_ms << " ms in " << build_rounds << " round(s); last round: selection " << select_ms
+    << " ms, lists " << lists_ms << " ms, packing " << pack_ms << " ms";
+  if (traced_samples > 0) s << "; " << traced_samples << " shared sample rays traced";
   return s.str();
 }
 
@@ -411,10 +405,9 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   if (nvox * cells >= (size_t(1) << 32) - 64)
     throw InputError("shafts: too many shafts (" + std::to_string(nvox * cells) + ")");
 
-  const bool debug = std::getenv("RAYSCOUT_SHAFTS_DEBUG") != nullptr;
-  const double c0 = debug ? cpu_ms() : 0.0;
   Selection sel = select_shafts(grid, tris, sample_rays, config);
-  const double c1 = debug ? cpu_ms() : 0.0;
+  const double select_ms = ms_since(t_start);
+  const auto t_lists = std::chrono::steady_clock::now();
   std::vector<uint8_t>& voxel_listed = sel.voxel_listed;
   std::vector<uint8_t>& shaft_selected = sel.shaft_selected;
   std::vector<uint32_t> listed;
@@ -448,14 +441,8 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
     pool.resize(listed.size() * cells * per);
     std::vector<uint8_t> count(listed.size() * cells, 0);
-    g_traced = 0;
-    g_dda_steps = 0;
-    g_dda_deposits = 0;
-    shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
-    if (debug)
-      std::fprintf(stderr, "shared samples: %.1f ms CPU, traced %llu rays for %zu shafts x %zu samples; DDA steps %llu, deposits %llu\n",
-                   cpu_ms() - c1, (unsigned long long)g_traced.load(), listed.size() * cells, per,
-                   (unsigned long long)g_dda_steps.load(), (unsigned long long)g_dda_deposits.load());
+    col.stats_.traced_samples =
+        shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
   }
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
@@ -531,7 +518,8 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     }
   });
 
-  const double c2 = debug ? cpu_ms() : 0.0;
+  const double lists_ms = ms_since(t_lists);
+  const auto t_pack = std::chrono::steady_clock::now();
   // Serial packing with deduplication keeps offsets independent of the thread count.
   ShaftStats& st = col.stats_;
   st.res = grid.res();
@@ -629,11 +617,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
   st.lookup_bytes = (col.voxel_base_.size() + col.entries_.size()) * sizeof(uint32_t);
   st.list_bytes = col.lists_.size() * sizeof(uint32_t);  // ids (and entry-box rows)
-  if (debug)
-    std::fprintf(stderr, "build_grid CPU ms: selection %.1f, lists %.1f, packing %.1f\n", c1 - c0, c2 - c1,
-                 cpu_ms() - c2);
+  st.select_ms = select_ms;
+  st.lists_ms = lists_ms;
+  st.pack_ms = ms_since(t_pack);
   st.build_rounds = 1;
-  st.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+  st.build_ms = ms_since(t_start);
   return col;
 }
 
@@ -703,11 +691,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
   bool settled = false;
   for (int it = 0; it < 8 && !settled; ++it) {
     const double real_n = double(ShaftGrid(box, ShaftGrid::cubical_resolution(box, n), 1).voxel_count());
-    const double p0 = cpu_ms();
     const double mem = std::max(1.0, predict(n));
-    if (std::getenv("RAYSCOUT_SHAFTS_DEBUG"))
-      std::fprintf(stderr, "pilot n=%.0f voxels %.0f predicted %.0f budget %zu (%.1f ms CPU)\n", n, real_n, mem, budget,
-                   cpu_ms() - p0);
     if (mem <= 0.97 * double(budget)) {
       feasible_n = std::max(feasible_n, n);
       settled = mem >= 0.8 * double(budget);
@@ -728,7 +712,6 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, n), config.dir_res);
     ShaftCollection col = build_grid(tree, grid, tris, trace, sample_rays, config);
     const double mem = double(col.memory_bytes());
-    if (std::getenv("RAYSCOUT_SHAFTS_DEBUG")) std::fprintf(stderr, "round %d n=%.0f voxels %zu mem %.0f\n", round, n, grid.voxel_count(), mem);
     if (mem <= double(budget)) {
       // Far under budget (the pilot misjudged): one finer round at most.
       if (!have_best && mem < 0.4 * double(budget) && round == 1 && grid.voxel_count() > 1) {

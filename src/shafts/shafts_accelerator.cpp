@@ -1,11 +1,9 @@
 // ShaftsAccelerator: build (BVH, then shaft collection) and classified traversal.
 #include "rayscout/shafts/shafts_accelerator.h"
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <mutex>
 
 #include <tbb/parallel_for.h>
@@ -42,9 +40,6 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
     return sampler ? sampler->intersect<false>(r, {}, nullptr) : bvh2_.intersect<false>(r, triangles_, {}, nullptr);
   };
   if (box.empty()) box = Bounds3{Vec3{0.0f}, Vec3{0.0f}};
-  if (std::getenv("RAYSCOUT_SHAFTS_DEBUG"))
-    std::fprintf(stderr, "accelerator: BVH %.1f ms, tree view + sampling BVH %.1f ms (wall)\n", bvh_build_ms_,
-                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - bvh_build_ms_);
   RayBatch prepass;
   if (config.select == "camera") prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
