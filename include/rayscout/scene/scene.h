@@ -16,7 +16,7 @@ namespace rayscout {
 /// triangles area lights.
 struct Material {
   enum class Type { Diffuse, Mirror, Glossy };
-  std::string name;
+  std::string name{};
   Type type = Type::Diffuse;
   Vec3 diffuse{0.8f};   ///< Kd, albedo in [0, 1]
   Vec3 specular{0.0f};  ///< Ks, mirror or glossy reflectance
