@@ -94,12 +94,16 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
   // + kWideWidth: the sorted push writes a whole group of 8 entries past the top.
   detail::TraversalStack<Entry> stack(start.size() + size_t(depth_) * (kWideWidth - 1) + 2 + kWideWidth);
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
-  for (size_t k = start.size(); k-- > 0;) stack.push({start[k], box_tmin});
+  // A raw stack pointer: with push/pop on the object its size member stayed in memory
+  // (a load and store per push, measured 1-3 % on diffuse, up to 8 % on shadow rays).
+  Entry* const stack_base = stack.top();
+  Entry* sp = stack_base;
+  for (size_t k = start.size(); k-- > 0;) *sp++ = {start[k], box_tmin};
   alignas(32) float dist[kWideWidth];
   const detail::BlockRay br(ray.org, rp);
   detail::BlockHits bh;
-  while (!stack.empty()) {
-    Entry e = stack.pop();
+  while (sp != stack_base) {
+    Entry e = *--sp;
     if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
     for (;;) {
       ++steps;
@@ -147,7 +151,7 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         const int c1 = std::countr_zero(mask);
         const Entry a{node.child[c0], dist[c0]}, b{node.child[c1], dist[c1]};
         const bool b_first = b.dist < a.dist;
-        stack.push(b_first ? a : b);
+        *sp++ = b_first ? a : b;
         e = b_first ? b : a;
         continue;
       }
@@ -175,10 +179,10 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         else sort_lanes_descending<8>(keys, vals);
         const __m256i ki = _mm256_castps_si256(keys);
         const __m256i lo = _mm256_unpacklo_epi32(vals, ki), hi = _mm256_unpackhi_epi32(vals, ki);
-        __m256i* top = reinterpret_cast<__m256i*>(stack.top());
+        __m256i* top = reinterpret_cast<__m256i*>(sp);
         _mm256_storeu_si256(top, _mm256_permute2x128_si256(lo, hi, 0x20));
         _mm256_storeu_si256(top + 1, _mm256_permute2x128_si256(lo, hi, 0x31));
-        stack.grow(size_t(n));
+        sp += n;
         e = {node.child[near_c], near_d};
         continue;
       }
@@ -194,7 +198,7 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         while (j > 0 && hits[j - 1].dist < h.dist) { hits[j] = hits[j - 1]; --j; }
         hits[j] = h;
       }
-      for (int j = 0; j < n - 1; ++j) stack.push(hits[j]);
+      for (int j = 0; j < n - 1; ++j) *sp++ = hits[j];
       e = hits[n - 1];
 #endif
     }
@@ -219,13 +223,15 @@ bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
   if (start.empty()) start = std::span<const uint32_t>(&root, 1);
   detail::TraversalStack<uint32_t> stack(start.size() + size_t(depth_) * (kWideWidth - 1) + 2);
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
-  for (size_t k = start.size(); k-- > 0;) stack.push(start[k]);
+  uint32_t* const stack_base = stack.top();  // raw pointer, as in intersect_impl
+  uint32_t* sp = stack_base;
+  for (size_t k = start.size(); k-- > 0;) *sp++ = start[k];
   alignas(32) float dist[kWideWidth];
   const detail::BlockRay br(ray.org, rp);
   detail::BlockHits bh;
   bool hit = false;
-  while (!stack.empty() && !hit) {
-    uint32_t ref = stack.pop();
+  while (sp != stack_base && !hit) {
+    uint32_t ref = *--sp;
     for (;;) {
       ++steps;
       if (WideRef::is_leaf(ref)) {
@@ -255,7 +261,7 @@ bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
       for (mask &= mask - 1; mask;) {
         const int c = 31 - std::countl_zero(mask);
         mask &= ~(1u << c);
-        stack.push(node.child[c]);
+        *sp++ = node.child[c];
       }
       ref = node.child[first_c];
     }
