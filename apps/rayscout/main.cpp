@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   for (const auto& add : rayscout::cli::command_registry()) add(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a command's own verdict, e.g. compare-hits above tolerance: 1
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; every command-line mistake is a usage error, exit 2 like
     // bad input files (CLI11's own codes, 100-120, would tell a caller nothing more).

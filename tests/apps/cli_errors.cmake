@@ -26,3 +26,9 @@ execute_process(COMMAND head -c 100 ${WORK}/ok.rays OUTPUT_FILE ${WORK}/cut.rays
 expect(2 "cut\\.rays" trace --scene cornell --rays ${WORK}/cut.rays --accel bvh)
 file(WRITE ${WORK}/bad.rays "RAYX")
 expect(2 "bad\\.rays" trace --scene cornell --rays ${WORK}/bad.rays --accel bvh)
+
+# A command's own verdict keeps its code: compare-hits of two different hit sets exits 1.
+expect(0 "wrote" rays --scene cornell --workload diffuse --width 8 --height 8 --out ${WORK}/d.rays)
+expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --out ${WORK}/p.hits)
+expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/d.rays --accel bvh --out ${WORK}/d.hits)
+expect(1 "result" compare-hits ${WORK}/p.hits ${WORK}/d.hits)
