@@ -85,7 +85,7 @@ inline int vote(DacrtVotes rule, float dl, float fl, float dr, float fr, bool go
 /// When prefetch is set, the entries prefetch[id] of the hitting rays are prefetched (the
 /// shear records of a child that will be a leaf).
 __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, uint32_t* rid, size_t n, const Bounds3& box,
-                             uint32_t* scratch, const RayShear* prefetch = nullptr) {
+                             uint32_t* scratch, [[maybe_unused]] const RayShear* prefetch = nullptr) {
   size_t w = 0, m = 0, i = 0;
 #if defined(__AVX512F__)
   const __m512 lox = _mm512_set1_ps(box.lo.x), loy = _mm512_set1_ps(box.lo.y), loz = _mm512_set1_ps(box.lo.z);
