@@ -110,19 +110,14 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
         }
       }
       if (zero_edge) {
-        alignas(32) float lt[8], lu[8], lv[8], bt[8], lox[8], loy[8], loz[8], ltmin[8];
-        alignas(32) uint32_t lp[8];
-        _mm256_store_ps(lt, tt); _mm256_store_ps(lu, u); _mm256_store_ps(lv, v); _mm256_store_ps(bt, best_t);
-        _mm256_store_ps(lox, ox); _mm256_store_ps(loy, oy); _mm256_store_ps(loz, oz); _mm256_store_ps(ltmin, tmin);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(lp), best_p);
-        for (int l = 0; l < 8; ++l) {
-          if (!((zero_edge >> l) & 1)) continue;
-          float t1, u1, v1;
-          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), to_precomp(pre[ids[l]]), tri, ltmin[l], bt[l], t1, u1, v1) &&
-                         (kAny || is_closer(t1, p, bt[l], lp[l]));
-          if (h) { hit |= 1 << l; lt[l] = t1; lu[l] = u1; lv[l] = v1; }
-        }
-        tt = _mm256_load_ps(lt); u = _mm256_load_ps(lu); v = _mm256_load_ps(lv);
+        LeafLanes<8> lane;
+        _mm256_store_ps(lane.t, tt); _mm256_store_ps(lane.u, u); _mm256_store_ps(lane.v, v);
+        _mm256_store_ps(lane.best_t, best_t); _mm256_store_ps(lane.tmin, tmin);
+        _mm256_store_ps(lane.ox, ox); _mm256_store_ps(lane.oy, oy); _mm256_store_ps(lane.oz, oz);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(lane.id), id);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(lane.best_p), best_p);
+        hit |= int(redo_zero_edge_lanes<kAny>(lane, uint32_t(zero_edge), tri, p, pre));
+        tt = _mm256_load_ps(lane.t); u = _mm256_load_ps(lane.u); v = _mm256_load_ps(lane.v);
       }
       if (!hit) continue;
       changed |= hit;
@@ -138,20 +133,11 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       }
     }
     if (!changed) continue;
-    alignas(32) float lt[8], lu[8], lv[8];
-    alignas(32) uint32_t lp[8];
-    _mm256_store_ps(lt, best_t); _mm256_store_ps(lu, best_u); _mm256_store_ps(lv, best_v);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(lp), best_p);
-    for (int l = 0; l < 8; ++l) {
-      if (!((changed >> l) & 1)) continue;
-      const uint32_t r = ids[l];
-      if (kAny) {
-        occ[r] = 1;
-        retire(rays[r]);
-      } else {
-        rays[r].t = lt[l]; out.prim[r] = lp[l]; out.u[r] = lu[l]; out.v[r] = lv[l];
-      }
-    }
+    LeafLanes<8> lane;
+    _mm256_store_ps(lane.best_t, best_t); _mm256_store_ps(lane.u, best_u); _mm256_store_ps(lane.v, best_v);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lane.id), id);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lane.best_p), best_p);
+    store_leaf_hits<kAny>(lane, uint32_t(changed), rays, out, occ);
   }
   return tests;
 }

@@ -67,4 +67,48 @@ __attribute__((noinline)) inline uint64_t leaf_occluded(RayRecord* rays, const R
   return tests;
 }
 
+/// The lanes of a W-wide SIMD leaf test, stored for its scalar steps: per lane the ray id,
+/// origin, tmin, the running best t and triangle id, and the test's t, u, v.
+template <int W>
+struct LeafLanes {
+  alignas(64) float ox[W], oy[W], oz[W], tmin[W], best_t[W], t[W], u[W], v[W];
+  alignas(64) uint32_t id[W], best_p[W];
+};
+
+/// Redoes triangle p for the lanes in `lanes`, whose edge function was exactly zero, with
+/// core's intersect_triangle (its double-precision path) and, for closest hit, is_closer.
+/// A lane that hits gets t, u, v overwritten. Returns the lanes that hit.
+template <bool kAny, int W>
+inline uint32_t redo_zero_edge_lanes(LeafLanes<W>& lane, uint32_t lanes, const Triangle& tri, uint32_t p,
+                                     const RayShear* pre) {
+  uint32_t hit = 0;
+  for (int l = 0; l < W; ++l) {
+    if (!((lanes >> l) & 1)) continue;
+    float t, u, v;
+    if (intersect_triangle(Vec3(lane.ox[l], lane.oy[l], lane.oz[l]), to_precomp(pre[lane.id[l]]), tri, lane.tmin[l],
+                           lane.best_t[l], t, u, v) &&
+        (kAny || is_closer(t, p, lane.best_t[l], lane.best_p[l]))) {
+      hit |= 1u << l;
+      lane.t[l] = t; lane.u[l] = u; lane.v[l] = v;
+    }
+  }
+  return hit;
+}
+
+/// Writes back the lanes in `changed` after a SIMD leaf: any hit marks occ and retires the
+/// ray; closest hit stores the best t (in best_t), triangle id (best_p), u and v.
+template <bool kAny, int W>
+inline void store_leaf_hits(const LeafLanes<W>& lane, uint32_t changed, RayRecord* rays, HitOut out, uint8_t* occ) {
+  for (int l = 0; l < W; ++l) {
+    if (!((changed >> l) & 1)) continue;
+    const uint32_t r = lane.id[l];
+    if (kAny) {
+      occ[r] = 1;
+      retire(rays[r]);
+    } else {
+      rays[r].t = lane.best_t[l]; out.prim[r] = lane.best_p[l]; out.u[r] = lane.u[l]; out.v[r] = lane.v[l];
+    }
+  }
+}
+
 }  // namespace rayscout::dacrt

@@ -131,19 +131,13 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       }
       if (zero_edge) {
         if (!kAny) need_p(zero_edge);
-        alignas(64) float lt[16], lu[16], lv[16], bt[16], lox[16], loy[16], loz[16], ltmin[16];
-        alignas(64) uint32_t lid[16], lp[16];
-        _mm512_store_ps(lt, tt); _mm512_store_ps(lu, u); _mm512_store_ps(lv, v); _mm512_store_ps(bt, best_t);
-        _mm512_store_ps(lox, ox); _mm512_store_ps(loy, oy); _mm512_store_ps(loz, oz); _mm512_store_ps(ltmin, tmin);
-        _mm512_store_si512(lid, id); _mm512_store_si512(lp, best_p);
-        for (int l = 0; l < 16; ++l) {
-          if (!((zero_edge >> l) & 1)) continue;
-          float t1, u1, v1;
-          const bool h = intersect_triangle(Vec3(lox[l], loy[l], loz[l]), to_precomp(pre[lid[l]]), tri, ltmin[l], bt[l], t1, u1, v1) &&
-                         (kAny || is_closer(t1, p, bt[l], lp[l]));
-          if (h) { hit |= __mmask16(1u << l); lt[l] = t1; lu[l] = u1; lv[l] = v1; }
-        }
-        tt = _mm512_load_ps(lt); u = _mm512_load_ps(lu); v = _mm512_load_ps(lv);
+        LeafLanes<16> lane;
+        _mm512_store_ps(lane.t, tt); _mm512_store_ps(lane.u, u); _mm512_store_ps(lane.v, v);
+        _mm512_store_ps(lane.best_t, best_t); _mm512_store_ps(lane.tmin, tmin);
+        _mm512_store_ps(lane.ox, ox); _mm512_store_ps(lane.oy, oy); _mm512_store_ps(lane.oz, oz);
+        _mm512_store_si512(lane.id, id); _mm512_store_si512(lane.best_p, best_p);
+        hit |= __mmask16(redo_zero_edge_lanes<kAny>(lane, zero_edge, tri, p, pre));
+        tt = _mm512_load_ps(lane.t); u = _mm512_load_ps(lane.u); v = _mm512_load_ps(lane.v);
       }
       if (!hit) continue;
       if (kAny) {
@@ -162,20 +156,10 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
     if (uniform) triangles(rel_uniform);
     else triangles(rel_any);
     if (!changed) continue;
-    alignas(64) float lt[16], lu[16], lv[16];
-    alignas(64) uint32_t lid[16], lp[16];
-    _mm512_store_ps(lt, best_t); _mm512_store_ps(lu, best_u); _mm512_store_ps(lv, best_v);
-    _mm512_store_si512(lid, id); _mm512_store_si512(lp, best_p);
-    for (int l = 0; l < 16; ++l) {
-      if (!((changed >> l) & 1)) continue;
-      const uint32_t r = lid[l];
-      if (kAny) {
-        occ[r] = 1;
-        retire(rays[r]);
-      } else {
-        rays[r].t = lt[l]; out.prim[r] = lp[l]; out.u[r] = lu[l]; out.v[r] = lv[l];
-      }
-    }
+    LeafLanes<16> lane;
+    _mm512_store_ps(lane.best_t, best_t); _mm512_store_ps(lane.u, best_u); _mm512_store_ps(lane.v, best_v);
+    _mm512_store_si512(lane.id, id); _mm512_store_si512(lane.best_p, best_p);
+    store_leaf_hits<kAny>(lane, changed, rays, out, occ);
   }
   return tests;
 }
