@@ -12,6 +12,25 @@ struct Entry {
   float dist;  // entry distance of the node's box
 };
 
+// Pushes the hit children of an inner node (left = first, right = first + 1), the nearer one
+// last so that it is popped first; entry(child, dist) makes the stack entry.
+template <class Stack, class MakeEntry>
+void push_hit_children(Stack& stack, uint32_t first, bool hl, bool hr, float dl, float dr, MakeEntry entry) {
+  if (hl && hr) {
+    if (dr < dl) {
+      stack.push(entry(first, dl));
+      stack.push(entry(first + 1, dr));
+    } else {
+      stack.push(entry(first + 1, dr));
+      stack.push(entry(first, dl));
+    }
+  } else if (hl) {
+    stack.push(entry(first, dl));
+  } else if (hr) {
+    stack.push(entry(first + 1, dr));
+  }
+}
+
 }  // namespace
 
 template <bool CaptureStats>
@@ -46,8 +65,7 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
           float t, u, v;
           ++tri_tests;
           if (intersect_triangle(ray.org, rp, tris[p], ray.tmin, best.t, t, u, v) &&
-              is_closer(t, p, best.t, best.prim))
-            {
+              is_closer(t, p, best.t, best.prim)) {
             best = {t, p, u, v};
             cull_t = cull.far(t);
           }
@@ -58,19 +76,7 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
       const bool hl = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first].bounds, box_tmin, cull_t, dl);
       const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, cull_t, dr);
       box_tests += 2;
-      if (hl && hr) {
-        if (dr < dl) {
-          stack.push({n.first, dl});
-          stack.push({n.first + 1, dr});
-        } else {
-          stack.push({n.first + 1, dr});
-          stack.push({n.first, dl});
-        }
-      } else if (hl) {
-        stack.push({n.first, dl});
-      } else if (hr) {
-        stack.push({n.first + 1, dr});
-      }
+      push_hit_children(stack, n.first, hl, hr, dl, dr, [](uint32_t c, float d) { return Entry{c, d}; });
     }
   }
   if constexpr (CaptureStats) {
@@ -119,19 +125,7 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
       const bool hr = detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[n.first + 1].bounds, box_tmin, box_tmax, dr);
       box_tests += 2;
       // Near child on top: an early hit ends the ray sooner.
-      if (hl && hr) {
-        if (dr < dl) {
-          stack.push(n.first);
-          stack.push(n.first + 1);
-        } else {
-          stack.push(n.first + 1);
-          stack.push(n.first);
-        }
-      } else if (hl) {
-        stack.push(n.first);
-      } else if (hr) {
-        stack.push(n.first + 1);
-      }
+      push_hit_children(stack, n.first, hl, hr, dl, dr, [](uint32_t c, float) { return c; });
     }
   }
   if constexpr (CaptureStats) {
