@@ -21,6 +21,18 @@ struct ShaftSamples {
   size_t size() const { return hit_t.size(); }
 };
 
+/// 1 when a sample ray (origin o, inverse direction i, real hit at hit_t) enters box b before
+/// its hit, else 0: a plain slab test, for hitProbability, an estimate rather than a culling
+/// decision. Branch-free, so loops over many sample rays vectorise.
+inline int sample_enters(const Bounds3& b, float ox, float oy, float oz, float ix, float iy, float iz, float hit_t) {
+  const float x0 = (b.lo.x - ox) * ix, x1 = (b.hi.x - ox) * ix;
+  const float y0 = (b.lo.y - oy) * iy, y1 = (b.hi.y - oy) * iy;
+  const float z0 = (b.lo.z - oz) * iz, z1 = (b.hi.z - oz) * iz;
+  const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+  const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), hit_t));
+  return tn <= tf ? 1 : 0;
+}
+
 inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 
 /// cullNodeSubtree: descends while exactly one child overlaps the shaft; returns that
@@ -70,14 +82,7 @@ class CandidateListBuilder {
     const float* ix = samples_.ix.data(); const float* iy = samples_.iy.data(); const float* iz = samples_.iz.data();
     const float* ht = samples_.hit_t.data();
     int hits = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const float x0 = (b.lo.x - ox[i]) * ix[i], x1 = (b.hi.x - ox[i]) * ix[i];
-      const float y0 = (b.lo.y - oy[i]) * iy[i], y1 = (b.hi.y - oy[i]) * iy[i];
-      const float z0 = (b.lo.z - oz[i]) * iz[i], z1 = (b.hi.z - oz[i]) * iz[i];
-      const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
-      const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
-      hits += tn <= tf ? 1 : 0;
-    }
+    for (size_t i = 0; i < n; ++i) hits += sample_enters(b, ox[i], oy[i], oz[i], ix[i], iy[i], iz[i], ht[i]);
     return double(hits) / double(n);
   }
 

@@ -147,14 +147,7 @@ class GroupListBuilder {
     // too: cheaper than a gather), then a count per member.
     const size_t n = samples_.size();
     int32_t* __restrict hit = hit_.data();
-    for (size_t i = 0; i < n; ++i) {
-      const float x0 = (b.lo.x - ox[i]) * ix[i], x1 = (b.hi.x - ox[i]) * ix[i];
-      const float y0 = (b.lo.y - oy[i]) * iy[i], y1 = (b.hi.y - oy[i]) * iy[i];
-      const float z0 = (b.lo.z - oz[i]) * iz[i], z1 = (b.hi.z - oz[i]) * iz[i];
-      const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
-      const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), ht[i]));
-      hit[i] = tn <= tf ? 1 : 0;
-    }
+    for (size_t i = 0; i < n; ++i) hit[i] = sample_enters(b, ox[i], oy[i], oz[i], ix[i], iy[i], iz[i], ht[i]);
     uint64_t open = 0;
     for (uint64_t m = mask; m; m &= m - 1) {
       const int s = std::countr_zero(m);
