@@ -19,10 +19,7 @@ Ray down_at(float x, float y) { return {{x, y, 1.0f}, 0.0f, {0, 0, -1}, kInfinit
 TEST(BvhTraversal, MatchesBruteForceForLeafSizesAndBins) {
   for (const auto& m : testing::nasty_meshes()) {
     const RayBatch rays = testing::nasty_rays(m.triangles, 21);
-    HitBatch ref;
-    std::vector<uint8_t> ref_occ;
-    BruteForce(m.triangles).intersect(rays, ref);
-    BruteForce(m.triangles).occluded(rays, ref_occ);
+    const auto [ref, ref_occ] = testing::brute_force(m.triangles, rays);
     for (int leaf : {1, 4, 15}) {
       BvhBuildConfig c;
       c.max_leaf_size = leaf;

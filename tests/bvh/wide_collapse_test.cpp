@@ -42,10 +42,7 @@ BvhBuildConfig sah_config(int leaf, float presplit) {
 TEST(WideCollapse, SahCollapseValidatesAndMatchesBruteForceBitForBit) {
   for (const auto& m : testing::nasty_meshes()) {
     const RayBatch rays = testing::nasty_rays(m.triangles, 33);
-    HitBatch ref;
-    std::vector<uint8_t> ref_occ;
-    BruteForce(m.triangles).intersect(rays, ref);
-    BruteForce(m.triangles).occluded(rays, ref_occ);
+    const auto [ref, ref_occ] = testing::brute_force(m.triangles, rays);
     for (int leaf : {1, 4, 8}) {
       for (float presplit : {0.0f, 1.0f}) {
         BvhBuildConfig c = sah_config(leaf, presplit);

@@ -17,10 +17,7 @@ class DacrtSwitches : public ::testing::TestWithParam<TestMesh> {};
 TEST_P(DacrtSwitches, EveryCombinationMatchesBruteForce) {
   const Scene scene = testing::scene_from_triangles(GetParam().triangles);
   const RayBatch rays = testing::nasty_rays(scene.triangles, 21);
-  HitBatch ref;
-  std::vector<uint8_t> ref_occ;
-  BruteForce(scene.triangles).intersect(rays, ref);
-  BruteForce(scene.triangles).occluded(rays, ref_occ);
+  const auto [ref, ref_occ] = testing::brute_force(scene.triangles, rays);
   for (const auto& combo : testing::switch_combinations()) {
     for (const char* name : {"dacrt", "dacrt-rs"}) {
       auto accel = make_accelerator(name, scene, testing::options_of(combo));

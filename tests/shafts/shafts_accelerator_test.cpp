@@ -273,20 +273,12 @@ TEST(ShaftsRealScene, SibenikShadowAndDiffuseRaysMatchBvh) {
   EXPECT_LT(blocked, oref.size());
 }
 
-}  // namespace
-}  // namespace rayscout
-
-namespace rayscout {
-namespace {
 
 // Entry boxes on the binary BVH and off on the wide one: both combinations stay exact.
 TEST(ShaftsOptions, EntryBoxesEitherWayMatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 31));
   const RayBatch rays = testing::nasty_rays(scene.triangles, 5);
-  HitBatch ref;
-  std::vector<uint8_t> oref;
-  BruteForce(scene.triangles).intersect(rays, ref);
-  BruteForce(scene.triangles).occluded(rays, oref);
+  const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
   for (auto [base, boxes] : {std::pair{Base::Binary, 1}, std::pair{Base::Wide, 0}}) {
     ShaftConfig c = fine_config(512, 3);
     c.entry_boxes = boxes;
@@ -307,10 +299,7 @@ TEST(ShaftsOptions, EntryBoxesEitherWayMatchBruteForce) {
 TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 37));
   const RayBatch rays = testing::nasty_rays(scene.triangles, 6);
-  HitBatch ref;
-  std::vector<uint8_t> oref;
-  BruteForce(scene.triangles).intersect(rays, ref);
-  BruteForce(scene.triangles).occluded(rays, oref);
+  const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
   for (auto [base, samples, stratified, reuse, collapse] :
        {std::tuple{Base::Binary, 8, false, false, 1}, std::tuple{Base::Binary, 4, true, true, 1},
         std::tuple{Base::Binary, 4, true, false, 2}, std::tuple{Base::Wide, 5, true, true, 1},
@@ -339,11 +328,6 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   }
 }
 
-}  // namespace
-}  // namespace rayscout
-
-namespace rayscout {
-namespace {
 
 // Rays a checker may throw at it: far origins (root fallback), origins on the scene box,
 // directions with -0, tiny or huge components, short and negative-length intervals, large tmin.
@@ -371,10 +355,7 @@ TEST(ShaftsExtremeRays, MatchBruteForce) {
     if (i % 11 == 3) { r.tmin = 1.0f; r.tmax = 0.5f; }
     rays.push_back(r);
   }
-  HitBatch ref;
-  std::vector<uint8_t> oref;
-  BruteForce(scene.triangles).intersect(rays, ref);
-  BruteForce(scene.triangles).occluded(rays, oref);
+  const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
   size_t hits = 0;
   for (uint32_t p : ref.prim) hits += p != kInvalidId;
   EXPECT_GT(hits, rays.size() / 5);
@@ -390,11 +371,6 @@ TEST(ShaftsExtremeRays, MatchBruteForce) {
   }
 }
 
-}  // namespace
-}  // namespace rayscout
-
-namespace rayscout {
-namespace {
 
 // The wide BVH as the "bvh" accelerator builds it (pre-split references: leaf boxes may hold
 // only part of a triangle): lists still cover every hit, results stay exact.

@@ -9,6 +9,8 @@
 #include <random>
 #include <string_view>
 
+#include "rayscout/core/accelerator.h"
+
 namespace rayscout::testing {
 namespace {
 
@@ -121,6 +123,14 @@ std::vector<TestMesh> nasty_meshes() {
           {"equal_centroids", equal_centroids(600, 4)},
           {"sphere", sphere({0.5f, 0.5f, 0.5f}, 0.4f, 3)},
           {"single_triangle", {{{0.1f, 0.1f, 0.5f}, {0.9f, 0.2f, 0.5f}, {0.3f, 0.9f, 0.5f}}}}};
+}
+
+Reference brute_force(const std::vector<Triangle>& tris, const RayBatch& rays) {
+  Reference r;
+  const BruteForce brute(tris);
+  brute.intersect(rays, r.hits);
+  brute.occluded(rays, r.occluded);
+  return r;
 }
 
 bool small_scale() {

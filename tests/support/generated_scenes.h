@@ -32,6 +32,14 @@ std::vector<Triangle> grid(int n);
 std::vector<Triangle> equal_centroids(size_t n, uint32_t seed);
 /// A closed, watertight sphere (subdivided icosahedron) of radius r at c.
 std::vector<Triangle> sphere(const Vec3& c, float r, int subdivisions);
+/// What brute force answers for a ray batch: the reference of every accelerator test.
+struct Reference {
+  HitBatch hits;                  ///< closest hits
+  std::vector<uint8_t> occluded;  ///< any hit, 1 = occluded
+};
+/// Traces rays against tris with BruteForce, closest hit and any hit.
+Reference brute_force(const std::vector<Triangle>& tris, const RayBatch& rays);
+
 /// Every mesh above, of modest size.
 std::vector<TestMesh> nasty_meshes();
 
