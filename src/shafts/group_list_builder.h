@@ -25,15 +25,29 @@ class GroupListBuilder {
  public:
   static constexpr int kMaxGroup = 64;
 
+  /// Working memory of a builder; one per thread, reused across groups (a fresh builder per
+  /// group spent measurable time in allocations).
+  struct Scratch {
+    std::vector<int32_t> hit;  ///< per sample ray: enters the current box before its hit
+    std::vector<std::pair<uint32_t, uint64_t>> stack, cull_stack;
+    std::vector<uint64_t> over;
+    std::vector<uint32_t> order;
+  };
+
   /// members[i] uses samples [i s, (i + 1) s) of `samples`, s = samples_per_shaft. Only the
   /// group shaft must be placed in the voxel: members are used for their cones only (their
   /// tests take the group's box difference), so shafts of any voxel may stand for them.
+  /// scratch (borrowed, may be shared by consecutive builders of one thread) holds the stacks.
+  GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft* const> members,
+                   const ShaftSamples& samples, int samples_per_shaft, Scratch& scratch)
+      : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft), s_(scratch) {
+    inner_ = voxel_margin_box(group.voxel());
+    s_.hit.resize(samples.size());
+  }
+  /// The same with its own scratch.
   GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft* const> members,
                    const ShaftSamples& samples, int samples_per_shaft)
-      : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft) {
-    inner_ = voxel_margin_box(group.voxel());
-    hit_.resize(samples.size());
-  }
+      : GroupListBuilder(tree, group, members, samples, samples_per_shaft, own_) {}
 
   /// Algorithm 1 with threshold min_prob for every member in `active`; lists[i] receives
   /// member i's node indices near first. Returns the members whose list fit in max_len (the
@@ -45,12 +59,13 @@ class GroupListBuilder {
     while (need_ < per_ && double(need_) / double(per_) < min_prob) ++need_;
     if (per_ > 0 && double(need_) / double(per_) < min_prob) need_ = per_ + 1;
     uint64_t live = active;
-    stack_.clear();
-    stack_.push_back({tree_.root, active});
+    auto& stack = s_.stack;
+    stack.clear();
+    stack.push_back({tree_.root, active});
     const bool shortcut = min_prob <= 1.0;
-    while (!stack_.empty()) {
-      const auto [node, mask_in] = stack_.back();
-      stack_.pop_back();
+    while (!stack.empty()) {
+      const auto [node, mask_in] = stack.back();
+      stack.pop_back();
       const uint64_t mask = mask_in & live;
       if (!mask) continue;
       const Bounds3& box = tree_.bounds[node];
@@ -63,15 +78,25 @@ class GroupListBuilder {
       // Members and group share the voxel, hence the box difference.
       const Shaft::BoxDiff diff = group_.diff(box);
       if (std::popcount(mask) > 1 && !group_.overlaps(diff)) continue;
-      const uint64_t over = overlapping(diff, mask);
-      if (!over) continue;
-      uint64_t stop = over;
-      if (!leaf) {
+      uint64_t stop;
+      if (leaf) {
+        stop = overlapping(diff, mask);
+      } else if (need_ > 0) {
+        // A member whose sample rays enter the box (at least one does) overlaps it for
+        // certain: the padded shaft holds every point within far more than the slab test's
+        // rounding of a sample ray, and the float overlap test keeps every box the exact test
+        // keeps. So only the others take the overlap test; same decisions as Algorithm 1.
+        const uint64_t open = expanding(box, mask);
+        stop = overlapping(diff, mask & ~open);
+        if (open) push_children_far_first(node, open);
+      } else {
+        const uint64_t over = overlapping(diff, mask);
         const uint64_t open = expanding(box, over);
         stop = over & ~open;
         if (open) push_children_far_first(node, open);
       }
-      if (!leaf && stop) cull_subtrees(node, stop);
+      if (!stop) continue;
+      if (!leaf) cull_subtrees(node, stop);
       for (uint64_t m = stop; m; m &= m - 1) {
         const int i = std::countr_zero(m);
         const uint32_t entry = leaf ? node : culled_[i];
@@ -84,11 +109,6 @@ class GroupListBuilder {
   }
 
  private:
-  struct Item {
-    uint32_t node;
-    uint64_t mask;
-  };
-
   /// Members in mask whose shaft overlaps the box with difference d. (One member at a time:
   /// measured faster than one loop over all members' axes, whose per-member reduction costs
   /// more than it saves.)
@@ -104,20 +124,22 @@ class GroupListBuilder {
   /// cullNodeSubtree(node) for every member in mask, into culled_ (detail::cull_subtree;
   /// a child's box difference is computed once for all members).
   void cull_subtrees(uint32_t node, uint64_t mask) {
-    cull_stack_.clear();
-    cull_stack_.push_back({node, mask});
-    while (!cull_stack_.empty()) {
-      const auto [n, m] = cull_stack_.back();
-      cull_stack_.pop_back();
+    auto& cull_stack = s_.cull_stack;
+    cull_stack.clear();
+    cull_stack.push_back({node, mask});
+    while (!cull_stack.empty()) {
+      const auto [n, m] = cull_stack.back();
+      cull_stack.pop_back();
       if (tree_.is_leaf(n)) {
         for (uint64_t r = m; r; r &= r - 1) culled_[std::countr_zero(r)] = n;
         continue;
       }
       const auto kids = tree_.children(n);
+      const size_t nkids = kids.size();
       uint64_t once = 0, twice = 0;  // members with >= 1 / >= 2 overlapping children
-      over_.resize(kids.size());
-      uint64_t* over = over_.data();
-      for (size_t c = 0; c < kids.size(); ++c) {
+      s_.over.resize(nkids);
+      uint64_t* over = s_.over.data();
+      for (size_t c = 0; c < nkids; ++c) {
         const Bounds3& box = tree_.bounds[kids[c]];
         uint64_t o = 0;
         const uint64_t open = m & ~twice;
@@ -131,8 +153,8 @@ class GroupListBuilder {
       }
       for (uint64_t r = twice; r; r &= r - 1) culled_[std::countr_zero(r)] = n;
       for (uint64_t r = m & ~once; r; r &= r - 1) culled_[std::countr_zero(r)] = kNoNode;
-      for (size_t c = 0; c < kids.size(); ++c)
-        if (const uint64_t single = over[c] & ~twice) cull_stack_.push_back({kids[c], single});
+      for (size_t c = 0; c < nkids; ++c)
+        if (const uint64_t single = over[c] & ~twice) cull_stack.push_back({kids[c], single});
     }
   }
 
@@ -146,7 +168,7 @@ class GroupListBuilder {
     // All members' sample rays in one vectorised loop (members outside `mask` are computed
     // too: cheaper than a gather), then a count per member.
     const size_t n = samples_.size();
-    int32_t* __restrict hit = hit_.data();
+    int32_t* __restrict hit = s_.hit.data();
     for (size_t i = 0; i < n; ++i) hit[i] = sample_enters(b, ox[i], oy[i], oz[i], ix[i], iy[i], iz[i], ht[i]);
     uint64_t open = 0;
     for (uint64_t m = mask; m; m &= m - 1) {
@@ -165,16 +187,17 @@ class GroupListBuilder {
     if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
       // Members agree on the sign of every centre component (the caller groups them so).
       const bool left_near = members_[0]->center_dir()[tree_.split_axis[node]] > 0.0f;
-      stack_.push_back({left_near ? kids[1] : kids[0], mask});
-      stack_.push_back({left_near ? kids[0] : kids[1], mask});
+      s_.stack.push_back({left_near ? kids[1] : kids[0], mask});
+      s_.stack.push_back({left_near ? kids[0] : kids[1], mask});
       return;
     }
-    order_.assign(kids.begin(), kids.end());
-    std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+    auto& order = s_.order;
+    order.assign(kids.begin(), kids.end());
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
       const float da = dot(tree_.bounds[a].center(), dir), db = dot(tree_.bounds[b].center(), dir);
       return da > db || (da == db && a > b);  // farthest first on the stack
     });
-    for (uint32_t c : order_) stack_.push_back({c, mask});
+    for (uint32_t c : order) s_.stack.push_back({c, mask});
   }
 
   const TreeView& tree_;
@@ -182,12 +205,10 @@ class GroupListBuilder {
   std::span<const Shaft* const> members_;
   const ShaftSamples& samples_;
   int per_;
-  int need_ = 0;              ///< sample rays that must enter a box for its node to be expanded
-  std::vector<int32_t> hit_;  ///< per sample ray: enters the current box before its hit
-  std::vector<Item> stack_, cull_stack_;
-  std::vector<uint64_t> over_;
+  int need_ = 0;  ///< sample rays that must enter a box for its node to be expanded
+  Scratch own_;
+  Scratch& s_;
   uint32_t culled_[kMaxGroup];
-  std::vector<uint32_t> order_;
   Bounds3 inner_;
 };
 

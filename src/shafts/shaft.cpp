@@ -84,6 +84,7 @@ Shaft::Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& 
   // Float copies of the axes (rounding to float moves a unit axis by ~6e-8, far less than
   // the 1e-4 by which the real cone lies inside the padded cone's planes, so every float
   // axis still has the whole real cone on its positive side: a valid separating axis).
+  rows_ = std::max(1, (axis_count_ + kRow - 1) / kRow);
   for (int a = 0; a < axis_count_; ++a)
     for (int k = 0; k < 3; ++k) {
       const float c = float(axes_[size_t(a)][k]);

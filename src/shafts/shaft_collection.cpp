@@ -266,6 +266,36 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
   return traced;
 }
 
+/// Every selected shaft's own sample rays (the rays make_samples draws) traced direction cell
+/// by direction cell over all listed voxels, into pool[(cell * listed + li) * per + k]:
+/// rays of one cell from neighbouring voxels take similar paths through the BVH, so the
+/// tracing stays in cache (per voxel, its rays scatter in all 6 d^2 directions).
+void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
+                        const std::vector<uint8_t>& shaft_selected, const ShaftCollection::TraceFn& trace,
+                        const ShaftConfig& config, std::vector<PooledSample>& pool) {
+  const uint32_t cells = grid.cells_per_voxel();
+  const size_t per = size_t(config.samples);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(cells) * listed.size(), 64), [&](const auto& range) {
+    for (size_t k = range.begin(); k != range.end(); ++k) {
+      const uint32_t cell = uint32_t(k / listed.size());
+      const uint32_t v = listed[k % listed.size()];
+      const uint64_t sid = uint64_t(v) * cells + cell;
+      if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
+      const ShaftGrid::CellRange crange = grid.cell_range(cell);
+      const Bounds3 vbox = grid.voxel_box(v);
+      SampleStream stream(sid, config);
+      for (size_t s = 0; s < per; ++s) {
+        float rnd[5];
+        stream.next(int(s), rnd);
+        const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
+        pool[k * per + s] = {{ray.org.x, ray.org.y, ray.org.z},
+                             {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z},
+                             trace(ray)};
+      }
+    }
+  });
+}
+
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
 /// at min_prob), then the cullNodeSubtree(root) fallback. Counts raises and fallbacks.
 void build_with_retries(const TreeView& tree, const Shaft& shaft, const detail::ShaftSamples& samples,
@@ -350,8 +380,9 @@ std::string ShaftStats::summary() const {
     << " MiB); dedup saved " << dedup_saved_bytes / 1024.0 << " KiB, " << unique_lists << " unique lists\n"
     << "lists: mean length " << mean_list << ", max " << max_list << "; overflow retries "
     << overflow_retries << ", fallbacks " << overflow_fallbacks << "\n"
-    << "build " << build_ms << " ms in " << build_rounds << " round(s); last round: selection " << select_ms
-    << " ms, lists " << lists_ms << " ms, packing " << pack_ms << " ms";
+    << "build " << build_ms << " ms in " << build_rounds << " round(s) (budget pilots " << pilot_ms
+    << " ms); last round: selection " << select_ms
+    << " ms, lists " << lists_ms << " ms (sample rays " << samples_ms << " ms), packing " << pack_ms << " ms";
   if (traced_samples > 0) s << "; " << traced_samples << " shared sample rays traced";
   return s.str();
 }
@@ -436,6 +467,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
   const size_t per = size_t(config.samples);
   std::vector<PooledSample> pool;
+  const auto t_samples = std::chrono::steady_clock::now();
   if (config.reuse_rays > 0 && tree.size() > 0) {
     std::vector<int32_t> listed_index(nvox, -1);
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
@@ -443,13 +475,18 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     std::vector<uint8_t> count(listed.size() * cells, 0);
     col.stats_.traced_samples =
         shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
+  } else if (tree.size() > 0) {
+    pool.resize(listed.size() * cells * per);
+    cell_major_samples(grid, listed, shaft_selected, trace, config, pool);
   }
+  col.stats_.samples_ms = ms_since(t_samples);
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
     detail::ShaftSamples samples;
     std::vector<const Shaft*> members;
     std::vector<uint32_t> member_cells;
     std::vector<std::vector<uint32_t>> lists(detail::GroupListBuilder::kMaxGroup);
+    detail::GroupListBuilder::Scratch scratch;
     for (size_t li = range.begin(); li != range.end(); ++li) {
       const uint32_t voxel = listed[li];
       VoxelLists& vl = out[li];
@@ -485,7 +522,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         }
         const uint64_t all = members.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members.size()) - 1;
         if (tree.size() > 0) {
-          detail::GroupListBuilder builder(tree, group, members, samples, config.samples);
+          detail::GroupListBuilder builder(tree, group, members, samples, config.samples, scratch);
           uint64_t failed = all & ~builder.build(min_prob, config.max_list, all, lists.data());
           // Overflowing members retry together with raised thresholds (Algorithm 1 retries),
           // then fall back to cullNodeSubtree(root).
@@ -634,8 +671,10 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     throw InputError("shafts: dir_res must be in 1..64 (got " + std::to_string(config.dir_res) + ")");
   const size_t budget = config.budget_mib > 0.0 ? size_t(config.budget_mib * 1048576.0)
                                                 : size_t(config.budget_rel * double(bvh_bytes));
+  double pilot_ms = 0.0;
   auto finish = [&](ShaftCollection col, int rounds) {
     col.stats_.build_rounds = rounds;
+    col.stats_.pilot_ms = pilot_ms;
     col.stats_.budget_bytes = budget;
     col.stats_.build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
@@ -706,6 +745,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     n = std::clamp(n, 1.0, 2e8 / cells);
   }
   if (!settled) n = feasible_n;
+  pilot_ms = ms_since(t_start);
   ShaftCollection best;
   bool have_best = false;
   for (int round = 1; round <= 6; ++round) {

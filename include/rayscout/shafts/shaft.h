@@ -7,6 +7,10 @@
 #include <cstdint>
 #include <vector>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/ray.h"
 #include "rayscout/shafts/shaft_grid.h"
@@ -59,23 +63,39 @@ class Shaft {
   /// Conservative: the support value max n.x over B (-) V is rejected only below -tol, tol
   /// above its float rounding error; the float axes are valid separating axes because the
   /// real cone lies inside the padded one by far more than their rounding (see shaft.cpp).
+  /// The axes sit in rows of 16 slots (one AVX-512 register); only the used rows are tested.
   bool overlaps(const BoxDiff& d) const {
+#if defined(__AVX512F__)
+    const __m512 hx = _mm512_set1_ps(d.hi[0]), lx = _mm512_set1_ps(d.lo[0]);
+    const __m512 hy = _mm512_set1_ps(d.hi[1]), ly = _mm512_set1_ps(d.lo[1]);
+    const __m512 hz = _mm512_set1_ps(d.hi[2]), lz = _mm512_set1_ps(d.lo[2]);
+    const __m512 limit = _mm512_set1_ps(-tol_);
+    for (int r = 0; r < rows_; ++r) {
+      const int o = r * kRow;
+      // Same operations in the same order as the scalar loop (no contraction).
+      __m512 m = _mm512_mul_ps(_mm512_load_ps(pos_[0] + o), hx);
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(neg_[0] + o), lx));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(pos_[1] + o), hy));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(neg_[1] + o), ly));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(pos_[2] + o), hz));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(neg_[2] + o), lz));
+      if (_mm512_cmp_ps_mask(m, limit, _CMP_LT_OQ)) return false;
+    }
+    return true;
+#else
     const float limit = -tol_;
     int separated = 0;  // an integer or-reduction vectorises (a float min does not without fast-math)
-    for (int a = 0; a < kAxes; ++a) {
+    for (int a = 0, end = rows_ * kRow; a < end; ++a) {
       const float m = pos_[0][a] * d.hi[0] + neg_[0][a] * d.lo[0] + pos_[1][a] * d.hi[1] + neg_[1][a] * d.lo[1] +
                       pos_[2][a] * d.hi[2] + neg_[2][a] * d.lo[2];
       separated |= m < limit ? 1 : 0;
     }
     return separated == 0;
+#endif
   }
-  /// Axis slots of the float test (unused slots are zero axes, which always pass).
-  static constexpr int kAxes = 24;
-  /// Float axes, positive / negative parts of component k (kAxes values each), and the
-  /// tolerance: for callers that test many shafts at once (GroupListBuilder).
-  const float* axes_pos(int k) const { return pos_[k]; }
-  const float* axes_neg(int k) const { return neg_[k]; }
-  float tolerance() const { return tol_; }
+  /// Axis slots of the float test (unused slots are zero axes, which always pass), in rows
+  /// of kRow.
+  static constexpr int kAxes = 32, kRow = 16;
   /// Conservative: false only when no ray of the shaft can reach any point of b.
   bool overlaps(const Bounds3& b) const { return !b.empty() && overlaps(diff(b)); }
   /// The exact test in double (reference for tests): same axes, no tolerance.
@@ -111,8 +131,9 @@ class Shaft {
   float fvlo_[3] = {}, fvhi_[3] = {};  ///< the padded voxel rounded outward to float
   /// Axes split in positive and negative parts per component: n.x maximised over a box is
   /// pos . hi + neg . lo.
-  alignas(32) float pos_[3][kAxes] = {}, neg_[3][kAxes] = {};
+  alignas(64) float pos_[3][kAxes] = {}, neg_[3][kAxes] = {};
   float tol_ = 0.0f;
+  int rows_ = 1;  ///< rows of kRow axis slots holding the used axes
   /// n with cone . n >= 0; at most 3 faces + 12 bevels + 4 sides (fixed storage: one shaft
   /// is made per list, so heap allocations showed in the build profile).
   std::array<std::array<double, 3>, 19> axes_{};

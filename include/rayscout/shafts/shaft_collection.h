@@ -21,8 +21,10 @@ namespace rayscout {
 struct ShaftStats {
   double build_ms = 0.0;             ///< collection only (all budget iterations), BVH excluded
   int build_rounds = 0;              ///< builds needed to meet the memory budget
+  double pilot_ms = 0.0;             ///< wall: the budget's pilot search before the first round
   double select_ms = 0.0;            ///< last round, wall: choosing the listed voxels / shafts
   double lists_ms = 0.0;             ///< last round, wall: sample rays and Algorithm 1
+  double samples_ms = 0.0;           ///< last round, wall: of lists_ms, tracing the sample rays
   double pack_ms = 0.0;              ///< last round, wall: deduplication and packing
   size_t traced_samples = 0;         ///< sample rays traced when reuse_rays shares them (else 0)
   std::array<int, 3> res{};          ///< voxels per axis
