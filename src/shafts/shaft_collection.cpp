@@ -266,34 +266,34 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
   return traced;
 }
 
-/// Every selected shaft's own sample rays (the rays make_samples draws) traced direction cell
-/// by direction cell over all listed voxels, into pool[(cell * listed + li) * per + k]:
-/// rays of one cell from neighbouring voxels take similar paths through the BVH, so the
-/// tracing stays in cache (per voxel, its rays scatter in all 6 d^2 directions).
-void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
+/// The own sample rays (those make_samples draws) of every selected shaft of listed voxels
+/// [l0, l1), traced direction cell by direction cell, into pool[(cell * (l1 - l0) + li - l0)
+/// * per + k]: rays of one cell from neighbouring voxels take similar paths through the BVH,
+/// so the tracing stays in cache (a voxel's own rays scatter in all 6 d^2 directions). The
+/// caller takes chunks of a few dozen voxels: the pool stays small and warm for their walks.
+void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, size_t l0, size_t l1,
                         const std::vector<uint8_t>& shaft_selected, const ShaftCollection::TraceFn& trace,
                         const ShaftConfig& config, std::vector<PooledSample>& pool) {
   const uint32_t cells = grid.cells_per_voxel();
-  const size_t per = size_t(config.samples);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(cells) * listed.size(), 64), [&](const auto& range) {
-    for (size_t k = range.begin(); k != range.end(); ++k) {
-      const uint32_t cell = uint32_t(k / listed.size());
-      const uint32_t v = listed[k % listed.size()];
+  const size_t per = size_t(config.samples), n = l1 - l0;
+  pool.resize(size_t(cells) * n * per);
+  for (uint32_t cell = 0; cell < cells; ++cell) {
+    const ShaftGrid::CellRange crange = grid.cell_range(cell);
+    for (size_t li = l0; li < l1; ++li) {
+      const uint32_t v = listed[li];
       const uint64_t sid = uint64_t(v) * cells + cell;
       if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
-      const ShaftGrid::CellRange crange = grid.cell_range(cell);
       const Bounds3 vbox = grid.voxel_box(v);
       SampleStream stream(sid, config);
+      PooledSample* out = pool.data() + (size_t(cell) * n + (li - l0)) * per;
       for (size_t s = 0; s < per; ++s) {
         float rnd[5];
         stream.next(int(s), rnd);
         const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
-        pool[k * per + s] = {{ray.org.x, ray.org.y, ray.org.z},
-                             {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z},
-                             trace(ray)};
+        out[s] = {{ray.org.x, ray.org.y, ray.org.z}, {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z}, trace(ray)};
       }
     }
-  });
+  }
 }
 
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
@@ -475,19 +475,29 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     std::vector<uint8_t> count(listed.size() * cells, 0);
     col.stats_.traced_samples =
         shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
-  } else if (tree.size() > 0) {
-    pool.resize(listed.size() * cells * per);
-    cell_major_samples(grid, listed, shaft_selected, trace, config, pool);
   }
+  const bool chunked = pool.empty() && tree.size() > 0;
+  std::atomic<int64_t> chunk_trace_ns{0};
   col.stats_.samples_ms = ms_since(t_samples);
 
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), 1), [&](const auto& range) {
+  // Chunks of up to kChunk listed voxels: their sample rays are traced cell-major first.
+  constexpr size_t kChunk = 32;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), kChunk / 2), [&](const auto& range) {
+    std::vector<PooledSample> chunk_pool;
+    size_t chunk_begin = 0, chunk_end = 0;
     detail::ShaftSamples samples;
     std::vector<const Shaft*> members;
     std::vector<uint32_t> member_cells;
     std::vector<std::vector<uint32_t>> lists(detail::GroupListBuilder::kMaxGroup);
     detail::GroupListBuilder::Scratch scratch;
     for (size_t li = range.begin(); li != range.end(); ++li) {
+      if (chunked && li >= chunk_end) {
+        const auto t0 = std::chrono::steady_clock::now();
+        chunk_begin = li;
+        chunk_end = std::min(range.end(), li + kChunk);
+        cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, trace, config, chunk_pool);
+        chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+      }
       const uint32_t voxel = listed[li];
       VoxelLists& vl = out[li];
       vl.status.assign(cells, 0);
@@ -507,12 +517,14 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         samples.resize(members.size() * per);
         const Bounds3 vbox = grid.voxel_box(voxel);
         for (size_t m = 0; m < members.size(); ++m) {
-          if (pool.empty()) {
+          if (!chunked && pool.empty()) {
             make_samples(vbox, members[m]->cell(), uint64_t(voxel) * cells + member_cells[m], trace, config, samples,
                          m * per);
             continue;
           }
-          const PooledSample* from = pool.data() + (member_cells[m] * listed.size() + li) * per;
+          const PooledSample* from =
+              chunked ? chunk_pool.data() + (member_cells[m] * (chunk_end - chunk_begin) + (li - chunk_begin)) * per
+                      : pool.data() + (member_cells[m] * listed.size() + li) * per;
           for (size_t k = 0; k < per; ++k) {
             const size_t i = m * per + k;
             samples.ox[i] = from[k].org[0]; samples.oy[i] = from[k].org[1]; samples.oz[i] = from[k].org[2];
@@ -556,6 +568,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   });
 
   const double lists_ms = ms_since(t_lists);
+  if (chunked) col.stats_.samples_ms = double(chunk_trace_ns.load()) * 1e-6;
   const auto t_pack = std::chrono::steady_clock::now();
   // Serial packing with deduplication keeps offsets independent of the thread count.
   ShaftStats& st = col.stats_;
