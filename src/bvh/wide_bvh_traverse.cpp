@@ -100,7 +100,7 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
   Entry* sp = stack_base;
   for (size_t k = start.size(); k-- > 0;) *sp++ = {start[k], box_tmin};
   alignas(32) float dist[kWideWidth];
-  const detail::BlockRay br(ray.org, rp);
+  const detail::BlockRay<detail::BlockTestLanes> br(ray.org, rp);
   detail::BlockHits bh;
   while (sp != stack_base) {
     Entry e = *--sp;
@@ -112,9 +112,9 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         tri_tests += count;
         for (uint32_t slot = first, end = first + count; slot < end;) {
           const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
-          const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
+          const uint32_t n = std::min(detail::kBlockTestLanes - lane0, end - slot);
           const uint32_t slot0 = block * kTriangleBlockWidth;
-          detail::intersect_block(leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, best.t, bh);
+          detail::intersect_block(&leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, best.t, bh);
           slot += n;
           // Lanes in slot order, each against the running best: the scalar loop's result.
           for (uint32_t m = bh.hit | bh.fallback; m; m &= m - 1) {
@@ -122,7 +122,7 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
             const uint32_t id = prim_ids[slot0 + l];
             float t, u, v;
             if (bh.fallback >> l & 1u) {
-              if (!intersect_triangle(ray.org, rp, leaf_blocks[block].get(l), ray.tmin, best.t, t, u, v)) continue;
+              if (!intersect_triangle(ray.org, rp, leaf_triangle(slot0 + l), ray.tmin, best.t, t, u, v)) continue;
             } else {
               t = bh.t[l];
               u = bh.ev[l] / bh.det[l];
@@ -230,7 +230,7 @@ bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
   uint32_t* sp = stack_base;
   for (size_t k = start.size(); k-- > 0;) *sp++ = start[k];
   alignas(32) float dist[kWideWidth];
-  const detail::BlockRay br(ray.org, rp);
+  const detail::BlockRay<detail::Lanes4> br(ray.org, rp);
   detail::BlockHits bh;
   bool hit = false;
   while (sp != stack_base && !hit) {
@@ -241,14 +241,15 @@ bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         const uint32_t first = WideRef::leaf_first(ref), count = WideRef::leaf_count(ref);
         for (uint32_t slot = first, end = first + count; slot < end && !hit;) {
           const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
+          // One block at a time (not two as in intersect_impl): an early hit skips the rest.
           const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
-          detail::intersect_block(leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, ray.tmax, bh);
+          detail::intersect_lanes<detail::Lanes4>(&leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, ray.tmax, bh);
           slot += n;
           tri_tests += n;  // every valid lane was tested
           hit = bh.hit != 0;
           for (uint32_t m = bh.fallback; m && !hit; m &= m - 1) {
             float t, u, v;
-            hit = intersect_triangle(ray.org, rp, leaf_blocks[block].get(std::countr_zero(m)), ray.tmin, ray.tmax, t, u, v);
+            hit = intersect_triangle(ray.org, rp, leaf_triangle(block * kTriangleBlockWidth + std::countr_zero(m)), ray.tmin, ray.tmax, t, u, v);
           }
         }
         break;
