@@ -27,9 +27,24 @@ class GroupListBuilder {
 
   /// Working memory of a builder; one per thread, reused across groups (a fresh builder per
   /// group spent measurable time in allocations).
+  /// DFS stack of (node, member mask); push stays inline (vector::push_back was not).
+  class Stack {
+   public:
+    void clear() { n_ = 0; }
+    bool empty() const { return n_ == 0; }
+    void push(uint32_t node, uint64_t mask) {
+      if (n_ == buf_.size()) buf_.resize(buf_.empty() ? 256 : 2 * buf_.size());
+      buf_[n_++] = {node, mask};
+    }
+    std::pair<uint32_t, uint64_t> pop() { return buf_[--n_]; }
+
+   private:
+    std::vector<std::pair<uint32_t, uint64_t>> buf_;
+    size_t n_ = 0;
+  };
   struct Scratch {
     std::vector<int32_t> hit;  ///< per sample ray: enters the current box before its hit
-    std::vector<std::pair<uint32_t, uint64_t>> stack, cull_stack;
+    Stack stack, cull_stack;
     std::vector<uint64_t> over;
     std::vector<uint32_t> order;
   };
@@ -61,11 +76,10 @@ class GroupListBuilder {
     uint64_t live = active;
     auto& stack = s_.stack;
     stack.clear();
-    stack.push_back({tree_.root, active});
+    stack.push(tree_.root, active);
     const bool shortcut = min_prob <= 1.0;
     while (!stack.empty()) {
-      const auto [node, mask_in] = stack.back();
-      stack.pop_back();
+      const auto [node, mask_in] = stack.pop();
       const uint64_t mask = mask_in & live;
       if (!mask) continue;
       const Bounds3& box = tree_.bounds[node];
@@ -126,10 +140,9 @@ class GroupListBuilder {
   void cull_subtrees(uint32_t node, uint64_t mask) {
     auto& cull_stack = s_.cull_stack;
     cull_stack.clear();
-    cull_stack.push_back({node, mask});
+    cull_stack.push(node, mask);
     while (!cull_stack.empty()) {
-      const auto [n, m] = cull_stack.back();
-      cull_stack.pop_back();
+      const auto [n, m] = cull_stack.pop();
       if (tree_.is_leaf(n)) {
         for (uint64_t r = m; r; r &= r - 1) culled_[std::countr_zero(r)] = n;
         continue;
@@ -154,7 +167,7 @@ class GroupListBuilder {
       for (uint64_t r = twice; r; r &= r - 1) culled_[std::countr_zero(r)] = n;
       for (uint64_t r = m & ~once; r; r &= r - 1) culled_[std::countr_zero(r)] = kNoNode;
       for (size_t c = 0; c < nkids; ++c)
-        if (const uint64_t single = over[c] & ~twice) cull_stack.push_back({kids[c], single});
+        if (const uint64_t single = over[c] & ~twice) cull_stack.push(kids[c], single);
     }
   }
 
@@ -187,8 +200,8 @@ class GroupListBuilder {
     if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
       // Members agree on the sign of every centre component (the caller groups them so).
       const bool left_near = members_[0]->center_dir()[tree_.split_axis[node]] > 0.0f;
-      s_.stack.push_back({left_near ? kids[1] : kids[0], mask});
-      s_.stack.push_back({left_near ? kids[0] : kids[1], mask});
+      s_.stack.push(left_near ? kids[1] : kids[0], mask);
+      s_.stack.push(left_near ? kids[0] : kids[1], mask);
       return;
     }
     auto& order = s_.order;
@@ -197,7 +210,7 @@ class GroupListBuilder {
       const float da = dot(tree_.bounds[a].center(), dir), db = dot(tree_.bounds[b].center(), dir);
       return da > db || (da == db && a > b);  // farthest first on the stack
     });
-    for (uint32_t c : order) s_.stack.push_back({c, mask});
+    for (uint32_t c : order) s_.stack.push(c, mask);
   }
 
   const TreeView& tree_;

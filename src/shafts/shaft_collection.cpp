@@ -584,7 +584,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   // plus 1; 0 = free), sized for every listed shaft at load <= 1/2.
   size_t capacity = 1024;
   while (capacity < 2 * listed.size() * cells) capacity *= 2;
-  std::vector<uint32_t> slot_list(capacity, 0), slot_hash(capacity, 0);
+  // Hash and packed list side by side: one cache miss per probe (the table is ~8 MiB).
+  struct Slot {
+    uint32_t hash = 0, list = 0;
+  };
+  std::vector<Slot> slots(capacity);
   auto hash_list = [&](uint32_t offset, uint32_t len) {
     uint64_t h = 1469598103934665603ull ^ len;
     for (uint32_t i = 0; i < len; ++i) h = (h ^ col.lists_[offset + i]) * 1099511628211ull;
@@ -617,9 +621,9 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
       size_t slot = h & (capacity - 1);
       uint32_t at = offset;
       bool twin = false;
-      for (; slot_list[slot] != 0; slot = (slot + 1) & (capacity - 1)) {
-        if (slot_hash[slot] != h) continue;
-        const uint32_t packed = slot_list[slot] - 1, o = packed >> 5;
+      for (; slots[slot].list != 0; slot = (slot + 1) & (capacity - 1)) {
+        if (slots[slot].hash != h) continue;
+        const uint32_t packed = slots[slot].list - 1, o = packed >> 5;
         if ((packed & 31u) == len &&
             std::equal(col.lists_.begin() + o, col.lists_.begin() + o + len, col.lists_.begin() + offset)) {
           at = o;
@@ -632,8 +636,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         st.dedup_saved_bytes += len * col.bytes_per_entry();
       } else {
         if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
-        slot_list[slot] = ((offset << 5) | len) + 1;
-        slot_hash[slot] = h;
+        slots[slot] = {h, ((offset << 5) | len) + 1};
         ++unique;
         if (col.boxed_) {
           QBox q[31];
