@@ -589,16 +589,28 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     uint32_t hash = 0, list = 0;
   };
   std::vector<Slot> slots(capacity);
-  auto hash_list = [&](uint32_t offset, uint32_t len) {
-    uint64_t h = 1469598103934665603ull ^ len;
-    for (uint32_t i = 0; i < len; ++i) h = (h ^ col.lists_[offset + i]) * 1099511628211ull;
-    return uint32_t(h ^ (h >> 32));
-  };
   size_t unique = 0;
   // Entry boxes are quantised once per tree node.
   std::vector<QBox> qcache(col.boxed_ ? tree.size() : 0);
   std::vector<uint8_t> qdone(qcache.size(), 0);
   size_t total_len = 0, nonempty = 0;
+  // Hashes of every list in packing order first, so the probe of a list kAhead lists later
+  // is prefetched (the probes are random accesses into a table of several MiB).
+  auto hash_refs = [&](const uint32_t* nodes, uint32_t len) {
+    uint64_t h = 1469598103934665603ull ^ len;
+    for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
+    return uint32_t(h ^ (h >> 32));
+  };
+  std::vector<uint32_t> hashes;
+  size_t total_entries = 0;
+  for (const VoxelLists& vl : out) {
+    total_entries += vl.data.size();
+    for (uint32_t cell = 0; cell < cells; ++cell)
+      if (vl.status[cell] == 1) hashes.push_back(hash_refs(vl.data.data() + vl.begin[cell], vl.len[cell]));
+  }
+  col.lists_.reserve(total_entries * (col.boxed_ ? 3 : 1) + 2);
+  constexpr size_t kAhead = 8;
+  size_t next_hash = 0;
   for (size_t li = 0; li < listed.size(); ++li) {
     const VoxelLists& vl = out[li];
     const uint32_t base = uint32_t(li * cells);
@@ -617,7 +629,8 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
       const size_t pos = vl.begin[cell];
       const uint32_t offset = uint32_t(col.lists_.size());
       for (uint32_t k = 0; k < len; ++k) col.lists_.push_back(tree.ref[vl.data[pos + k]]);
-      const uint32_t h = hash_list(offset, len);
+      if (next_hash + kAhead < hashes.size()) __builtin_prefetch(&slots[hashes[next_hash + kAhead] & (capacity - 1)]);
+      const uint32_t h = hashes[next_hash++];
       size_t slot = h & (capacity - 1);
       uint32_t at = offset;
       bool twin = false;
