@@ -32,14 +32,10 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
     box = wide_.bounds;
   }
   // Sample rays only need their hit distance: trace them with the SIMD wide BVH, also when
-  // the lists index the binary one (a temporary collapse of it; same hits). The SAH collapse
-  // traces them ~10 % faster than the greedy one and costs a few ms more (run 5).
+  // the lists index the binary one (a temporary collapse of it; same hits). Greedy collapse:
+  // the SAH collapse traces them ~10 % faster but takes as much longer to build (run 5).
   WideBvh sampling_bvh;
-  if (base_ == Base::Binary && config.wide_sampling) {
-    BvhBuildConfig cc = bvh_config;
-    cc.collapse = CollapseMethod::Sah;
-    sampling_bvh = WideBvh::from_bvh2(bvh2_, triangles_, cc);
-  }
+  if (base_ == Base::Binary && config.wide_sampling) sampling_bvh = WideBvh::from_bvh2(bvh2_, triangles_);
   const WideBvh* sampler = base_ == Base::Wide ? &wide_ : (config.wide_sampling ? &sampling_bvh : nullptr);
   auto hit = [this, sampler](const Ray& r) {
     return sampler ? sampler->intersect<false>(r, {}, nullptr) : bvh2_.intersect<false>(r, triangles_, {}, nullptr);
