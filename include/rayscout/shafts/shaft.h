@@ -73,12 +73,12 @@ class Shaft {
     for (int r = 0; r < rows_; ++r) {
       const int o = r * kRow;
       // Same operations in the same order as the scalar loop (no contraction).
-      __m512 m = _mm512_mul_ps(_mm512_load_ps(pos_[0] + o), hx);
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(neg_[0] + o), lx));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(pos_[1] + o), hy));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(neg_[1] + o), ly));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(pos_[2] + o), hz));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_load_ps(neg_[2] + o), lz));
+      __m512 m = _mm512_mul_ps(_mm512_loadu_ps(pos_[0] + o), hx);
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[0] + o), lx));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(pos_[1] + o), hy));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[1] + o), ly));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(pos_[2] + o), hz));
+      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[2] + o), lz));
       if (_mm512_cmp_ps_mask(m, limit, _CMP_LT_OQ)) return false;
     }
     return true;
