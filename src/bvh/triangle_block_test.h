@@ -10,7 +10,9 @@
 
 namespace rayscout::detail {
 
-// The lane operations of the block test, for four lanes (one block) and eight (two).
+// The lane operations of the block test, for four lanes (one block) and eight (two). Spelled
+// as intrinsics: the same kernel with GCC's vector operators on __m128 / __m256 compiled its
+// comparisons to AVX-512 mask registers and traced 3-5 % slower.
 struct Lanes4 {
   using F = __m128;
   static constexpr uint32_t kLanes = 4;
