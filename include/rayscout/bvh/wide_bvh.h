@@ -77,10 +77,12 @@ static_assert(sizeof(WideNode) == 256);
 /// 8-wide BVH made by collapsing a binned SAH Bvh2, either greedily (each wide node adopts the
 /// descendants of the largest-area children until it has 8, as in Wald et al., "Getting rid of
 /// packets", 2008, and Embree's BVH8) or by SAH-optimal dynamic programming (Ylitie, Karras,
-/// Laine 2017; it may also merge small subtrees into one leaf); see BvhBuildConfig::collapse. It keeps its own copy of the triangles in leaf order, four per
-/// TriangleBlock, so traversal reads leaves contiguously and tests four triangles at once;
-/// hits report the original triangle ids and are bit-identical to BruteForce (core's robust
-/// box and watertight triangle tests, the same float operations in every SIMD lane).
+/// Laine 2017; it may also merge small subtrees into one leaf); see BvhBuildConfig::collapse.
+/// It keeps its own copy of the triangles in leaf order, four per TriangleBlock, so traversal
+/// reads leaves contiguously and tests four triangles at once (closest hit with AVX: eight,
+/// when a leaf spans two blocks); hits report the original triangle ids and are bit-identical
+/// to BruteForce (core's robust box and watertight triangle tests, the same float operations
+/// in every SIMD lane).
 class WideBvh {
  public:
   std::vector<WideNode> nodes;     ///< nodes[0] = root (empty when there are no triangles)
