@@ -1,4 +1,4 @@
-// Watertight ray-triangle test of four or eight triangles at once (private SSE / AVX kernel).
+// Watertight ray-triangle test of four or eight triangles at once (private SSE / AVX2 kernel).
 #pragma once
 
 #include <immintrin.h>
@@ -69,7 +69,7 @@ struct Lanes8 {
 };
 #endif
 
-/// The widest lanes a block test uses (two adjacent TriangleBlocks with AVX, else one);
+/// The widest lanes a block test uses (two adjacent TriangleBlocks with AVX2, else one);
 /// BlockRay<BlockTestLanes> serves every width.
 #if defined(__AVX2__)
 using BlockTestLanes = Lanes8;
@@ -108,10 +108,12 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
                             BlockHits& out) {
   using F = typename L::F;
   // a = v0 - org per component, then the shear: ax = a[kx] - sx * a[kz].
-  const F ox = L::low(r.ox), oy = L::low(r.oy), oz = L::low(r.oz), sx = L::low(r.sx), sy = L::low(r.sy), sz = L::low(r.sz);
-  const F a_x = L::sub(L::load(b, 0, r.kx), ox), a_y = L::sub(L::load(b, 0, r.ky), oy), a_z = L::sub(L::load(b, 0, r.kz), oz);
-  const F b_x = L::sub(L::load(b, 1, r.kx), ox), b_y = L::sub(L::load(b, 1, r.ky), oy), b_z = L::sub(L::load(b, 1, r.kz), oz);
-  const F c_x = L::sub(L::load(b, 2, r.kx), ox), c_y = L::sub(L::load(b, 2, r.ky), oy), c_z = L::sub(L::load(b, 2, r.kz), oz);
+  const F ox = L::low(r.ox), oy = L::low(r.oy), oz = L::low(r.oz);
+  const F sx = L::low(r.sx), sy = L::low(r.sy), sz = L::low(r.sz);
+  auto rel = [&](int vtx, int axis, F o) { return L::sub(L::load(b, vtx, axis), o); };
+  const F a_x = rel(0, r.kx, ox), a_y = rel(0, r.ky, oy), a_z = rel(0, r.kz, oz);
+  const F b_x = rel(1, r.kx, ox), b_y = rel(1, r.ky, oy), b_z = rel(1, r.kz, oz);
+  const F c_x = rel(2, r.kx, ox), c_y = rel(2, r.ky, oy), c_z = rel(2, r.kz, oz);
   const F ax = L::sub(a_x, L::mul(sx, a_z)), ay = L::sub(a_y, L::mul(sy, a_z));
   const F bx = L::sub(b_x, L::mul(sx, b_z)), by = L::sub(b_y, L::mul(sy, b_z));
   const F cx = L::sub(c_x, L::mul(sx, c_z)), cy = L::sub(c_y, L::mul(sy, c_z));
@@ -140,9 +142,8 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
 /// Tests the lanes set in `lanes` (bit l = lane l % 4 of block b[l / 4]; bits >= 4 only when
 /// kBlockTestLanes is 8, and then b[1] must exist) in one pass: one block in four lanes, two
 /// adjacent blocks in eight.
-template <class R>
-inline void intersect_block(const TriangleBlock* b, uint32_t lanes, const BlockRay<R>& r, float tmin, float tmax,
-                            BlockHits& out) {
+inline void intersect_block(const TriangleBlock* b, uint32_t lanes, const BlockRay<BlockTestLanes>& r, float tmin,
+                            float tmax, BlockHits& out) {
 #if defined(__AVX2__)
   if (lanes >> kTriangleBlockWidth) return intersect_lanes<Lanes8>(b, lanes, r, tmin, tmax, out);
 #endif

@@ -112,6 +112,7 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         tri_tests += count;
         for (uint32_t slot = first, end = first + count; slot < end;) {
           const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
+          // Up to two blocks per test: lanes >= 4 (block + 1) are set only when the leaf reaches it.
           const uint32_t n = std::min(detail::kBlockTestLanes - lane0, end - slot);
           const uint32_t slot0 = block * kTriangleBlockWidth;
           detail::intersect_block(&leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, best.t, bh);
@@ -243,13 +244,15 @@ bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
           const uint32_t block = slot / kTriangleBlockWidth, lane0 = slot % kTriangleBlockWidth;
           // One block at a time (not two as in intersect_impl): an early hit skips the rest.
           const uint32_t n = std::min(kTriangleBlockWidth - lane0, end - slot);
-          detail::intersect_lanes<detail::Lanes4>(&leaf_blocks[block], ((1u << n) - 1u) << lane0, br, ray.tmin, ray.tmax, bh);
+          const uint32_t lanes = ((1u << n) - 1u) << lane0;
+          detail::intersect_lanes<detail::Lanes4>(&leaf_blocks[block], lanes, br, ray.tmin, ray.tmax, bh);
           slot += n;
           tri_tests += n;  // every valid lane was tested
           hit = bh.hit != 0;
           for (uint32_t m = bh.fallback; m && !hit; m &= m - 1) {
             float t, u, v;
-            hit = intersect_triangle(ray.org, rp, leaf_triangle(block * kTriangleBlockWidth + std::countr_zero(m)), ray.tmin, ray.tmax, t, u, v);
+            const Triangle tri = leaf_triangle(block * kTriangleBlockWidth + std::countr_zero(m));
+            hit = intersect_triangle(ray.org, rp, tri, ray.tmin, ray.tmax, t, u, v);
           }
         }
         break;

@@ -79,7 +79,7 @@ static_assert(sizeof(WideNode) == 256);
 /// packets", 2008, and Embree's BVH8) or by SAH-optimal dynamic programming (Ylitie, Karras,
 /// Laine 2017; it may also merge small subtrees into one leaf); see BvhBuildConfig::collapse.
 /// It keeps its own copy of the triangles in leaf order, four per TriangleBlock, so traversal
-/// reads leaves contiguously and tests four triangles at once (closest hit with AVX: eight,
+/// reads leaves contiguously and tests four triangles at once (closest hit with AVX2: eight,
 /// when a leaf spans two blocks); hits report the original triangle ids and are bit-identical
 /// to BruteForce (core's robust box and watertight triangle tests, the same float operations
 /// in every SIMD lane).
