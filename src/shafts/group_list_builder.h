@@ -25,8 +25,6 @@ class GroupListBuilder {
  public:
   static constexpr int kMaxGroup = 64;
 
-  /// Working memory of a builder; one per thread, reused across groups (a fresh builder per
-  /// group spent measurable time in allocations).
   /// DFS stack of (node, member mask); push stays inline (vector::push_back was not).
   class Stack {
    public:
@@ -42,6 +40,8 @@ class GroupListBuilder {
     std::vector<std::pair<uint32_t, uint64_t>> buf_;
     size_t n_ = 0;
   };
+  /// Working memory of a builder; one per task range, reused across its groups (a fresh
+  /// builder per group spent measurable time in allocations).
   struct Scratch {
     std::vector<int32_t> hit;  ///< per sample ray: enters the current box before its hit
     Stack stack, cull_stack;
@@ -63,6 +63,9 @@ class GroupListBuilder {
   GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft* const> members,
                    const ShaftSamples& samples, int samples_per_shaft)
       : GroupListBuilder(tree, group, members, samples, samples_per_shaft, own_) {}
+  // s_ may point at own_: a copy would share the source's scratch.
+  GroupListBuilder(const GroupListBuilder&) = delete;
+  GroupListBuilder& operator=(const GroupListBuilder&) = delete;
 
   /// Algorithm 1 with threshold min_prob for every member in `active`; lists[i] receives
   /// member i's node indices near first. Returns the members whose list fit in max_len (the

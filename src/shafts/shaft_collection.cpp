@@ -382,7 +382,7 @@ std::string ShaftStats::summary() const {
     << overflow_retries << ", fallbacks " << overflow_fallbacks << "\n"
     << "build " << build_ms << " ms in " << build_rounds << " round(s) (budget pilots " << pilot_ms
     << " ms); last round: selection " << select_ms
-    << " ms, lists " << lists_ms << " ms (sample rays " << samples_ms << " ms), packing " << pack_ms << " ms";
+    << " ms, lists " << lists_ms << " ms (sample-ray tracing " << samples_ms << " CPU ms over all threads), packing " << pack_ms << " ms";
   if (traced_samples > 0) s << "; " << traced_samples << " shared sample rays traced";
   return s.str();
 }

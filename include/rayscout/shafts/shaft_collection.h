@@ -24,7 +24,7 @@ struct ShaftStats {
   double pilot_ms = 0.0;             ///< wall: the budget's pilot search before the first round
   double select_ms = 0.0;            ///< last round, wall: choosing the listed voxels / shafts
   double lists_ms = 0.0;             ///< last round, wall: sample rays and Algorithm 1
-  double samples_ms = 0.0;           ///< last round, wall: of lists_ms, tracing the sample rays
+  double samples_ms = 0.0;           ///< last round: tracing the sample rays (traced per chunk: summed over threads, may exceed lists_ms)
   double pack_ms = 0.0;              ///< last round, wall: deduplication and packing
   size_t traced_samples = 0;         ///< sample rays traced when reuse_rays shares them (else 0)
   std::array<int, 3> res{};          ///< voxels per axis
