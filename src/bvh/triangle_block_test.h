@@ -142,8 +142,10 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
 /// Tests the lanes set in `lanes` (bit l = lane l % 4 of block b[l / 4]; bits >= 4 only when
 /// kBlockTestLanes is 8, and then b[1] must exist) in one pass: one block in four lanes, two
 /// adjacent blocks in eight.
-inline void intersect_block(const TriangleBlock* b, uint32_t lanes, const BlockRay<BlockTestLanes>& r, float tmin,
-                            float tmax, BlockHits& out) {
+/// Always inlined: GCC 12 called it out of line from the traversal loop, 2-5 % slower.
+[[gnu::always_inline]] inline void intersect_block(const TriangleBlock* b, uint32_t lanes,
+                                                   const BlockRay<BlockTestLanes>& r, float tmin, float tmax,
+                                                   BlockHits& out) {
 #if defined(__AVX2__)
   if (lanes >> kTriangleBlockWidth) return intersect_lanes<Lanes8>(b, lanes, r, tmin, tmax, out);
 #endif
