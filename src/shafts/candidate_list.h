@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "rayscout/core/triangle.h"
-#include "rayscout/shafts/shaft.h"
+#include "shaft.h"
 #include "rayscout/shafts/tree_view.h"
 
 namespace rayscout::detail {

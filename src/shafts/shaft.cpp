@@ -1,5 +1,5 @@
 // Shaft: separating axes of voxel (+) cone, and sample rays inside the shaft.
-#include "rayscout/shafts/shaft.h"
+#include "shaft.h"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "rayscout/shafts/shaft.h"
+#include "../../src/shafts/shaft.h"
 #include "rayscout/shafts/shaft_grid.h"
 
 namespace rayscout {

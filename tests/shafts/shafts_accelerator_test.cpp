@@ -10,7 +10,7 @@
 #include "rayscout/core/hit_compare.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/scene/load_scene.h"
-#include "rayscout/shafts/shaft.h"
+#include "../../src/shafts/shaft.h"
 #include "rayscout/shafts/shafts_accelerator.h"
 
 namespace rayscout {

@@ -1,5 +1,5 @@
-// Shaft: the conservative geometry of one shaft (voxel x direction cell), used only while
-// building candidate lists.
+// Shaft (private): the conservative geometry of one shaft (voxel x direction cell), used
+// only while building candidate lists.
 #pragma once
 
 #include <algorithm>
