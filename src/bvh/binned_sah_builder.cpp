@@ -4,6 +4,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <string>
 
@@ -131,6 +132,7 @@ class Builder {
   void make_leaf(Bvh2Node& node, uint32_t begin, uint32_t n) {
     node.first = begin;
     node.count = uint16_t(n);
+    leaves_.fetch_add(1, std::memory_order_relaxed);
   }
 
   struct Binner {
@@ -306,6 +308,10 @@ class Builder {
   std::span<PrimRef> refs_;
   const BvhBuildConfig& config_;
   std::vector<Bvh2Node>& slots_;
+
+ public:
+  /// Leaves made so far: a binary tree with L leaves has 2 L - 1 nodes.
+  std::atomic<uint32_t> leaves_{0};
 };
 
 }  // namespace
@@ -344,13 +350,16 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
       [](Both a, const Both& b) { a.box.extend(b.box); a.cbox.extend(b.cbox); return a; });
 
   std::vector<Bvh2Node> slots(2 * size_t(n) - 1);
-  Builder(refs, config, slots).build(0, {0, n, all.box, all.cbox}, 1);
+  Builder builder(refs, config, slots);
+  builder.build(0, {0, n, all.box, all.cbox}, 1);
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const auto& r) {
     for (uint32_t i = r.begin(); i != r.end(); ++i) prim_ids[i] = id_of(refs[i]);
   });
 
   // Compact the scheduling-independent slot layout into depth-first order, siblings adjacent.
-  nodes.reserve(2 * size_t(n) - 1);
+  // Exactly the reachable nodes: no over-sized buffer to shrink and copy (first touches of
+  // fresh pages are a large part of a cold build).
+  nodes.reserve(2 * size_t(builder.leaves_.load()) - 1);
   nodes.push_back(slots[0]);
   struct Item { uint32_t node, slot; int depth; };
   std::vector<Item> stack{{0, 0, 0}};
@@ -368,7 +377,6 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
     stack.push_back({c + 1, s.first + 1, it.depth + 1});
     stack.push_back({c, s.first, it.depth + 1});
   }
-  nodes.shrink_to_fit();
   return depth;
 }
 

@@ -196,9 +196,14 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
   if (bvh.nodes.empty()) return w;
   w.bounds = bvh.nodes[0].bounds;
   w.split_references = bvh.split_references;
-  w.prim_ids.reserve(bvh.prim_ids.size());
-  w.leaf_blocks.reserve(bvh.prim_ids.size() / 3 + 1);
-  w.nodes.reserve(bvh.nodes.size() / 4 + 1);
+  // Upper bounds, so the buffers never grow by copying: a leaf of n references takes at most
+  // ceil(n / 4) blocks (merged leaves no more than their parts), and every wide node comes
+  // from a different inner Bvh2 node.
+  const size_t bvh2_leaves = (bvh.nodes.size() + 1) / 2;
+  w.leaf_blocks.reserve((bvh.prim_ids.size() + 3 * bvh2_leaves) / kTriangleBlockWidth + 1);
+  w.prim_ids.reserve(w.leaf_blocks.capacity() * kTriangleBlockWidth);
+  w.nodes.reserve(bvh2_leaves);
+  w.source_node.reserve(bvh2_leaves);
   std::unique_ptr<SahCollapse> sah;
   if (config.collapse == CollapseMethod::Sah) sah = std::make_unique<SahCollapse>(bvh, config);
   struct Item { uint32_t wide, bvh2; int depth; };
@@ -264,9 +269,8 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
       for (size_t k = b * kTriangleBlockWidth; k < (b + 1) * kTriangleBlockWidth; ++k)
         if (w.prim_ids[k] != kInvalidId) { w.leaf_blocks[b].set(int(s % kTriangleBlockWidth), w.leaf_triangle(k)); break; }
     }
-  w.prim_ids.shrink_to_fit();
-  w.leaf_blocks.shrink_to_fit();
-  w.nodes.shrink_to_fit();
+  // No shrink_to_fit: copying into exact-size buffers touches fresh pages, a large part of a
+  // cold build; the reserve's unused tail is never touched (memory_bytes counts sizes).
   return w;
 }
 

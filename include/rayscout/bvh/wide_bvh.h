@@ -125,10 +125,11 @@ class WideBvh {
   std::string validate(size_t triangle_count) const;
   /// Wide nodes on the longest root-to-leaf path (a root with only leaf children is 1).
   int depth() const { return depth_; }
-  /// Bytes of nodes, prim_ids, leaf_blocks and source_node.
+  /// Bytes of nodes, prim_ids, leaf_blocks and source_node (their sizes: reserved, never
+  /// touched capacity does not count).
   size_t memory_bytes() const {
-    return nodes.capacity() * sizeof(WideNode) + prim_ids.capacity() * sizeof(uint32_t) +
-           leaf_blocks.capacity() * sizeof(TriangleBlock) + source_node.capacity() * sizeof(uint32_t);
+    return nodes.size() * sizeof(WideNode) + prim_ids.size() * sizeof(uint32_t) +
+           leaf_blocks.size() * sizeof(TriangleBlock) + source_node.size() * sizeof(uint32_t);
   }
 
  private:
