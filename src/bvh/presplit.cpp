@@ -92,26 +92,27 @@ void split_into(const Triangle& tri, const Bounds3& box, uint32_t n, const Bound
 PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces) {
   const size_t n = tris.size();
   PrimReferences refs;
-  std::vector<Bounds3> boxes(n);
-  std::vector<float> priority(n, 0.0f);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      boxes[i] = tris[i].bounds();
-      if (budget > 0.0f) priority[i] = std::pow(std::max(0.0f, boxes[i].surface_area() - 2.0f * tris[i].area()), 0.3f);
-    }
-  });
   if (!(budget > 0.0f) || n == 0) {
-    refs.boxes = std::move(boxes);
+    refs.boxes.resize(n);
     refs.ref_tri.resize(n);
-    for (size_t i = 0; i < n; ++i) refs.ref_tri[i] = uint32_t(i);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) refs.boxes[i] = tris[i].bounds(), refs.ref_tri[i] = uint32_t(i);
+    });
     return refs;
   }
+  // Triangle boxes are recomputed where needed rather than kept: an array of them is fresh
+  // memory to fault in, which costs more than the few min/max operations.
+  std::vector<float> priority(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i)
+      priority[i] = std::pow(std::max(0.0f, tris[i].bounds().surface_area() - 2.0f * tris[i].area()), 0.3f);
+  });
   struct Sum { double p = 0; Bounds3 scene; };
   // Deterministic reduction: the floating-point sum must not depend on the thread count.
   const Sum total = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<size_t>(0, n, 4096), Sum{},
       [&](const auto& r, Sum s) {
-        for (size_t i = r.begin(); i != r.end(); ++i) { s.p += priority[i]; s.scene.extend(boxes[i]); }
+        for (size_t i = r.begin(); i != r.end(); ++i) { s.p += priority[i]; s.scene.extend(tris[i].bounds()); }
         return s;
       },
       [](Sum a, const Sum& b) { a.p += b.p; a.scene.extend(b.scene); return a; });
@@ -147,7 +148,7 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, 
   refs.ref_tri.resize(offset[n]);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      split_into(tris[i], boxes[i], count[i], total.scene, &refs.boxes[offset[i]]);
+      split_into(tris[i], tris[i].bounds(), count[i], total.scene, &refs.boxes[offset[i]]);
       for (uint32_t k = offset[i]; k < offset[i + 1]; ++k) refs.ref_tri[k] = uint32_t(i);
     }
   });
