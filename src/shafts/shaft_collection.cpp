@@ -152,15 +152,17 @@ void store_sample(detail::ShaftSamples& samples, size_t k, const Vec3& org, cons
 
 /// Fills samples [at, at + config.samples) with the sample rays of shaft (voxel x cell `sid`)
 /// and their closest-hit distances.
-void make_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, uint64_t sid,
-                  const ShaftCollection::TraceFn& trace, const ShaftConfig& config, detail::ShaftSamples& samples,
-                  size_t at) {
+/// Draws the `config.samples` own sample rays of shaft `sid` (voxel box, direction cell),
+/// traces each and hands it to out(s, ray, hit_t).
+template <class Out>
+void trace_own_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, uint64_t sid,
+                       const ShaftCollection::TraceFn& trace, const ShaftConfig& config, Out&& out) {
   SampleStream stream(sid, config);
   for (int s = 0; s < config.samples; ++s) {
     float rnd[5];
     stream.next(s, rnd);
     const Ray ray = Shaft::sample_ray(voxel, cell, rnd);
-    store_sample(samples, at + size_t(s), ray.org, ray.dir, trace(ray));
+    out(size_t(s), ray, trace(ray));
   }
 }
 
@@ -266,7 +268,7 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
   return traced;
 }
 
-/// The own sample rays (those make_samples draws) of every selected shaft of listed voxels
+/// The own sample rays (trace_own_samples) of every selected shaft of listed voxels
 /// [l0, l1), traced direction cell by direction cell, into pool[(cell * (l1 - l0) + li - l0)
 /// * per + k]: rays of one cell from neighbouring voxels take similar paths through the BVH,
 /// so the tracing stays in cache (a voxel's own rays scatter in all 6 d^2 directions). The
@@ -283,15 +285,10 @@ void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& list
       const uint32_t v = listed[li];
       const uint64_t sid = uint64_t(v) * cells + cell;
       if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
-      const Bounds3 vbox = grid.voxel_box(v);
-      SampleStream stream(sid, config);
       PooledSample* out = pool.data() + (size_t(cell) * n + (li - l0)) * per;
-      for (size_t s = 0; s < per; ++s) {
-        float rnd[5];
-        stream.next(int(s), rnd);
-        const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
-        out[s] = {{ray.org.x, ray.org.y, ray.org.z}, {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z}, trace(ray)};
-      }
+      trace_own_samples(grid.voxel_box(v), crange, sid, trace, config, [&](size_t s, const Ray& ray, float hit_t) {
+        out[s] = {{ray.org.x, ray.org.y, ray.org.z}, {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z}, hit_t};
+      });
     }
   }
 }
@@ -323,7 +320,8 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples));
-  make_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace, config, samples, 0);
+  trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace,
+                    config, [&](size_t s, const Ray& ray, float hit_t) { store_sample(samples, s, ray.org, ray.dir, hit_t); });
   build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
 }
 
@@ -515,13 +513,8 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         Shaft group = group_shafts[gi];
         group.set_voxel(grid, voxel);
         samples.resize(members.size() * per);
-        const Bounds3 vbox = grid.voxel_box(voxel);
-        for (size_t m = 0; m < members.size(); ++m) {
-          if (!chunked && pool.empty()) {
-            make_samples(vbox, members[m]->cell(), uint64_t(voxel) * cells + member_cells[m], trace, config, samples,
-                         m * per);
-            continue;
-          }
+        // Without a tree there is nothing to walk, and no samples were traced.
+        for (size_t m = 0; m < members.size() && tree.size() > 0; ++m) {
           const PooledSample* from =
               chunked ? chunk_pool.data() + (member_cells[m] * (chunk_end - chunk_begin) + (li - chunk_begin)) * per
                       : pool.data() + (member_cells[m] * listed.size() + li) * per;
