@@ -49,10 +49,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         const __m128 c = _mm_mul_ps(_mm_add_ps(blo, bhi), half);  // Bounds3::center()
         const int b = std::clamp(int((t.center(axis) - lo) * scale), 0, k - 1);
         bin_idx[i] = uint8_t(b);
-        VBin& v = vbins_[set][b];
-        // min(x, acc) / max(x, acc) are std::min(acc, x) / std::max(acc, x) of Bounds3::extend.
-        v.lo = _mm_min_ps(blo, v.lo); v.hi = _mm_max_ps(bhi, v.hi);
-        v.clo = _mm_min_ps(c, v.clo); v.chi = _mm_max_ps(c, v.chi);
+        vbins_[set][b].extend(blo, bhi, c);
         ++counts_[set][b];
       };
       size_t i = 0;
@@ -60,10 +57,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
       if (i < nt) add(0, i);
       VBin* bins = vbins_[0];
       for (int j = 0; j < k; ++j) {
-        const VBin& o = vbins_[1][j];
-        VBin& b = bins[j];
-        b.lo = _mm_min_ps(o.lo, b.lo); b.hi = _mm_max_ps(o.hi, b.hi);
-        b.clo = _mm_min_ps(o.clo, b.clo); b.chi = _mm_max_ps(o.chi, b.chi);
+        bins[j].extend(vbins_[1][j]);
         counts_[0][j] += counts_[1][j];
       }
       const uint32_t* count = counts_[0];
@@ -73,9 +67,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
       VBin acc = {pinf, ninf, pinf, ninf};
       uint32_t n_acc = 0;
       auto sweep = [&](int j, Bin& out) {
-        const VBin& b = bins[j];
-        acc.lo = _mm_min_ps(b.lo, acc.lo); acc.hi = _mm_max_ps(b.hi, acc.hi);
-        acc.clo = _mm_min_ps(b.clo, acc.clo); acc.chi = _mm_max_ps(b.chi, acc.chi);
+        acc.extend(bins[j]);
         n_acc += count[j];
         out.box = to_bounds(acc.lo, acc.hi); out.cb = to_bounds(acc.clo, acc.chi); out.n = n_acc;
       };

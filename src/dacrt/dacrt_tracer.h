@@ -151,7 +151,19 @@ class DacrtTracer {
   uint64_t rng_;
   // Binning and sampling buffers, reused by every node (no per-node allocation).
   struct Bin { Bounds3 box, cb; uint32_t n = 0; };
-  struct VBin { __m128 lo, hi, clo, chi; };  // box and centroid bounds, rows x, y, z, unused
+  // Box and centroid bounds as rows x, y, z, unused. min(x, acc) / max(x, acc) are
+  // std::min(acc, x) / std::max(acc, x) of Bounds3::extend.
+  struct VBin {
+    __m128 lo, hi, clo, chi;
+    void extend(__m128 blo, __m128 bhi, __m128 c) {
+      lo = _mm_min_ps(blo, lo); hi = _mm_max_ps(bhi, hi);
+      clo = _mm_min_ps(c, clo); chi = _mm_max_ps(c, chi);
+    }
+    void extend(const VBin& o) {
+      lo = _mm_min_ps(o.lo, lo); hi = _mm_max_ps(o.hi, hi);
+      clo = _mm_min_ps(o.clo, clo); chi = _mm_max_ps(o.chi, chi);
+    }
+  };
   Bin left_[256], right_[256];
   VBin vbins_[2][256];
   uint32_t counts_[2][256];

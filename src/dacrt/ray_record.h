@@ -27,7 +27,7 @@ static_assert(sizeof(RayShear) == 16);
 
 /// The RayPrecomp of core's intersect_triangle for a RayShear (inv_dir is not used by it).
 inline RayPrecomp to_precomp(const RayShear& s) {
-  RayPrecomp p(Vec3(0.0f, 0.0f, 1.0f));
+  RayPrecomp p;
   p.kx = int(s.k & 0xFF); p.ky = int((s.k >> 8) & 0xFF); p.kz = int(s.k >> 16);
   p.sx = s.sx; p.sy = s.sy; p.sz = s.sz;
   return p;

@@ -28,6 +28,9 @@ struct RayPrecomp {
   float sx = 0, sy = 0, sz = 1;
   Vec3 inv_dir;
 
+  /// Fields at their defaults (kz = z, no shear, inv_dir 0), to be filled from elsewhere
+  /// without the divisions of the constructor below.
+  RayPrecomp() = default;
   explicit RayPrecomp(const Vec3& dir) {
     kz = max_axis(abs(dir));
     kx = kz == 2 ? 0 : kz + 1;
