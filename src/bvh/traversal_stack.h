@@ -17,10 +17,8 @@ class TraversalStack {
     }
   }
   void push(const Entry& e) { data_[size_++] = e; }
-  /// The first free slot, for writing several entries at once (then call grow).
+  /// The first free slot: the base of a traversal that keeps its own stack pointer.
   Entry* top() { return data_ + size_; }
-  /// Marks n entries written at top() as pushed.
-  void grow(size_t n) { size_ += n; }
   Entry pop() { return data_[--size_]; }
   bool empty() const { return size_ == 0; }
 

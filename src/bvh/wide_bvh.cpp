@@ -223,7 +223,8 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
       node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = -kInfinity;
     }
     node.count = uint32_t(k);
-    std::vector<Item> children;
+    Item children[kWideWidth];
+    int inner = 0;
     for (int c = 0; c < k; ++c) {
       const Bvh2Node& n = bvh.nodes[kids[c].node];
       node.lo_x[c] = n.bounds.lo.x; node.lo_y[c] = n.bounds.lo.y; node.lo_z[c] = n.bounds.lo.z;
@@ -255,11 +256,11 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
         node.child[c] = uint32_t(w.nodes.size());
         w.nodes.emplace_back();
         w.source_node.push_back(kids[c].node);
-        children.push_back({node.child[c], kids[c].node, it.depth + 1});
+        children[inner++] = {node.child[c], kids[c].node, it.depth + 1};
       }
     }
     w.nodes[it.wide] = node;
-    for (size_t c = children.size(); c-- > 0;) stack.push_back(children[c]);
+    for (int c = inner; c-- > 0;) stack.push_back(children[c]);
   }
   w.prim_ids.resize(w.leaf_blocks.size() * kTriangleBlockWidth, kInvalidId);
   // Unused lanes get a copy of a real triangle of their block: finite values, masked off anyway.
