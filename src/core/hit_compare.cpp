@@ -7,10 +7,27 @@
 
 namespace rayscout {
 
-bool is_grazing(const Hit& h, const HitCompareConfig& config) {
+namespace {
+
+// The t difference that counts as rel_tol = 1 for ray i hitting at t_ref (HitCompareConfig).
+float t_scale(const HitCompareConfig& config, size_t i, float t_ref) {
+  if (!config.rays || i >= config.rays->size()) return std::max(1.0f, std::fabs(t_ref));
+  const Ray r = (*config.rays)[i];
+  const float len = length(r.dir);
+  if (!(len > 0.0f) || !std::isfinite(len)) return std::max(1.0f, std::fabs(t_ref));
+  const Vec3 p = r.org + r.dir * t_ref;
+  const float world = std::max({1.0f, max_component(abs(r.org)), max_component(abs(p))});
+  if (!std::isfinite(world)) return std::max(1.0f, std::fabs(t_ref));
+  return world / len;
+}
+
+}  // namespace
+
+bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray) {
   if (!h.hit()) return false;
   const float w = 1.0f - h.u - h.v;
-  return std::min({h.u, h.v, w}) <= config.edge_eps || std::fabs(h.t) <= config.rel_tol;
+  return std::min({h.u, h.v, w}) <= config.edge_eps ||
+         std::fabs(h.t) <= config.rel_tol * t_scale(config, ray, 0.0f);
 }
 
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, float rel_tol) {
@@ -38,19 +55,19 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     const Hit r = ref[i], g = got[i];
     if (r.hit() != g.hit()) {
       // The side that hit found a contact the other missed.
-      if (config.allow_grazing && is_grazing(r.hit() ? r : g, config)) { ++d.grazing; continue; }
+      if (config.allow_grazing && is_grazing(r.hit() ? r : g, config, i)) { ++d.grazing; continue; }
       ++d.hit_miss;
       note(i, "hit/miss");
       continue;
     }
     if (!r.hit()) continue;
     ++d.both_hit;
-    const float diff = std::fabs(g.t - r.t) / std::max(1.0f, std::fabs(r.t));
+    const float diff = std::fabs(g.t - r.t) / t_scale(config, i, r.t);
     const bool t_close = diff <= config.rel_tol;
     if (r.prim != g.prim) {
       if (t_close) {
         ++d.ties;
-      } else if (config.allow_grazing && is_grazing(g.t < r.t ? g : r, config)) {
+      } else if (config.allow_grazing && is_grazing(g.t < r.t ? g : r, config, i)) {
         ++d.grazing;  // the nearer contact is grazing; the other side passed it by
         continue;
       } else {
@@ -88,7 +105,7 @@ OcclusionDiff compare_occlusion(const std::vector<uint8_t>& ref, const std::vect
     d.occluded_got += got[i] != 0;
     if ((ref[i] != 0) == (got[i] != 0)) continue;
     const HitBatch* blocker = ref[i] ? ref_hits : got_hits;
-    if (config.allow_grazing && blocker && i < blocker->size() && is_grazing((*blocker)[i], config)) {
+    if (config.allow_grazing && blocker && i < blocker->size() && is_grazing((*blocker)[i], config, i)) {
       ++d.grazing;
       continue;
     }

@@ -35,6 +35,31 @@ TEST(HitCompare, DistanceToleranceIsRelativeAboveOne) {
   EXPECT_FALSE(d.ok());
 }
 
+// With the rays, the tolerance is world space: a short direction 50 units from the origin
+// (the case of Sponza's floor seen along a 1e-3-long direction, t 79.26 vs 79.25) agrees,
+// while the same t error on a unit direction near the origin does not.
+TEST(HitCompare, WorldSpaceToleranceWithRays) {
+  RayBatch rays;
+  rays.push_back({{-49.5f, -11.4f, -7.3f}, 0.0f, {8.9e-4f, -6.1e-4f, 6.2e-5f}, kInfinity});
+  rays.push_back({{0.1f, 0.2f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, kInfinity});
+  const HitBatch ref = batch({{79.2638f, 3, 0.2f, 0.3f}, {0.5f, 4, 0.2f, 0.3f}});
+  const HitBatch got = batch({{79.2450f, 3, 0.2f, 0.3f}, {0.5002f, 4, 0.2f, 0.3f}});
+  HitCompareConfig cfg;
+  cfg.rel_tol = 1e-4f;
+  HitDiff d = compare_hits(ref, got, cfg);
+  EXPECT_EQ(d.t_mismatch, 2u);  // relative to t: 2.4e-4 and 2e-4
+  cfg.rays = &rays;
+  d = compare_hits(ref, got, cfg);
+  EXPECT_EQ(d.t_mismatch, 1u);  // world: 2.0e-5 units at |o| = 49.5 agrees; 2e-4 at |o| < 1 does not
+  EXPECT_NE(d.first.find("ray 1:"), std::string::npos) << d.first;
+  EXPECT_NEAR(d.max_rel_diff, 2e-4, 1e-5);
+  // A hit 1e-3 world units from an origin at 49.5 is a contact at t ~ 0 in world space.
+  const Hit touch{1.0f, 3, 0.3f, 0.3f};
+  cfg.rel_tol = 1e-4f;
+  EXPECT_TRUE(is_grazing({0.05f, 3, 0.3f, 0.3f}, cfg, 0));   // 5.4e-5 units
+  EXPECT_FALSE(is_grazing(touch, cfg, 1));                  // 1 unit from the origin
+}
+
 TEST(HitCompare, TiesAreCountedNotErrors) {
   const HitBatch ref = batch({{1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
   const HitBatch got = batch({{1.0f, 9, 0.2f, 0.3f}, {1.5f, 9, 0.2f, 0.3f}});

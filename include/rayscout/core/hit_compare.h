@@ -12,8 +12,16 @@ namespace rayscout {
 
 /// How compare_hits judges two hit batches.
 struct HitCompareConfig {
-  /// t agrees when |t - t_ref| <= rel_tol * max(1, |t_ref|). 0 = bit-identical.
+  /// t agrees when |t - t_ref| <= rel_tol * scale, scale = max(1, |t_ref|) without `rays`.
+  /// 0 = bit-identical.
   float rel_tol = 1e-5f;
+  /// The rays both batches traced (optional, must outlive the call). With them the tolerance
+  /// is in world space, the precision float coordinates really have: t agrees when
+  /// |t - t_ref| |d| <= rel_tol * max(1, |o|, |o + t_ref d|) (max norms). A hit near the
+  /// origin far from the world origin then gets the few ulps of its coordinates, which a
+  /// tolerance relative to t alone denies (e.g. 0.02 in t = 2e-5 world units on a
+  /// 1e-3-long direction at 50 units from the origin).
+  const RayBatch* rays = nullptr;
   /// Disagreements at a grazing contact (see is_grazing) are counted in HitDiff::grazing
   /// instead of as errors: a ray exactly through a mesh's boundary edge or vertex, or a ray
   /// starting on a surface, may or may not hit depending on the last bit of arithmetic.
@@ -24,8 +32,9 @@ struct HitCompareConfig {
 };
 
 /// True for a hit on an edge or vertex of its triangle (a barycentric <= edge_eps) or at
-/// t <= rel_tol (a ray leaving the surface it starts on).
-bool is_grazing(const Hit& h, const HitCompareConfig& config);
+/// t within the tolerance of 0 (a ray leaving the surface it starts on); `ray`: the index of
+/// the hit's ray in config.rays, when given.
+bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray = 0);
 
 /// Disagreements between a reference and a candidate hit batch.
 struct HitDiff {
@@ -33,11 +42,11 @@ struct HitDiff {
   size_t both_hit = 0;      ///< rays both batches hit
   size_t hit_miss = 0;      ///< one hits, the other misses
   size_t other_prim = 0;    ///< both hit, different triangle and different t
-  size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * max(1, t_ref)
+  size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * scale
   size_t ties = 0;          ///< different triangle at the same t (within tolerance): not an error
   size_t grazing = 0;       ///< disagreements at a grazing contact (allow_grazing only): not an error
-  /// Max and 99th percentile of |t - t_ref| / max(1, |t_ref|) over rays that both hit
-  /// (the same triangle or a tie).
+  /// Max and 99th percentile of |t - t_ref| / scale (HitCompareConfig::rel_tol) over rays
+  /// that both hit (the same triangle or a tie).
   double max_rel_diff = 0.0, p99_rel_diff = 0.0;
   std::string first;        ///< description of the first disagreement
   bool ok() const { return hit_miss == 0 && other_prim == 0 && t_mismatch == 0; }
