@@ -1,6 +1,7 @@
 // `rayscout compare-hits A B`: ray-by-ray agreement of two HITS (or two OCCL) files.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 
@@ -13,7 +14,7 @@ namespace rayscout::cli {
 namespace {
 
 struct CompareArgs {
-  std::string a, b;
+  std::string a, b, rays, hits_a, hits_b;
   float tolerance = 1e-4f;
   float edge_eps = 1e-4f;
   bool strict = false;
@@ -29,17 +30,39 @@ bool compare_files(const CompareArgs& args) {
   cfg.rel_tol = args.tolerance;
   cfg.allow_grazing = !args.strict;
   cfg.edge_eps = args.edge_eps;
+  RayBatch rays;
+  if (!args.rays.empty()) {
+    rays = read_rays(args.rays);
+    cfg.rays = &rays;
+  }
 
+  // Every file of a comparison describes the same rays.
+  auto check_size = [&](size_t n, const std::string& file, const char* what) {
+    if (cfg.rays && rays.size() != n)
+      throw InputError(args.rays + ": " + std::to_string(rays.size()) + " rays, but " + file + " holds " +
+                       std::to_string(n) + " " + what);
+  };
   if (ka == RayFileKind::Occlusion) {
-    const OcclusionDiff d = compare_occlusion(read_occlusion(args.a), read_occlusion(args.b), cfg);
+    if (args.hits_a.empty() != args.hits_b.empty()) throw InputError("--hits-a and --hits-b go together");
+    HitBatch ha, hb;
+    if (!args.hits_a.empty()) {
+      ha = read_hits(args.hits_a);
+      hb = read_hits(args.hits_b);
+    }
+    const bool with_hits = !args.hits_a.empty();
+    const std::vector<uint8_t> oa = read_occlusion(args.a), ob = read_occlusion(args.b);
+    check_size(oa.size(), args.a, "results");
+    const OcclusionDiff d = compare_occlusion(oa, ob, cfg, with_hits ? &ha : nullptr, with_hits ? &hb : nullptr);
     fmt::print("rays:                  {}\n", d.rays);
     fmt::print("occluded:              {} in A, {} in B\n", d.occluded_ref, d.occluded_got);
     fmt::print("disagreements:         {}\n", d.differ);
+    if (with_hits && !args.strict) fmt::print("grazing contacts:      {} (the occluded side's closest hit is grazing; not counted)\n", d.grazing);
     if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
     fmt::print("result:                {}\n", d.ok() ? "OK" : "DIFFERENT");
     return d.ok();
   }
   const HitBatch ha = read_hits(args.a), hb = read_hits(args.b);
+  check_size(ha.size(), args.a, "hits");
   const HitDiff d = compare_hits(ha, hb, cfg);
   size_t hits_a = 0, hits_b = 0;
   for (uint32_t p : ha.prim) hits_a += p != kInvalidId;
@@ -51,8 +74,8 @@ bool compare_files(const CompareArgs& args) {
   fmt::print("grazing contacts:      {}{}\n", d.grazing,
              args.strict ? "" : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", cfg.edge_eps));
   fmt::print("t beyond tolerance:    {}\n", d.t_mismatch);
-  fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} (|dt| / max(1, t_A))\n",
-             d.max_rel_diff, d.p99_rel_diff);
+  fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} ({})\n", d.max_rel_diff, d.p99_rel_diff,
+             cfg.rays ? "world space: |dt| |d| / max(1, |o|, |hit point|)" : "|dt| / max(1, t_A)");
   if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
   fmt::print("result:                {} (tolerance {:g})\n", d.ok() ? "OK" : "DIFFERENT", args.tolerance);
   return d.ok();
@@ -64,10 +87,19 @@ CommandRegistration registration{[](CLI::App& app) {
       "compare-hits", "Compare two HITS (or two OCCL) files ray by ray; exit 1 when they differ beyond the tolerance");
   cmd->add_option("A", args->a, "Reference HITS or OCCL file")->required();
   cmd->add_option("B", args->b, "Candidate file of the same kind")->required();
-  cmd->add_option("--tolerance", args->tolerance, "Relative t tolerance: |tA - tB| <= tol * max(1, tA)")
+  cmd->add_option("--tolerance", args->tolerance,
+                  "Relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
+                  "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms)")
       ->capture_default_str();
+  cmd->add_option("--rays", args->rays,
+                  "The RAYS file both were traced from: judge distances in world space, where float "
+                  "coordinates have their precision (a hit near the origin far from the world origin)");
   cmd->add_option("--edge-eps", args->edge_eps,
                   "A hit with a barycentric <= this is a grazing (edge/vertex) contact")->capture_default_str();
+  cmd->add_option("--hits-a", args->hits_a,
+                  "OCCL only: A's closest hits (HITS file) of the same rays, so that a disagreement whose "
+                  "blocker is a grazing contact is not counted");
+  cmd->add_option("--hits-b", args->hits_b, "OCCL only: B's closest hits of the same rays");
   cmd->add_flag("--strict", args->strict, "Count disagreements at grazing contacts as errors too");
   cmd->callback([args] {
     if (!compare_files(*args)) throw CLI::RuntimeError(1);

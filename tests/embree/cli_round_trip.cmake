@@ -19,6 +19,11 @@ foreach(workload primary diffuse)
     endif()
   endforeach()
   run(${RAYSCOUT} compare-hits ${WORK}/${workload}_bvh.hits ${WORK}/${workload}_embree.hits --tolerance 1e-4)
+  run(${RAYSCOUT} compare-hits ${WORK}/${workload}_bvh.hits ${WORK}/${workload}_embree.hits --tolerance 1e-4
+      --rays ${WORK}/${workload}.rays)
+  if(NOT last_output MATCHES "world space")
+    message(FATAL_ERROR "compare-hits --rays did not judge distances in world space")
+  endif()
 endforeach()
 run(${RAYSCOUT} rays --scene cornell --workload shadow --width 64 --height 64 --out ${WORK}/shadow.rays)
 foreach(accel bvh embree)
@@ -26,9 +31,33 @@ foreach(accel bvh embree)
       --out ${WORK}/shadow_${accel}.occl)
 endforeach()
 run(${RAYSCOUT} compare-hits ${WORK}/shadow_bvh.occl ${WORK}/shadow_embree.occl)
+# With both sides' closest hits of the same rays, grazing blockers are reported (and excused).
+foreach(accel bvh embree)
+  run(${RAYSCOUT} trace --scene cornell --rays ${WORK}/shadow.rays --accel ${accel} --repeat 1
+      --out ${WORK}/shadow_${accel}.hits)
+endforeach()
+run(${RAYSCOUT} compare-hits ${WORK}/shadow_bvh.occl ${WORK}/shadow_embree.occl --rays ${WORK}/shadow.rays
+    --hits-a ${WORK}/shadow_bvh.hits --hits-b ${WORK}/shadow_embree.hits)
+if(NOT last_output MATCHES "grazing contacts: +0")
+  message(FATAL_ERROR "compare-hits --hits-a/--hits-b printed no grazing count")
+endif()
+execute_process(COMMAND ${RAYSCOUT} compare-hits ${WORK}/shadow_bvh.occl ${WORK}/shadow_embree.occl
+                        --hits-a ${WORK}/shadow_bvh.hits
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "go together")
+  message(FATAL_ERROR "compare-hits with --hits-a alone returned ${rc}: ${err}")
+endif()
 # A file compared with a different one must fail with exit 1.
 execute_process(COMMAND ${RAYSCOUT} compare-hits ${WORK}/primary_bvh.hits ${WORK}/diffuse_embree.hits
                 RESULT_VARIABLE rc OUTPUT_QUIET)
 if(NOT rc EQUAL 1)
   message(FATAL_ERROR "compare-hits of different ray sets returned ${rc}, expected 1")
+endif()
+# --rays of another size than the hits is an input error (exit 2), naming the file.
+run(${RAYSCOUT} rays --scene cornell --width 8 --height 8 --out ${WORK}/small.rays)
+execute_process(COMMAND ${RAYSCOUT} compare-hits ${WORK}/primary_bvh.hits ${WORK}/primary_embree.hits
+                        --rays ${WORK}/small.rays
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "small.rays: 64 rays")
+  message(FATAL_ERROR "compare-hits with a RAYS file of another size returned ${rc}: ${err}")
 endif()
