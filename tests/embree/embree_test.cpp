@@ -1,27 +1,16 @@
-// The Embree peer: options, build info, tmin/tmax, packets, and agreement with bvh on a real scene.
+// The Embree peer: options, build info, tmin/tmax, packets (agreement on a real scene:
+// real_scene_agreement_test.cpp).
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <random>
 #include <string>
 
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/hit_compare.h"
-#include "rayscout/core/scenes_dir.h"
 #include "rayscout/embree/embree_accelerator.h"
-#include "rayscout/render/workloads.h"
-#include "rayscout/scene/load_scene.h"
 
 namespace rayscout {
 namespace {
-
-using testing::small_scale;
-
-bool registered(const std::string& name) {
-  const auto& all = accelerators();
-  return std::any_of(all.begin(), all.end(), [&](const AcceleratorInfo& a) { return a.name == name; });
-}
 
 TEST(Embree, BuildInfoReportsTimeAndMemory) {
   const auto tris = testing::random_soup(5000, 3);
@@ -128,51 +117,6 @@ TEST(Embree, NonRobustModeStillAgreesOnOrdinaryRays) {
   cfg.allow_grazing = true;
   const HitDiff d = compare_hits(ref, got, cfg);
   EXPECT_TRUE(d.ok()) << d.first;
-}
-
-// A real scene (Sibenik, else Sponza): embree and bvh agree ray by ray within 1e-4, with no
-// hit/miss disagreement except at grazing contacts, on random rays and primary rays.
-TEST(EmbreeVsBvh, RealScene) {
-  if (!registered("bvh")) GTEST_SKIP() << "the 'bvh' accelerator is not registered in this build";
-  auto file = find_scene_file("sibenik/sibenik.obj");
-  if (!file) file = find_scene_file("crytek-sponza/sponza.obj");
-  if (!file) GTEST_SKIP() << "neither sibenik/sibenik.obj nor crytek-sponza/sponza.obj under " << scenes_dir()
-                          << " (set RAYSCOUT_SCENES)";
-  const Scene scene = load_scene(*file);
-  const auto bvh = make_accelerator("bvh", scene);
-  const auto embree = make_accelerator("embree", scene);
-
-  const int res = small_scale() ? 64 : 256;
-  RayBatch random;
-  const Bounds3 b = scene.bounds();
-  std::mt19937 rng(42);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f);
-  for (int i = 0; i < res * res; ++i) {
-    const Vec3 o = b.lo + b.diagonal() * Vec3(u(rng), u(rng), u(rng));
-    random.push_back({o, 0.0f, Vec3(s(rng), s(rng), s(rng)), kInfinity});
-  }
-  const RayBatch primary = make_workload(scene, *bvh, Workload::Primary, {.width = res, .height = res});
-
-  HitCompareConfig cfg;
-  cfg.rel_tol = 1e-4f;
-  cfg.allow_grazing = true;
-  for (const auto& [name, rays] : {std::pair<const char*, const RayBatch&>{"random", random}, {"primary", primary}}) {
-    HitBatch hb, he;
-    bvh->intersect(rays, hb);
-    embree->intersect(rays, he);
-    const HitDiff d = compare_hits(hb, he, cfg);
-    EXPECT_TRUE(d.ok()) << name << ": " << d.hit_miss << " hit/miss, " << d.other_prim << " other triangle, "
-                        << d.t_mismatch << " distance; first: " << d.first;
-    EXPECT_GT(d.both_hit, rays.size() / 10) << name;
-    EXPECT_LE(d.grazing, rays.size() / 1000) << name;
-    EXPECT_LT(d.p99_rel_diff, 1e-5) << name;
-
-    std::vector<uint8_t> ob, oe;
-    bvh->occluded(rays, ob);
-    embree->occluded(rays, oe);
-    const OcclusionDiff od = compare_occlusion(ob, oe, cfg, &hb, &he);
-    EXPECT_TRUE(od.ok()) << name << ": " << od.first;
-  }
 }
 
 }  // namespace
