@@ -1,0 +1,52 @@
+"""Adversarial ray sets in rayscout's RAYS v1 format (include/rayscout/core/ray_file.h).
+
+usage: /usr/bin/python3 adversarial_rays.py OUT_DIR LO_X,LO_Y,LO_Z HI_X,HI_Y,HI_Z [N]
+writes OUT_DIR/{A_uniform,B_far,C_axis,D_segments,E_lattice,G_scaled}.rays, N rays each,
+for a scene box [LO, HI] (`rayscout info` prints it). Deterministic (seed 7).
+"""
+import struct, sys
+import numpy as np
+def write(path, o, tmin, d, tmax):
+    n = len(o)
+    a = np.zeros((n, 8), dtype='<f4')
+    a[:, 0:3] = o; a[:, 3] = tmin; a[:, 4:7] = d; a[:, 7] = tmax
+    with open(path, 'wb') as f:
+        f.write(b'RAYS' + struct.pack('<IQ', 1, n)); f.write(a.tobytes())
+def unit(rng, n):
+    v = rng.normal(size=(n, 3)); return v / np.linalg.norm(v, axis=1)[:, None]
+lo = np.array(list(map(float, sys.argv[2].split(','))), dtype=np.float64)
+hi = np.array(list(map(float, sys.argv[3].split(','))), dtype=np.float64)
+out = sys.argv[1]; n = int(sys.argv[4]) if len(sys.argv) > 4 else 50000
+rng = np.random.default_rng(7)
+ext = hi - lo; diag = np.linalg.norm(ext); c = (lo + hi) / 2
+inf = np.full(n, np.inf); zero = np.zeros(n)
+# A: uniform origins in the box grown by 20 %, uniform directions
+o = lo - 0.2 * ext + rng.random((n, 3)) * 1.4 * ext
+write(out + '/A_uniform.rays', o, zero, unit(rng, n), inf)
+# B: far outside (2..60 diagonals), aimed at a random point of the box
+tgt = lo + rng.random((n, 3)) * ext
+o = c + unit(rng, n) * diag * rng.uniform(2, 60, n)[:, None]
+d = tgt - o
+write(out + '/B_far.rays', o, zero, d, inf)
+# C: axis-aligned and partly zero directions, +-0
+d = np.zeros((n, 3)); ax = rng.integers(0, 3, n)
+d[np.arange(n), ax] = rng.choice([-1.0, 1.0], n)
+m = rng.random(n) < 0.5
+d2 = unit(rng, n); d2[np.arange(n), (ax + 1) % 3] = 0.0
+d[m] = d2[m]
+o = lo + rng.random((n, 3)) * ext
+dd = d.astype('<f4'); dd[(dd == 0) & (rng.random((n, 3)) < 0.5)] = -0.0
+write(out + '/C_axis.rays', o, zero, dd, inf)
+# D: random segments [tmin, tmax]
+o = lo + rng.random((n, 3)) * ext
+tmin = rng.random(n) * 0.3 * diag; tmax = tmin + rng.random(n) * 0.5 * diag
+write(out + '/D_segments.rays', o, tmin, unit(rng, n), tmax)
+# E: origins on a lattice of the box (k/64 of each extent: voxel faces of power-of-2 grids),
+#    on box faces and corners; directions random or aimed at the box centre
+k = rng.integers(0, 65, (n, 3)); o = lo + k / 64.0 * ext
+d = unit(rng, n); m = rng.random(n) < 0.3; d[m] = (c - o)[m]
+write(out + '/E_lattice.rays', o, zero, d, inf)
+# G: unnormalised directions, lengths 1e-3 .. 1e3, some very long segments
+o = lo + rng.random((n, 3)) * ext
+d = unit(rng, n) * (10.0 ** rng.uniform(-3, 3, n))[:, None]
+write(out + '/G_scaled.rays', o, zero, d, inf)

@@ -1,0 +1,39 @@
+#!/bin/bash
+# Every accelerator against Embree on rays not made by the renderer: the adversarial families of
+# adversarial_rays.py plus shadow and diffuse workloads, closest hit and any hit, judged with
+# `rayscout compare-hits --rays` (world-space distance tolerance, grazing contacts allowed; for
+# any hit, --hits-a/--hits-b excuse a disagreement whose blocker is a grazing contact).
+# usage: bench/audit/audit_vs_embree.sh BUILD_DIR SCENE.json OUT_DIR [N]
+# prints one line per (ray set, query, accelerator) and the disagreements in full.
+set -u
+build=$1 scene=$2 out=$3 n=${4:-40000}
+R=$build/rayscout
+here=$(cd "$(dirname "$0")" && pwd)
+mkdir -p "$out"
+read -r lo hi < <($R info --scene "$scene" | awk '/^bounds:/ {gsub(/[(),]/, " "); print $3","$4","$5, $7","$8","$9}')
+/usr/bin/python3 "$here/adversarial_rays.py" "$out" "$lo" "$hi" "$n" || exit 1
+for w in shadow diffuse; do
+  $R rays --scene "$scene" --workload $w --width 256 --height 192 --out "$out/W_$w.rays" >/dev/null || exit 1
+done
+status=0
+for rays in "$out"/*.rays; do
+  set_name=$(basename "$rays" .rays)
+  for query in closest occluded; do
+    ext=hits flag=
+    [ $query = occluded ] && ext=occl flag=--occluded
+    $R trace --scene "$scene" --rays "$rays" --accel embree --repeat 1 $flag --out "$out/$set_name.embree.$ext" >/dev/null || exit 1
+    for accel in $($R accelerators | awk '$1 != "brute" && $1 != "embree" {print $1}'); do
+      $R trace --scene "$scene" --rays "$rays" --accel $accel --repeat 1 $flag --out "$out/$set_name.$accel.$ext" >/dev/null || exit 1
+      # Any hit: a disagreement whose blocker is a grazing closest hit (traced just before) is excused.
+      opts="--rays $rays"
+      [ $ext = occl ] && opts="$opts --hits-a $out/$set_name.embree.hits --hits-b $out/$set_name.$accel.hits"
+      if result=$($R compare-hits "$out/$set_name.embree.$ext" "$out/$set_name.$accel.$ext" $opts); then
+        echo "$set_name $query $accel: OK"
+      else
+        status=1
+        echo "$set_name $query $accel: DIFFERENT"; echo "$result" | sed 's/^/    /'
+      fi
+    done
+  done
+done
+exit $status
