@@ -56,7 +56,8 @@ bool compare_files(const CompareArgs& args) {
     fmt::print("rays:                  {}\n", d.rays);
     fmt::print("occluded:              {} in A, {} in B\n", d.occluded_ref, d.occluded_got);
     fmt::print("disagreements:         {}\n", d.differ);
-    if (with_hits && !args.strict) fmt::print("grazing contacts:      {} (the occluded side's closest hit is grazing; not counted)\n", d.grazing);
+    if (with_hits && !args.strict)
+      fmt::print("grazing contacts:      {} (the occluded side's closest hit is grazing; not counted)\n", d.grazing);
     if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
     fmt::print("result:                {}\n", d.ok() ? "OK" : "DIFFERENT");
     return d.ok();
