@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -51,6 +52,18 @@ RTCIntersectContext make_context() {
   return ctx;
 }
 
+// What Embree 3's traversal asserts (RayK::valid() and tnear >= 0): origin and direction
+// components of magnitude <= FLT_LARGE, tnear >= 0, tfar not NaN. Debian's Embree is built
+// with assertions, so handing it any other ray aborts the process; such rays are not traced
+// and miss (Embree defines no answer for them).
+constexpr float kEmbreeLarge = 1.844e18f;  // FLT_LARGE of Embree's math/constants.h
+
+inline bool embree_can_trace(const RayBatch& rays, size_t i) {
+  auto fits = [](float x) { return std::fabs(x) <= kEmbreeLarge; };  // false for NaN
+  return fits(rays.ox[i]) && fits(rays.oy[i]) && fits(rays.oz[i]) && fits(rays.dx[i]) && fits(rays.dy[i]) &&
+         fits(rays.dz[i]) && rays.tmin[i] >= 0.0f && !std::isnan(rays.tmax[i]);
+}
+
 // Embree's ray from ours; tnear/tfar carry tmin/tmax.
 inline void load_ray(const RayBatch& rays, size_t i, RTCRay& r) {
   r.org_x = rays.ox[i]; r.org_y = rays.oy[i]; r.org_z = rays.oz[i]; r.tnear = rays.tmin[i];
@@ -58,15 +71,21 @@ inline void load_ray(const RayBatch& rays, size_t i, RTCRay& r) {
   r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
 }
 
-// Packet p of 16 consecutive rays; lanes past the end repeat a valid ray and are masked off.
+// Packet p of 16 consecutive rays; lanes past the end and rays Embree cannot trace are masked
+// off and hold an empty segment (tfar < tnear), so that every lane is a valid ray.
 inline void load_ray16(const RayBatch& rays, size_t p, RTCRay16& r, int valid[16]) {
   const size_t base = p * 16, n = rays.size();
   for (int k = 0; k < 16; ++k) {
     const size_t i = base + k;
-    valid[k] = i < n ? -1 : 0;
-    const size_t j = i < n ? i : base;
-    r.org_x[k] = rays.ox[j]; r.org_y[k] = rays.oy[j]; r.org_z[k] = rays.oz[j]; r.tnear[k] = rays.tmin[j];
-    r.dir_x[k] = rays.dx[j]; r.dir_y[k] = rays.dy[j]; r.dir_z[k] = rays.dz[j]; r.tfar[k] = rays.tmax[j];
+    const bool traced = i < n && embree_can_trace(rays, i);
+    valid[k] = traced ? -1 : 0;
+    if (traced) {
+      r.org_x[k] = rays.ox[i]; r.org_y[k] = rays.oy[i]; r.org_z[k] = rays.oz[i]; r.tnear[k] = rays.tmin[i];
+      r.dir_x[k] = rays.dx[i]; r.dir_y[k] = rays.dy[i]; r.dir_z[k] = rays.dz[i]; r.tfar[k] = rays.tmax[i];
+    } else {
+      r.org_x[k] = r.org_y[k] = r.org_z[k] = 0.0f; r.tnear[k] = 1.0f;
+      r.dir_x[k] = r.dir_y[k] = 0.0f; r.dir_z[k] = 1.0f; r.tfar[k] = 0.0f;
+    }
     r.time[k] = 0.0f; r.mask[k] = 0xFFFFFFFFu; r.id[k] = 0; r.flags[k] = 0;
   }
 }
@@ -142,6 +161,7 @@ void EmbreeAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceSta
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& range) {
       RTCIntersectContext ctx = make_context();
       for (size_t i = range.begin(); i != range.end(); ++i) {
+        if (!embree_can_trace(rays, i)) continue;  // a miss
         RTCRayHit rh;
         load_ray(rays, i, rh.ray);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -176,6 +196,7 @@ void EmbreeAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occ
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& range) {
       RTCIntersectContext ctx = make_context();
       for (size_t i = range.begin(); i != range.end(); ++i) {
+        if (!embree_can_trace(rays, i)) continue;  // clear
         RTCRay r;
         load_ray(rays, i, r);
         rtcOccluded1(scene, &ctx, &r);

@@ -2,6 +2,7 @@
 // real_scene_agreement_test.cpp).
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
 #include "generated_scenes.h"
@@ -54,6 +55,45 @@ TEST(Embree, TminAndTmaxAreHonoured) {
   std::vector<uint8_t> occ;
   accel.occluded(rays, occ);
   EXPECT_EQ(occ, (std::vector<uint8_t>{1, 1, 0, 0, 1}));
+}
+
+// Rays outside Embree's RayK::valid() used to reach its assertion and abort the process; they
+// now miss (both query kinds, single rays and packets) and leave their neighbours' hits alone.
+TEST(Embree, RaysEmbreeCannotTraceMissInsteadOfAborting) {
+  const auto tris = testing::random_soup(2000, 6);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  RayBatch rays;
+  const Ray good{{-10.0f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity};
+  rays.push_back(good);
+  rays.push_back({{nan, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-kInfinity, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {nan, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {1e30f, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-10.0f, 0.0f, 0.0f}, nan, {1.0f, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, nan});
+  rays.push_back({{-10.0f, 0.0f, 0.0f}, -1.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
+  for (int k = 0; k < 12; ++k) rays.push_back(good);  // a second packet of 16
+  auto hit = [](const HitBatch& h, size_t i) { return h.prim[i] != kInvalidId; };
+  HitBatch ref;
+  BruteForce(tris).intersect(rays, ref);
+  ASSERT_TRUE(hit(ref, 0)) << "the test needs a ray that hits";
+  for (const int packet : {1, 16}) {
+    EmbreeConfig config;
+    config.packet = packet;
+    const EmbreeAccelerator accel(tris, config);
+    HitBatch hits;
+    std::vector<uint8_t> occ;
+    accel.intersect(rays, hits);
+    accel.occluded(rays, occ);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const bool traceable = i == 0 || i >= 8;
+      EXPECT_EQ(hit(hits, i), traceable) << "packet " << packet << ", ray " << i;
+      EXPECT_EQ(occ[i] != 0, traceable) << "packet " << packet << ", ray " << i;
+      if (traceable) {
+        EXPECT_EQ(hits.prim[i], ref.prim[i]) << "packet " << packet << ", ray " << i;
+      }
+    }
+  }
 }
 
 TEST(Embree, EmptySceneMissesEverything) {

@@ -32,6 +32,10 @@ struct EmbreeConfig {
 /// own triangle test, so t differs from ours in the last bits and exact ties may resolve to
 /// another triangle: compare with a tolerance (1e-4 relative), never bit for bit.
 /// Embree has no work counters: intersect/occluded fill only TraceStats::rays.
+/// Rays Embree cannot trace (an origin or direction component NaN or beyond 1.844e18 in
+/// magnitude, a NaN tmin or tmax: Embree's RayK::valid()) are not handed to it, since its
+/// assertion would abort the process; they miss. Our own accelerators trace them as brute
+/// force does (a finite direction of 1e30 still hits).
 class EmbreeAccelerator final : public Accelerator {
  public:
   /// Copies the triangles into an Embree vertex buffer and builds the BVH (timed, with the
