@@ -21,8 +21,9 @@ struct CullInterval {
     const float coords = max_component(max(abs(scene.lo), abs(scene.hi))) + max_component(abs(ray.org));
     abs_slack = coords * (1.0f / 1048576.0f) / max_component(abs(ray.dir));
   }
-  /// Box-test far limit for a current closest distance t.
-  float far(float t) const { return t + t * (1.0f / 131072.0f) + abs_slack; }
+  /// Box-test far limit for a current closest distance t (|t|: a hit behind the origin, for
+  /// a ray with tmin < 0, must widen the interval too).
+  float far(float t) const { return t + (t < 0 ? -t : t) * (1.0f / 131072.0f) + abs_slack; }
   /// Box-test near limit for the ray's tmin.
   float near(float tmin) const { return tmin - (tmin < 0 ? -tmin : tmin) * (1.0f / 131072.0f) - abs_slack; }
 };

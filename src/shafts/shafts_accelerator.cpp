@@ -64,7 +64,7 @@ size_t ShaftsAccelerator::bvh_memory_bytes() const {
 template <bool Stats, bool Any>
 void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits,
                                     std::vector<uint8_t>* occ, TraceStats& local) const {
-  // Box-test the entries on the BVH's widened interval (the slack of src/bvh/cull_distance.h:
+  // Box-test the entries on the BVH's widened interval (the slack of src/bvh/cull_interval.h:
   // box distances and watertight t round differently), keep the hit ones sorted near first.
   const RayPrecomp rp(ray.dir);
   const float slack = (scene_coord_ + max_component(abs(ray.org))) * (1.0f / 1048576.0f) /
@@ -73,7 +73,7 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   uint32_t refs[32];
   float dist[32];
   const int n = detail::filter_entries(dequant_, c, ray.org, rp.inv_dir, near,
-                                       ray.tmax + ray.tmax * (1.0f / 131072.0f) + slack, refs, dist);
+                                       ray.tmax + std::fabs(ray.tmax) * (1.0f / 131072.0f) + slack, refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
   // One traversal seeded with the surviving entries, nearest first. (Seeding one subtree at a
