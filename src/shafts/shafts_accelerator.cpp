@@ -8,8 +8,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include "rayscout/shafts/ray_sampling.h"
+#include "../bvh/cull_interval.h"
 #include "entry_filter.h"
+#include "rayscout/shafts/ray_sampling.h"
 
 namespace rayscout {
 
@@ -45,14 +46,14 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   if (config.select == "camera") prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
-  const Vec3 m = max(abs(box.lo), abs(box.hi));
-  scene_coord_ = max_component(m);
+  scene_box_ = box;
+  const float scene_coord = max_component(max(abs(box.lo), abs(box.hi)));
   for (int a = 0; a < 3; ++a) {
     dequant_.base[a] = box.lo[a];
     dequant_.step[a] = (box.hi[a] - box.lo[a]) / 255.0f;
   }
   // Rounding of lo + q step stays within a few ulps of the largest coordinate.
-  dequant_.margin = (scene_coord_ + max_component(box.diagonal())) * (1.0f / 1048576.0f);
+  dequant_.margin = (scene_coord + max_component(box.diagonal())) * (1.0f / 1048576.0f);
   info_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
 }
@@ -64,16 +65,14 @@ size_t ShaftsAccelerator::bvh_memory_bytes() const {
 template <bool Stats, bool Any>
 void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits,
                                     std::vector<uint8_t>* occ, TraceStats& local) const {
-  // Box-test the entries on the BVH's widened interval (the slack of src/bvh/cull_interval.h:
-  // box distances and watertight t round differently), keep the hit ones sorted near first.
+  // Box-test the entries on the BVH's own widened interval (box distances and watertight t
+  // round differently), keep the hit ones sorted near first.
   const RayPrecomp rp(ray.dir);
-  const float slack = (scene_coord_ + max_component(abs(ray.org))) * (1.0f / 1048576.0f) /
-                      max_component(abs(ray.dir));
-  const float near = ray.tmin - std::fabs(ray.tmin) * (1.0f / 131072.0f) - slack;
+  const detail::CullInterval cull(scene_box_, ray);
   uint32_t refs[32];
   float dist[32];
-  const int n = detail::filter_entries(dequant_, c, ray.org, rp.inv_dir, near,
-                                       ray.tmax + std::fabs(ray.tmax) * (1.0f / 131072.0f) + slack, refs, dist);
+  const int n = detail::filter_entries(dequant_, c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
+                                       refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
   // One traversal seeded with the surviving entries, nearest first. (Seeding one subtree at a

@@ -57,7 +57,7 @@ class ShaftsAccelerator final : public Accelerator {
 
   std::span<const Triangle> triangles_;
   Base base_;
-  float scene_coord_ = 0.0f;  ///< largest |coordinate| of the scene box (box-test slack)
+  Bounds3 scene_box_;         ///< box of the BVH the lists index (the box tests' slack)
   EntryDequant dequant_{};    ///< entry-box dequantisation (see src/shafts/entry_filter.h)
   Bvh2 bvh2_;
   WideBvh wide_;
