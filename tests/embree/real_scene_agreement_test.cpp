@@ -5,10 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <map>
 #include <memory>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -30,23 +28,12 @@ struct Family {
   double min_hit_share = 0.2;  ///< hits (shadow rays: occluded) expected at least, so the family tests something
 };
 
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<float> g;
-  for (;;) {
-    const Vec3 v(g(rng), g(rng), g(rng));
-    if (length(v) > 1e-3f) return normalize(v);
-  }
-}
-
 std::vector<Family> make_families(const Scene& scene, const Accelerator& bvh, size_t n) {
   const Bounds3 b = scene.bounds();
   const Vec3 ext = b.diagonal(), centre = b.center();
   const float diag = length(ext);
-  std::mt19937 rng(2026);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  auto in_box = [&](float grow) {
-    return b.lo - ext * grow + ext * (1.0f + 2.0f * grow) * Vec3(u01(rng), u01(rng), u01(rng));
-  };
+  testing::Rng rng(2026);
+  auto in_box = [&](float grow) { return b.lo - ext * grow + ext * (1.0f + 2.0f * grow) * rng.point(0.0f, 1.0f); };
   std::vector<Family> f(6);
   f[0].name = "uniform, box grown by 20 %";
   f[1].name = "far outside, aimed at the box";
@@ -55,25 +42,25 @@ std::vector<Family> make_families(const Scene& scene, const Accelerator& bvh, si
   f[4].name = "lattice origins (k/64 of the box)";
   f[5].name = "unnormalised directions";
   for (size_t i = 0; i < n; ++i) {
-    f[0].rays.push_back({in_box(0.2f), 0.0f, random_unit(rng), kInfinity});
-    const Vec3 far = centre + random_unit(rng) * diag * (2.0f + 40.0f * u01(rng));
+    f[0].rays.push_back({in_box(0.2f), 0.0f, rng.direction(), kInfinity});
+    const Vec3 far = centre + rng.direction() * diag * (2.0f + 40.0f * rng.uniform());
     f[1].rays.push_back({far, 0.0f, in_box(0.0f) - far, kInfinity});
-    Vec3 d = random_unit(rng);
-    const int axis = int(rng() % 3);
+    Vec3 d = rng.direction();
+    const int axis = int(rng.gen() % 3);
     if (i % 2 == 0) {
       d = Vec3(0.0f, 0.0f, 0.0f);
-      d[axis] = rng() % 2 ? 1.0f : -1.0f;
+      d[axis] = rng.gen() % 2 ? 1.0f : -1.0f;
     } else {
       d[axis] = 0.0f;
     }
     for (int k = 0; k < 3; ++k)
-      if (d[k] == 0.0f && rng() % 2) d[k] = -0.0f;
+      if (d[k] == 0.0f && rng.gen() % 2) d[k] = -0.0f;
     f[2].rays.push_back({in_box(0.0f), 0.0f, d, kInfinity});
-    const float tmin = 0.3f * diag * u01(rng);
-    f[3].rays.push_back({in_box(0.0f), tmin, random_unit(rng), tmin + 0.5f * diag * u01(rng)});
-    const Vec3 lattice = b.lo + ext * Vec3(float(rng() % 65), float(rng() % 65), float(rng() % 65)) / 64.0f;
-    f[4].rays.push_back({lattice, 0.0f, i % 3 == 0 ? centre - lattice : random_unit(rng), kInfinity});
-    f[5].rays.push_back({in_box(0.0f), 0.0f, random_unit(rng) * std::pow(10.0f, -3.0f + 6.0f * u01(rng)), kInfinity});
+    const float tmin = 0.3f * diag * rng.uniform();
+    f[3].rays.push_back({in_box(0.0f), tmin, rng.direction(), tmin + 0.5f * diag * rng.uniform()});
+    const Vec3 lattice = b.lo + ext * Vec3(float(rng.gen() % 65), float(rng.gen() % 65), float(rng.gen() % 65)) / 64.0f;
+    f[4].rays.push_back({lattice, 0.0f, i % 3 == 0 ? centre - lattice : rng.direction(), kInfinity});
+    f[5].rays.push_back({in_box(0.0f), 0.0f, rng.direction() * std::pow(10.0f, -3.0f + 6.0f * rng.uniform()), kInfinity});
   }
   const int res = int(std::sqrt(double(n)));
   for (const Workload w : {Workload::Shadow, Workload::Diffuse, Workload::Ao})

@@ -12,21 +12,6 @@
 #include "rayscout/core/accelerator.h"
 
 namespace rayscout::testing {
-namespace {
-
-struct Rng {
-  std::mt19937 gen;
-  explicit Rng(uint32_t seed) : gen(seed) {}
-  float uniform(float lo = 0.0f, float hi = 1.0f) { return std::uniform_real_distribution<float>(lo, hi)(gen); }
-  Vec3 point(float lo, float hi) { return {uniform(lo, hi), uniform(lo, hi), uniform(lo, hi)}; }
-  Vec3 direction() {
-    const float z = uniform(-1.0f, 1.0f), phi = uniform(0.0f, 2.0f * std::numbers::pi_v<float>);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-    return {r * std::cos(phi), r * std::sin(phi), z};
-  }
-};
-
-}  // namespace
 
 std::vector<Triangle> random_soup(size_t n, uint32_t seed) {
   Rng rng(seed);

@@ -1,7 +1,11 @@
 // Generated test scenes and ray sets with the nasty cases every accelerator must survive.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -10,6 +14,21 @@
 #include "rayscout/scene/scene.h"
 
 namespace rayscout::testing {
+
+/// Deterministic random numbers, points and directions for generated scenes and rays.
+struct Rng {
+  std::mt19937 gen;
+  explicit Rng(uint32_t seed) : gen(seed) {}
+  float uniform(float lo = 0.0f, float hi = 1.0f) { return std::uniform_real_distribution<float>(lo, hi)(gen); }
+  /// A point with every coordinate uniform in [lo, hi).
+  Vec3 point(float lo, float hi) { return {uniform(lo, hi), uniform(lo, hi), uniform(lo, hi)}; }
+  /// A unit direction, uniform on the sphere.
+  Vec3 direction() {
+    const float z = uniform(-1.0f, 1.0f), phi = uniform(0.0f, 2.0f * std::numbers::pi_v<float>);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    return {r * std::cos(phi), r * std::sin(phi), z};
+  }
+};
 
 /// True when RAYSCOUT_TEST_SCALE=small (the sanitizer run, 5-10x slower): tests shrink their sizes.
 bool small_scale();
