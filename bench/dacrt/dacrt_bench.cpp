@@ -16,6 +16,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <malloc.h>
 
 #include "rayscout/accelerators.h"
 #include "rayscout/core/scenes_dir.h"
@@ -99,6 +100,22 @@ std::string set_label(const RaySet& s) { return s.kind + (s.bounce ? "@" + std::
 
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
 
+/// "VmRSS" or "VmHWM" (peak resident) of this process in bytes, from /proc/self/status.
+double status_bytes(const std::string& key) {
+  std::ifstream f("/proc/self/status");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind(key + ":", 0) == 0) return std::stod(line.substr(key.size() + 1)) * 1024.0;  // "VmRSS:  1234 kB"
+  return 0.0;
+}
+
+/// Returns freed heap to the system and restarts the peak at the current resident size
+/// (proc(5), clear_refs value 5), so that the next VmHWM is the peak of what follows.
+double restart_peak() {
+  malloc_trim(0);
+  std::ofstream("/proc/self/clear_refs") << "5";
+  return status_bytes("VmRSS");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,7 +127,7 @@ int main(int argc, char** argv) {
   app.add_flag("--big", o.big, "also 4096^2");
   app.add_option("--reps", o.reps, "repetitions per measurement (median)");
   app.add_option("--threads", o.threads, "threads (1 = the paper's single thread; dacrt parallel=on when > 1)");
-  app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers,variants")->delimiter(',');
+  app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers,variants,memory")->delimiter(',');
   app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers");
   app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
   app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)");
@@ -258,7 +275,7 @@ int main(int argc, char** argv) {
   }
 
   // 2-5. Studies at one resolution on a few views.
-  const bool studies = wants("ablation") || wants("sampling") || wants("counts") || wants("peers");
+  const bool studies = wants("ablation") || wants("sampling") || wants("counts") || wants("peers") || wants("memory");
   for (const auto& v : paper_views()) {
     if (!studies || !contains(o.study_views, v.name)) continue;
     auto scene = scene_of(v);
@@ -371,6 +388,37 @@ int main(int argc, char** argv) {
                                 {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", peer[0][0]}, {"bvh_trace_ms", peer[0][1]},
                                 {"embree_build_ms", peer[1][0]}, {"embree_trace_ms", peer[1][1]}});
       }
+      fmt::print("\n");
+    }
+    if (wants("memory")) {
+      // Sec. 3: DACRT's memory is known in advance from |R| and |T| alone. Each row traces the
+      // first |R| primary rays over the first |T| triangles with a fresh accelerator and
+      // compares the formula (last_trace_memory_bytes) with the peak resident memory it added.
+      fmt::print("## Memory, {} primary rays at {}^2 (fresh accelerator per row; peak = peak RSS over the call minus RSS before it)\n\n", v.name, o.study_res);
+      fmt::print("| accelerator | \\|R\\| | \\|T\\| | formula MiB | peak MiB | peak / formula |\n|---|---:|---:|---:|---:|---:|\n");
+      const RaySet* primary = nullptr;
+      for (const auto& s : sets) if (set_label(s) == "primary") primary = &s;
+      if (!primary) { fmt::print("(no primary batch)\n\n"); continue; }
+      const size_t nr = primary->rays.size(), nt = scene->triangles.size();
+      const std::vector<std::pair<size_t, size_t>> sizes = {{nr / 16, nt}, {nr / 4, nt}, {nr, nt}, {nr, nt / 4}, {nr, nt / 16}};
+      for (const char* name : {"dacrt", "dacrt-rs"})
+        for (const auto& [r, t] : sizes) {
+          Scene part = *scene;
+          part.triangles.resize(t);
+          part.emissive_triangles.clear();
+          RaySet sub{primary->kind, primary->bounce, primary->occlusion, {}};
+          sub.rays = primary->rays;
+          sub.rays.resize(r);
+          auto acc = make(name, part, o);
+          HitBatch hits;
+          hits.reset(r);  // the output, written before the peak restarts: not the accelerator's
+          const double before = restart_peak();
+          acc->intersect(sub.rays, hits);
+          const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
+          fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
+          out["memory"].push_back({{"view", v.name}, {"accel", name}, {"rays", r}, {"triangles", t},
+                                   {"formula_bytes", formula}, {"resident_bytes", grown}});
+        }
       fmt::print("\n");
     }
     std::fflush(stdout);
