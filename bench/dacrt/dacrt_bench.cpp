@@ -417,7 +417,7 @@ int main(int argc, char** argv) {
           const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
           fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
           out["memory"].push_back({{"view", v.name}, {"accel", name}, {"rays", r}, {"triangles", t},
-                                   {"formula_bytes", formula}, {"resident_bytes", grown}});
+                                   {"formula_bytes", formula}, {"peak_bytes", grown}});
         }
       fmt::print("\n");
     }
