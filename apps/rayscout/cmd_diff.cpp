@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "commands.h"
+#include "rayscout/core/accelerator_options.h"
 #include "rayscout/image/image.h"
 
 namespace rayscout::cli {
@@ -26,6 +27,9 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this");
   cmd->callback([opts] {
     const Image a = read_image(opts->a), b = read_image(opts->b);
+    if (a.width != b.width || a.height != b.height)
+      throw InputError(fmt::format("{} and {}: images differ in size: {}x{} vs {}x{}", opts->a, opts->b, a.width,
+                                   a.height, b.width, b.height));
     const ImageError e = compare_images(a, b);
     fmt::print("rmse     {:.6g}\nrel_mse  {:.6g}\npsnr     {} dB\nmax_abs  {:.6g}\n", e.rmse, e.rel_mse,
                std::isinf(e.psnr) ? std::string("inf") : fmt::format("{:.2f}", e.psnr), e.max_abs);

@@ -57,7 +57,10 @@ void write_png(const Image& image, const std::filesystem::path& path) {
 Image read_png(const std::filesystem::path& path) {
   int w = 0, h = 0, n = 0;
   std::unique_ptr<uint8_t, void (*)(void*)> data(stbi_load(path.string().c_str(), &w, &h, &n, 3), stbi_image_free);
-  if (!data) throw InputError(path.string() + ": cannot read PNG (" + stbi_failure_reason() + ")");
+  if (!data) {
+    const char* why = stbi_failure_reason();  // null for some corrupt data: stb returns without a reason
+    throw InputError(path.string() + ": cannot read PNG (" + (why ? why : "corrupt data") + ")");
+  }
   Image image(w, h);
   for (size_t i = 0; i < image.pixels.size(); ++i)
     for (int c = 0; c < 3; ++c) image.pixels[i][c] = srgb_to_linear(data.get()[3 * i + c] / 255.0f);
@@ -127,6 +130,16 @@ Image read_pfm(const std::filesystem::path& path) {
     throw InputError(path.string() + ": not a PFM file (bad header)");
   in.get();  // the single whitespace after the scale
   const int channels = magic == "PF" ? 3 : 1;
+  // Check the size before allocating: a header may claim 65536 x 65536 pixels (51 GB).
+  const std::streamoff data_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff data_bytes = in.tellg() - data_start;
+  const uint64_t need = uint64_t(w) * uint64_t(h) * uint64_t(channels) * sizeof(float);
+  if (data_start < 0 || data_bytes < 0 || uint64_t(data_bytes) < need)
+    throw InputError(path.string() + ": truncated PFM data: " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels need " + std::to_string(need) + " bytes, the file has " +
+                     std::to_string(std::max<std::streamoff>(data_bytes, 0)));
+  in.seekg(data_start);
   std::vector<float> row(size_t(w) * channels);
   Image image(w, h);
   for (int y = h - 1; y >= 0; --y) {

@@ -95,6 +95,39 @@ class Fields {
   std::string file_;
 };
 
+// Scene files nest a few levels. Copying a JSON value recurses once per level, and
+// ordered_json copies an object's values whenever the object grows, during parsing too: a
+// file nested 20000 deep overflowed the stack. Checked on the text, before parsing.
+constexpr int kMaxJsonDepth = 256;
+
+void check_nesting(const std::string& text, const std::string& file) {
+  int depth = 0;
+  size_t line = 1, column = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    ++column;
+    if (c == '\n') {
+      ++line;
+      column = 0;
+    } else if (in_string) {
+      if (c == '\\') {  // skip the escaped character, e.g. \"
+        ++i;
+        ++column;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if ((c == '[' || c == '{') && ++depth > kMaxJsonDepth) {
+      throw InputError(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                       " arrays and objects at line " + std::to_string(line) + ", column " + std::to_string(column));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 // Applies the fields of a material object to m (omitted fields keep their value).
 void apply_material(const Fields& f, const Json& j, const std::string& field, Material& m, bool allow_name) {
   if (allow_name) f.check_keys(j, field, {"name", "type", "diffuse", "specular", "exponent", "emission"});
@@ -193,10 +226,11 @@ class JsonSceneLoader {
 
   Scene load() {
     const std::string text = read_file(path_);
+    check_nesting(text, f_.file());
     Json root;
     try {
       root = Json::parse(text);
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {  // parse_error, or out_of_range for a number like 1e400
       std::string what = e.what();
       if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
       throw InputError(f_.file() + ": invalid JSON: " + what);
@@ -439,6 +473,8 @@ class JsonSceneLoader {
     c.focus_distance = f.focus_distance ? *f.focus_distance : length(c.look_at - c.eye);
     const Vec3 view = c.look_at - c.eye;
     if (view.x == 0 && view.y == 0 && view.z == 0) f_.fail("camera.look_at", "must differ from camera.eye");
+    if (!std::isfinite(length(view)))
+      f_.fail("camera", "eye and look_at are too far apart (their distance overflows float)");
     const Vec3 side = cross(view, c.up);
     if (length(side) <= 1e-6f * length(view) * length(c.up)) f_.fail("camera.up", "is parallel to the view direction");
   }

@@ -51,7 +51,7 @@ long long resolve_index(long long idx, size_t count, const std::filesystem::path
                         std::string_view what) {
   if (idx > 0) return idx - 1;
   if (idx == 0) fail_at(file, line, std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
-  if (-idx > static_cast<long long>(count))
+  if (idx < -static_cast<long long>(count))  // not -idx > count: -idx overflows for the smallest index
     fail_at(file, line, (what == "vertex" ? std::string("face") : std::string(what)) + " index " + std::to_string(idx) +
                             " out of range (" + std::to_string(count) + " " + plural(what) + " so far)");
   return static_cast<long long>(count) + idx;
@@ -218,6 +218,8 @@ Mesh read_obj(const std::filesystem::path& path) {
                                   ": material library '" + f + "' not found; its materials get defaults");
           continue;
         }
+        if (std::filesystem::is_directory(mtl, ec))
+          fail_at(path, line, "material library '" + f + "' is a directory, not a file");
         read_mtl(mtl, library);
       }
     }

@@ -83,6 +83,13 @@ bool read_binary(const char*& p, const char* end, Scalar s, bool swap, double& o
   return true;
 }
 
+// A whole number as written in the file (1e+30 for huge values of float-typed indices).
+std::string number_text(double v) {
+  char buf[32];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
+}
+
 }  // namespace
 
 Mesh read_ply(const std::filesystem::path& path) {
@@ -127,6 +134,16 @@ Mesh read_ply(const std::filesystem::path& path) {
       long long n;
       if (el.name.empty() || !detail::parse_int(c, n) || n < 0)
         fail_at(path, line, "element: expected 'element <name> <count>'");
+      // Each vertex element would need its own x, y, z positions; one is all a mesh has.
+      if (el.name == "vertex") {
+        for (const auto& other : elements)
+          if (other.name == "vertex")
+            fail_at(path, line,
+                    "a second vertex element (the first is on line " + std::to_string(other.header_line) + ")");
+        if (n > static_cast<long long>(UINT32_MAX))
+          fail_at(path, line,
+                  "element vertex: " + std::string(c) + " vertices, more than 32-bit face indices can address");
+      }
       el.count = size_t(n);
       el.header_line = line;
       elements.push_back(std::move(el));
@@ -174,7 +191,7 @@ Mesh read_ply(const std::filesystem::path& path) {
   const bool binary = format != Format::Ascii;
   const bool swap = (format == Format::BinaryBig) != (std::endian::native == std::endian::big);
   std::vector<double> values;
-  std::vector<long long> poly;
+  std::vector<double> poly;  // face indices, range-checked before any conversion to an integer
   bool seen_vertex = false;
 
   for (const auto& el : elements) {
@@ -187,6 +204,8 @@ Mesh read_ply(const std::filesystem::path& path) {
           face_prop = int(i);
       if (face_prop < 0) fail_at(path, el.header_line, "face element lacks a vertex_indices list");
     }
+    // A binary instance without properties takes no bytes: nothing to read, whatever the count.
+    if (binary && el.props.empty()) continue;
     for (size_t k = 0; k < el.count; ++k) {
       // Where an error is reported: a line (ascii) or element index and byte offset (binary).
       const size_t byte = size_t(p - data.data());
@@ -242,7 +261,7 @@ Mesh read_ply(const std::filesystem::path& path) {
             double v = next_value(pr.type, pr.name);
             if (int(i) == face_prop) {
               if (v != std::floor(v)) fail("face index " + std::to_string(v) + " is not an integer");
-              poly.push_back(static_cast<long long>(v));
+              poly.push_back(v);
             }
           }
         }
@@ -274,7 +293,7 @@ Mesh read_ply(const std::filesystem::path& path) {
               fail("unexpected end of data (" + std::to_string(el.count) + " " + el.name + "s declared)");
             if (int(i) == face_prop) {
               if (x != std::floor(x)) fail("face index is not an integer");
-              poly.push_back(static_cast<long long>(x));
+              poly.push_back(x);
             }
           }
         }
@@ -286,9 +305,9 @@ Mesh read_ply(const std::filesystem::path& path) {
       }
       if (is_face) {
         if (poly.size() < 3) fail("face with " + std::to_string(poly.size()) + " vertices (at least 3 needed)");
-        for (long long idx : poly)
-          if (idx < 0 || idx >= static_cast<long long>(vertex_count))
-            fail("face index " + std::to_string(idx) + " out of range (" + std::to_string(vertex_count) +
+        for (double idx : poly)
+          if (!(idx >= 0 && idx < double(vertex_count)))
+            fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertex_count) +
                  " vertices)");
         for (size_t j = 1; j + 1 < poly.size(); ++j) {
           mesh.faces.push_back({uint32_t(poly[0]), uint32_t(poly[j]), uint32_t(poly[j + 1])});

@@ -68,6 +68,12 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     }
   }
   const std::vector<Vec3>& pos = identity ? mesh.positions : moved;
+  // The readers reject non-finite coordinates, but a shape's corners are sums (a box from
+  // -3e38 to 3e38 is infinitely wide) and other importers may not check.
+  if (identity)
+    for (size_t i = 0; i < pos.size(); ++i)
+      if (!is_finite(pos[i]))
+        throw InputError(source + ": vertex " + std::to_string(i) + " is not finite (beyond float range)");
   // Grow geometrically: an exact reserve per mesh would copy everything for every mesh added.
   const size_t need = scene_.triangles.size() + mesh.faces.size();
   if (need > scene_.triangles.capacity()) {

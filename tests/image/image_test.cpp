@@ -100,6 +100,43 @@ TEST(ImageIo, BadInputThrows) {
   for (const auto& p : {junk, bad_exr, bad_png}) fs::remove(p);
 }
 
+// Found by fuzzing: the PFM header's size was allocated (up to 51 GB) before the data was read.
+TEST(ImageIo, PfmHugeHeaderIsCheckedAgainstTheFileSize) {
+  const fs::path p = temp_file("huge.pfm");
+  std::ofstream(p, std::ios::binary) << "PF\n65536 65536\n-1.0\n0123456789ab";
+  std::string msg;
+  try {
+    read_image(p);
+  } catch (const InputError& e) {
+    msg = e.what();
+  }
+  fs::remove(p);
+  EXPECT_NE(msg.find("huge.pfm: truncated PFM data: 65536x65536 pixels need 51539607552 bytes, the file has 12"),
+            std::string::npos)
+      << msg;
+}
+
+// Found by fuzzing: for this corrupt IDAT stream stb returns no failure reason (null).
+TEST(ImageIo, PngWithoutFailureReason) {
+  const fs::path p = temp_file("corrupt.png");
+  static const char bytes[] =
+      "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52"
+      "\x00\x00\x00\x05\x00\x00\x00\x04\x08\x02\x00\x00\x00\xc9\x51\x62"
+      "\x17\x00\x00\x00\x18\x49\x44\x41\x54\x78\x5e\x7f\x58\xa1\x2f\xea"
+      "\xeb\xa0\xfc\xe7\x5a\xc3\x00\x00\x00\x80\xff\x7f\x5d\x95\xf1\x80"
+      "\x5f\x43\xb9\x05\xd2\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60"
+      "\x82";
+  std::ofstream(p, std::ios::binary).write(bytes, sizeof bytes - 1);
+  std::string msg;
+  try {
+    read_image(p);
+  } catch (const InputError& e) {
+    msg = e.what();
+  }
+  fs::remove(p);
+  EXPECT_NE(msg.find("corrupt.png: cannot read PNG (corrupt data)"), std::string::npos) << msg;
+}
+
 TEST(ImageCompare, KnownValues) {
   Image a(4, 2), b(4, 2);
   for (auto& p : b.pixels) p = Vec3{0.5f};

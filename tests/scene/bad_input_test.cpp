@@ -132,6 +132,49 @@ TEST(SceneBadInput, PlyBinary) {
                   {"c.ply: vertex 0 (byte", "not finite"});
 }
 
+// Found by fuzzing: headers whose layout or counts the body loop trusted.
+TEST(SceneBadInput, PlyHeaderLayoutAndCounts) {
+  TempDir dir;
+  // A second vertex element with x y z elsewhere: its layout was applied to the first one
+  // (values[3] and [4] of a 3-value row: heap-buffer-overflow).
+  expect_contains(error_loading(dir, "twov.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                 "property float y\nproperty float z\nelement vertex 1\n"
+                                                 "property float a\nproperty float b\nproperty float x\n"
+                                                 "property float y\nproperty float z\nend_header\n"
+                                                 "0 0 0\n1 0 0\n0 1 0\n0 0 0 0 0\n"),
+                  {"twov.ply:7: ", "a second vertex element (the first is on line 3)"});
+  // Faces before a vertex element that claims more vertices than 32-bit indices address.
+  expect_contains(error_loading(dir, "many.ply", "ply\nformat ascii 1.0\nelement face 1\n"
+                                                 "property list uchar uint vertex_indices\nelement vertex 4294967297\n"
+                                                 "property float x\nproperty float y\nproperty float z\nend_header\n"
+                                                 "3 0 1 4294967296\n"),
+                  {"many.ply:5: ", "element vertex: 4294967297 vertices, more than 32-bit face indices can address"});
+  // A floating-point face index far beyond any integer type.
+  expect_contains(error_loading(dir, "fidx.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                 "property float y\nproperty float z\nelement face 1\n"
+                                                 "property list uchar double vertex_indices\nend_header\n"
+                                                 "0 0 0\n1 0 0\n0 1 0\n3 0 1 1e30\n"),
+                  {"fidx.ply:13: ", "face index 1e+30 out of range (3 vertices)"});
+  // A binary element without properties takes no bytes: a huge count must not loop forever.
+  std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nelement nothing 1000000000000000\nelement face 1\n"
+                    "property list uchar int vertex_indices\nend_header\n";
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) bin.append(reinterpret_cast<const char*>(&f), 4);
+  bin += char(3);
+  for (int i : {0, 1, 3}) bin.append(reinterpret_cast<const char*>(&i), 4);
+  expect_contains(error_loading(dir, "empty_el.ply", bin), {"empty_el.ply: face 0 (byte", "face index 3 out of range"});
+}
+
+// Found by fuzzing.
+TEST(SceneBadInput, ObjSmallestIndexAndDirectoryMtllib) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "min.obj", kTriangle + "f -9223372036854775808 1 2\n"),
+                  {"min.obj:4: ", "face index -9223372036854775808 out of range (3 vertices so far)"});
+  std::filesystem::create_directory(dir.path() / "lib");
+  expect_contains(error_loading(dir, "dir.obj", "mtllib lib\n" + kTriangle + "f 1 2 3\n"),
+                  {"dir.obj:1: ", "material library 'lib' is a directory, not a file"});
+}
+
 // A JSON scene next to a valid mesh, so errors come from the JSON itself.
 std::string json_error(const TempDir& dir, const std::string& json) {
   dir.write("tri.obj", kTriangle + "f 1 2 3\n");
@@ -162,6 +205,9 @@ TEST(SceneBadInput, JsonSyntaxAndTypes) {
 TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   TempDir dir;
   expect_contains(json_error(dir, R"({"mesh": []})"), {"scene.json: mesh: unknown key"});
+  // Found by fuzzing: nlohmann reports this as out_of_range, not as a parse_error.
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": 1e400}})"),
+                  {"scene.json: invalid JSON: number overflow parsing '1e400'"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fvo_deg": 40}})"),
                   {"scene.json: camera.fvo_deg: unknown key", "fov_deg"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transfrom": {}}]})"),
@@ -182,6 +228,30 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": {"matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,1,1]}}]})"),
                   {"scene.json: meshes[0].transform.matrix: last row must be 0 0 0 1"});
   expect_contains(json_error(dir, R"({"meshes": []})"), {"scene.json: no triangles"});
+}
+
+// Found by fuzzing: ordered_json copies values recursively (while parsing too, when an object
+// grows), so a deeply nested value overflowed the stack.
+TEST(SceneBadInput, JsonDeepNesting) {
+  TempDir dir;
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  expect_contains(json_error(dir, "{\"comment\": " + deep + R"(, "meshes": [{"file": "tri.obj"}]})"),
+                  {"scene.json: JSON nested deeper than 256 arrays and objects at line 1, column 268"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": {"diffuse": )" + deep + "}}]}"),
+                  {"scene.json: JSON nested deeper than 256 arrays and objects at line 1, column "});
+  // 256 levels are fine, and brackets inside strings do not count.
+  const std::string ok = std::string(255, '[') + "\"[[{\\\"\"" + std::string(255, ']');
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "comment": )" + ok + R"(, "camera": 1})"),
+                  {"scene.json: camera: expected an object, found number"});
+}
+
+// Found by fuzzing: shapes and cameras whose numbers are finite but whose sums are not.
+TEST(SceneBadInput, JsonShapeAndCameraOverflow) {
+  TempDir dir;
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [-3e38, -3e38, -3e38], "max": [3e38, 3e38, 3e38]}]})"),
+                  {"scene.json: meshes[0] (shape box): vertex 1 is not finite (beyond float range)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [-1e20, 0, 0], "look_at": [1e20, 0, 0]}})"),
+                  {"scene.json: camera: eye and look_at are too far apart (their distance overflows float)"});
 }
 
 TEST(SceneBadInput, JsonMeshFileErrorsNameBothFiles) {
