@@ -41,12 +41,13 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--scene", args->scene, "Scene (.json or mesh file; 'cornell' = built-in)")->required();
   cmd->add_option("--workload", args->workload, "primary, shadow, ao or diffuse (secondary rays start at primary hits; "
                                                 "pixels whose primary ray missed are left out)")->capture_default_str();
-  cmd->add_option("--width", args->config.width, "Image width in pixels")->capture_default_str();
-  cmd->add_option("--height", args->config.height, "Image height in pixels")->capture_default_str();
-  cmd->add_option("--spp", args->config.spp, "Camera samples per pixel")->capture_default_str();
-  cmd->add_option("--seed", args->config.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--width", args->config.width, "Image width in pixels")->capture_default_str()->transform(in_range(1));
+  cmd->add_option("--height", args->config.height, "Image height in pixels")->capture_default_str()->transform(in_range(1));
+  cmd->add_option("--spp", args->config.spp, "Camera samples per pixel")->capture_default_str()->transform(in_range(1));
+  cmd->add_option("--seed", args->config.seed, "Random seed")->capture_default_str()->transform(in_range<uint64_t>(0));
   cmd->add_option("--ao-radius", args->config.ao_radius, "AO ray length (0 = 10% of the scene diagonal)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
   cmd->add_option("--accel", args->accel, "Accelerator that finds the primary hits")->capture_default_str();
   cmd->add_option("--out", args->out, "Output RAYS file")->required();
   cmd->callback([args] { run_rays(*args); });

@@ -47,8 +47,6 @@ std::string quoted(const std::string& s) {
 }
 
 void run_trace(const TraceArgs& a) {
-  if (a.threads < 0) throw InputError("--threads " + std::to_string(a.threads) + ": must be >= 1 (0 = all cores)");
-  if (a.repeat < 1) throw InputError("--repeat " + std::to_string(a.repeat) + ": must be >= 1");
   const int threads = a.threads > 0 ? a.threads : tbb::info::default_concurrency();
   // Limits every TBB parallel region of this process, Embree's build included.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
@@ -114,9 +112,10 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--rays", args->rays, "RAYS file (rayscout rays writes one)")->required();
   cmd->add_option("--accel", args->accel, "Accelerator (rayscout accelerators lists them)")->capture_default_str();
   cmd->add_flag("--occluded", args->occluded, "Any-hit queries (shadow rays) instead of closest hits");
-  cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
   cmd->add_option("--repeat", args->repeat, "Timed repetitions after one warm-up; trace_ms is their median")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->transform(in_range(1));
   cmd->add_flag("--count", args->count, "Add exact work counters (from a separate, untimed run)");
   cmd->add_option("--accel-opt", args->accel_opts, "Accelerator tunable key=value (repeatable)");
   cmd->add_option("--out", args->out, "Write the hits (HITS file, or OCCL with --occluded)");

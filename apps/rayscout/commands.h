@@ -2,7 +2,12 @@
 // CommandRegistration, so adding a command never edits main.cpp.
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <functional>
+#include <limits>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -19,5 +24,31 @@ std::vector<AddCommand>& command_registry();
 struct CommandRegistration {
   explicit CommandRegistration(AddCommand add) { command_registry().push_back(std::move(add)); }
 };
+
+/// Use with ->transform(in_range(lo, hi)): the option's value must be a number in [lo, hi]
+/// (hi omitted: >= lo, finite). Unlike CLI::Range it rejects NaN and infinity, reads integers
+/// as decimal (CLI11 alone reads "010" as 8) and rejects "-1" for an unsigned option (CLI11
+/// alone wraps it). The help shows the range; an error names the option and the value.
+template <typename T>
+CLI::Validator in_range(T lo, T hi = std::numeric_limits<T>::max()) {
+  const bool open = hi == std::numeric_limits<T>::max();
+  const std::string range = open ? ">= " + CLI::detail::to_string(lo)
+                                 : "in [" + CLI::detail::to_string(lo) + ", " + CLI::detail::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        T value{};
+        bool ok;
+        if constexpr (std::is_integral_v<T>) {
+          auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+          ok = ec == std::errc() && end == text.data() + text.size();
+          if (ok) text = std::to_string(value);  // what CLI11 converts next: decimal, no leading zeros
+        } else {
+          ok = CLI::detail::lexical_cast(text, value) && std::isfinite(value);
+        }
+        if (ok && value >= lo && value <= hi) return {};
+        return "'" + text + "' is not a number " + range;
+      },
+      open ? "min " + CLI::detail::to_string(lo) : range);  // help: "INT:min 1=4" (4 is the default)
+}
 
 }  // namespace rayscout::cli

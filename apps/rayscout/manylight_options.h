@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "commands.h"
 #include "rayscout/manylight/manylight_integrator.h"
 
 namespace rayscout::cli {
@@ -27,25 +28,37 @@ inline std::string& manylight_cli_visibility() {
 inline void add_manylight_options(CLI::App& cmd) {
   ManylightRunOptions& o = manylight_cli_options();
   ManylightConfig& c = o.config;
-  cmd.add_option("--vpls", c.vpl_count, "manylight: number of VPLs (instant radiosity)")->capture_default_str();
+  cmd.add_option("--vpls", c.vpl_count, "manylight: number of VPLs (instant radiosity)")
+      ->capture_default_str()
+      ->transform(in_range<size_t>(1, 4294967295));
   cmd.add_option("--visibility", manylight_cli_visibility(), "manylight: exact, veach, conservative or proposed")
       ->capture_default_str()
       ->check(CLI::IsMember({"exact", "veach", "conservative", "proposed"}));
   cmd.add_option("--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)")
-      ->capture_default_str();
-  cmd.add_option("--passes", o.passes, "manylight: passes when there is no time budget")->capture_default_str();
+      ->capture_default_str()
+      ->transform(in_range(0.0));
+  cmd.add_option("--passes", o.passes, "manylight: passes when there is no time budget")
+      ->capture_default_str()
+      ->transform(in_range<size_t>(1));
   cmd.add_option("--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->transform(in_range(1));
   cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass");
   cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)");
   cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)");
-  cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")->capture_default_str();
+  cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
   cmd.add_option("--clamp-distance", c.clamp_distance, "manylight: geometry-term clamp distance (0 = off)")
-      ->capture_default_str();
-  cmd.add_option("--shading-clusters", c.shading_clusters, "manylight: shading-point clusters")->capture_default_str();
-  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters")->capture_default_str();
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
+  cmd.add_option("--shading-clusters", c.shading_clusters, "manylight: shading-point clusters")
+      ->capture_default_str()
+      ->transform(in_range(1));
+  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters")->capture_default_str()->transform(in_range(1));
   cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->transform(in_range(1));
   cmd.add_flag("--cpu-clock", c.cpu_clock, "manylight: time budget and calibration in process CPU time");
 }
 

@@ -59,13 +59,13 @@ BvhBuildConfig wide_bvh_default_config() {
 
 BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const BvhBuildConfig& defaults) {
   BvhBuildConfig c = defaults;
-  c.bins = int(options.get_int("bins", c.bins));
-  c.max_leaf_size = int(options.get_int("max_leaf_size", c.max_leaf_size));
+  c.bins = int(options.get_int("bins", c.bins, 2, 256));
+  c.max_leaf_size = int(options.get_int("max_leaf_size", c.max_leaf_size, 1, 15));
   c.traversal_cost = float(options.get_double("traversal_cost", c.traversal_cost));
   c.intersection_cost = float(options.get_double("intersection_cost", c.intersection_cost));
-  c.leaf_block = int(options.get_int("leaf_block", c.leaf_block));
+  c.leaf_block = int(options.get_int("leaf_block", c.leaf_block, 1, 15));
   c.presplit = float(options.get_double("presplit", c.presplit));
-  c.presplit_max_pieces = int(options.get_int("presplit_pieces", c.presplit_max_pieces));
+  c.presplit_max_pieces = int(options.get_int("presplit_pieces", c.presplit_max_pieces, 1, 65));
   const std::string collapse = options.get_string("collapse", c.collapse == CollapseMethod::Sah ? "sah" : "greedy");
   if (collapse == "greedy") {
     c.collapse = CollapseMethod::Greedy;
@@ -77,20 +77,11 @@ BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const 
   c.collapse_node_cost = float(options.get_double("collapse_node_cost", c.collapse_node_cost));
   c.collapse_leaf_cost = float(options.get_double("collapse_leaf_cost", c.collapse_leaf_cost));
   c.collapse_block_cost = float(options.get_double("collapse_block_cost", c.collapse_block_cost));
-  c.collapse_max_leaf = int(options.get_int("collapse_max_leaf", c.collapse_max_leaf));
+  c.collapse_max_leaf = int(options.get_int("collapse_max_leaf", c.collapse_max_leaf, 1, 15));
   if (!(c.collapse_node_cost > 0) || !(c.collapse_leaf_cost >= 0) || !(c.collapse_block_cost > 0))
     throw InputError("bvh options collapse_node_cost and collapse_block_cost must be positive, collapse_leaf_cost >= 0");
-  if (c.collapse_max_leaf < 1 || c.collapse_max_leaf > 15)
-    throw InputError("bvh option collapse_max_leaf=" + std::to_string(c.collapse_max_leaf) + ": must be in [1, 15]");
-  if (c.leaf_block < 1 || c.leaf_block > 15)
-    throw InputError("bvh option leaf_block=" + std::to_string(c.leaf_block) + ": must be in [1, 15]");
   if (!(c.presplit >= 0.0f && c.presplit <= 4.0f))
     throw InputError("bvh option presplit=" + std::to_string(c.presplit) + ": must be in [0, 4]");
-  if (c.presplit_max_pieces < 1 || c.presplit_max_pieces > 65)
-    throw InputError("bvh option presplit_pieces=" + std::to_string(c.presplit_max_pieces) + ": must be in [1, 65]");
-  if (c.bins < 2 || c.bins > 256) throw InputError("bvh option bins=" + std::to_string(c.bins) + ": must be in [2, 256]");
-  if (c.max_leaf_size < 1 || c.max_leaf_size > 15)
-    throw InputError("bvh option max_leaf_size=" + std::to_string(c.max_leaf_size) + ": must be in [1, 15]");
   if (!(c.traversal_cost > 0) || !(c.intersection_cost > 0))
     throw InputError("bvh options traversal_cost and intersection_cost must be positive");
   return c;

@@ -2,6 +2,8 @@
 #include "rayscout/core/accelerator_options.h"
 
 #include <charconv>
+#include <cmath>
+#include <sstream>
 #include <string>
 
 namespace rayscout {
@@ -42,10 +44,31 @@ long AcceleratorOptions::get_int(const std::string& key, long fallback) const {
   return it == values_.end() ? fallback : parse_number<long>(key, it->second);
 }
 
+long AcceleratorOptions::get_int(const std::string& key, long fallback, long lo, long hi) const {
+  const long value = get_int(key, fallback);
+  if (value < lo || value > hi)
+    throw InputError("option '" + key + "': " + std::to_string(value) + " is not in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+  return value;
+}
+
 double AcceleratorOptions::get_double(const std::string& key, double fallback) const {
   auto it = values_.find(key);
   used_.insert(key);
-  return it == values_.end() ? fallback : parse_number<double>(key, it->second);
+  if (it == values_.end()) return fallback;
+  const double value = parse_number<double>(key, it->second);  // from_chars also reads "nan", "inf"
+  if (!std::isfinite(value)) throw InputError("option '" + key + "': '" + it->second + "' is not a finite number");
+  return value;
+}
+
+double AcceleratorOptions::get_double(const std::string& key, double fallback, double lo, double hi) const {
+  const double value = get_double(key, fallback);
+  if (value < lo || value > hi) {
+    std::ostringstream s;
+    s << "option '" << key << "': " << value << " is not in [" << lo << ", " << hi << "]";
+    throw InputError(s.str());
+  }
+  return value;
 }
 
 std::string AcceleratorOptions::get_string(const std::string& key, const std::string& fallback) const {

@@ -2,6 +2,7 @@
 #include "rayscout/dacrt/dacrt_config.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <sstream>
 
@@ -41,24 +42,21 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   c.resample_second = o.get_bool("resample", c.resample_second);
   c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
                    ? DacrtSampling::Random : DacrtSampling::Stride;
-  c.samples = int(o.get_int("samples", c.samples));
+  c.samples = int(o.get_int("samples", c.samples, 1, INT_MAX));
   c.fraction = o.get_double("fraction", c.fraction);
-  c.min_rays_sampling = size_t(std::max(0L, o.get_int("min_rays", long(c.min_rays_sampling))));
+  c.min_rays_sampling = size_t(o.get_int("min_rays", long(c.min_rays_sampling), 0, LONG_MAX));
   c.sample_budget = o.get_double("sample_budget", c.sample_budget);
   c.seed = uint64_t(o.get_int("seed", long(c.seed)));
-  c.delta_r = size_t(o.get_int("delta_r", long(c.delta_r)));
-  c.delta_t = size_t(o.get_int("delta_t", long(c.delta_t)));
-  c.bins = int(o.get_int("bins", c.bins));
+  c.delta_r = size_t(o.get_int("delta_r", long(c.delta_r), 1, LONG_MAX));
+  c.delta_t = size_t(o.get_int("delta_t", long(c.delta_t), 2, LONG_MAX));
+  c.bins = int(o.get_int("bins", c.bins, 2, 256));
   c.midpoint_ratio = o.get_double("midpoint_ratio", c.midpoint_ratio);
   c.c_t = o.get_double("C_T", c.c_t);
   c.c_i = o.get_double("C_I", c.c_i);
   c.c_bv = o.get_double("C_bv", c.c_bv);
   c.c_tri = o.get_double("C_tri", c.c_tri);
   c.parallel = o.get_bool("parallel", c.parallel);
-  require(c.samples >= 1, "samples=" + std::to_string(c.samples) + ": must be >= 1");
   require(c.fraction >= 0.0 && c.fraction <= 1.0, "fraction: must be in [0, 1]");
-  require(c.delta_r >= 1 && c.delta_t >= 2, "delta_r >= 1 and delta_t >= 2 required");
-  require(c.bins >= 2 && c.bins <= 256, "bins=" + std::to_string(c.bins) + ": must be in [2, 256]");
   require(c.sample_budget >= 0.0, "sample_budget: must be >= 0");
   require(c.midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
   require(c.c_t >= 0 && c.c_i > 0 && c.c_bv > 0 && c.c_tri > 0, "C_T >= 0, C_I, C_bv, C_tri > 0 required");

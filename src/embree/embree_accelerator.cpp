@@ -20,7 +20,7 @@ EmbreeConfig EmbreeConfig::from_options(const AcceleratorOptions& options) {
   if (quality != "high" && quality != "medium")
     throw InputError("embree: option quality=" + quality + " (expected high or medium)");
   c.high_quality = quality == "high";
-  c.packet = int(options.get_int("packet", c.packet));
+  c.packet = int(options.get_int("packet", c.packet, 1, 16));
   if (c.packet != 1 && c.packet != 16)
     throw InputError("embree: option packet=" + std::to_string(c.packet) + " (expected 1 or 16)");
   return c;

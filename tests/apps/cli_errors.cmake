@@ -32,3 +32,52 @@ expect(0 "wrote" rays --scene cornell --workload diffuse --width 8 --height 8 --
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --out ${WORK}/p.hits)
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/d.rays --accel bvh --out ${WORK}/d.hits)
 expect(1 "result" compare-hits ${WORK}/p.hits ${WORK}/d.hits)
+
+# Option values out of range: exit 2 naming the option and the value, before any work (never a
+# hang, a wrapped unsigned value or a silent fallback to the default).
+set(R render --width 8 --height 8 --out ${WORK}/x.png)
+expect(2 "--threads: '-3' is not a number >= 0" ${R} --threads -3)
+expect(2 "--ao-radius: 'nan' is not a number >= 0" ${R} --integrator ao --ao-radius nan)
+expect(2 "--ray-epsilon: '-1' is not a number >= 0" ${R} --ray-epsilon -1)
+expect(2 "--max-batch: '-5' is not a number >= 0" ${R} --max-batch -5)
+expect(2 "--seed: '-1' is not a number" ${R} --seed -1)
+expect(2 "--seed: '18446744073709551616' is not a number" ${R} --seed 18446744073709551616)
+expect(2 "--width: '100000' is not a number in \\[1, 32768\\]" ${R} --width 100000)
+expect(2 "--vpls: '-1' is not a number" ${R} --integrator manylight --vpls -1)
+expect(2 "--vpls: '0' is not a number" ${R} --integrator manylight --vpls 0)
+expect(2 "--passes: '-1' is not a number >= 1" ${R} --integrator manylight --passes -1)
+expect(2 "--time-budget: 'inf' is not a number >= 0" ${R} --integrator manylight --time-budget inf)
+expect(2 "--clamp-distance: '-1' is not a number >= 0" ${R} --integrator manylight --clamp-distance -1)
+expect(2 "--visibility-samples: '0' is not a number >= 1" ${R} --integrator manylight --visibility-samples 0)
+expect(2 "--shading-clusters: '-4' is not a number >= 1" ${R} --integrator manylight --shading-clusters -4)
+expect(2 "--seed: '-1' is not a number" rays --scene cornell --seed -1 --out ${WORK}/x.rays)
+expect(2 "--ao-radius: '-1' is not a number >= 0" rays --scene cornell --workload ao --ao-radius -1 --out ${WORK}/x.rays)
+expect(2 "--threads: '-3' is not a number >= 0" trace --scene cornell --rays ${WORK}/ok.rays --threads -3)
+expect(2 "--repeat: '0' is not a number >= 1" trace --scene cornell --rays ${WORK}/ok.rays --repeat 0)
+# Integers are decimal: CLI11 alone reads 010 as 8.
+expect(0 "10x8" render --width 010 --height 8 --out ${WORK}/x.png)
+expect(0 "in \\[1, 32768\\]" render --help)
+
+# Accelerator options: a value beyond the key's range is an error, never narrowed (2^32 + 2 -> 2).
+set(T trace --scene cornell --rays ${WORK}/ok.rays --repeat 1)
+expect(2 "option 'bins': 4294967298 is not in \\[2, 256\\]" ${T} --accel dacrt-rs --accel-opt bins=4294967298)
+expect(2 "option 'samples': 4294967297 is not in" ${T} --accel dacrt --accel-opt samples=4294967297)
+expect(2 "option 'delta_r': -1 is not in" ${T} --accel dacrt --accel-opt delta_r=-1)
+expect(2 "option 'min_rays': -5 is not in" ${T} --accel dacrt-rs --accel-opt min_rays=-5)
+expect(2 "option 'dir_res': 4294967300 is not in \\[1, 64\\]" ${T} --accel shafts --accel-opt dir_res=4294967300)
+expect(2 "option 'max_list': 4294967297 is not in \\[1, 31\\]" ${T} --accel shafts --accel-opt max_list=4294967297)
+expect(2 "option 'leaf_block': 4294967297 is not in \\[1, 15\\]" ${T} --accel bvh --accel-opt leaf_block=4294967297)
+# Real-valued options are finite and, where they size memory, bounded (budget_rel=inf and
+# budget_mib=1e30 used to build for ever).
+expect(2 "option 'budget_rel': 'inf' is not a finite number" ${T} --accel shafts --accel-opt budget_rel=inf)
+expect(2 "option 'budget_mib': 1e\\+30 is not in \\[0, 4096\\]" ${T} --accel shafts --accel-opt budget_mib=1e30)
+expect(2 "option 'min_prob': 'nan' is not a finite number" ${T} --accel shafts-wide --accel-opt min_prob=nan)
+expect(2 "option 'C_tri': 'inf' is not a finite number" ${T} --accel dacrt-rs --accel-opt C_tri=inf)
+# "auto" is a value of the keys whose default it is; the wide BVH's collapse method and the
+# shafts walk are separate keys (both used to be "collapse").
+expect(0 "mrays_per_s" ${T} --accel shafts --accel-opt samples=auto --accel-opt reuse_rays=auto --accel-opt entry_boxes=auto --accel-opt walk_levels=2)
+expect(0 "mrays_per_s" ${T} --accel shafts-wide --accel-opt collapse=greedy)
+# diff of two images of different sizes names both files.
+expect(0 "" render --width 8 --height 8 --out ${WORK}/a8.pfm)
+expect(0 "" render --width 8 --height 6 --out ${WORK}/b6.pfm)
+expect(2 "a8\\.pfm and .*b6\\.pfm: images differ in size: 8x8 vs 8x6" diff ${WORK}/a8.pfm ${WORK}/b6.pfm)

@@ -26,7 +26,13 @@ class AcceleratorOptions {
 
   bool get_bool(const std::string& key, bool fallback) const;
   long get_int(const std::string& key, long fallback) const;
+  /// get_int, but a value outside [lo, hi] throws InputError naming the key, the value and the
+  /// range (so that a narrowing cast after it, e.g. int(...), never wraps a huge value).
+  long get_int(const std::string& key, long fallback, long lo, long hi) const;
+  /// A finite number (NaN and infinity throw InputError).
   double get_double(const std::string& key, double fallback) const;
+  /// get_double, but a value outside [lo, hi] throws InputError naming the key and the range.
+  double get_double(const std::string& key, double fallback, double lo, double hi) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
   bool has(const std::string& key) const { return values_.count(key) != 0; }
   /// Throws InputError naming every key that no get_* call asked for.
