@@ -24,6 +24,7 @@ void run_rays(const RaysArgs& a) {
     throw InputError(fmt::format("--width {} --height {} --spp {}: each must be >= 1", a.config.width,
                                  a.config.height, a.config.spp));
   const Workload workload = parse_workload(a.workload);
+  check_output_path("--out", a.out);
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = resolve_scene(a.scene);
   // Secondary workloads start at the primary hits, found with this accelerator.

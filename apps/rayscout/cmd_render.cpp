@@ -59,6 +59,13 @@ void run(RenderOptions& o) {
   if (o.threads > 0)
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
   const int n_threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
+  // Output paths are checked before the work, not after it.
+  check_image_path(o.out);
+  if (!o.stats.empty() && o.stats != "-") check_output_path("--stats", o.stats);
+  if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
+    if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
+    if (!ml.rmse_log.empty()) check_output_path("--rmse-log", ml.rmse_log);
+  }
   const auto integrator = make_integrator(o.integrator);
   if (o.accel.empty()) o.accel = default_accelerator();
   AcceleratorOptions accel_options;

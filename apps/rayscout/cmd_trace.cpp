@@ -51,6 +51,7 @@ void run_trace(const TraceArgs& a) {
   // Limits every TBB parallel region of this process, Embree's build included.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
 
+  if (!a.out.empty()) check_output_path("--out", a.out);
   AcceleratorOptions options;
   for (const auto& kv : a.accel_opts) options.set(kv);
   const Scene scene = resolve_scene(a.scene);

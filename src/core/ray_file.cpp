@@ -86,7 +86,14 @@ void write_file(const std::filesystem::path& file, const std::string& bytes) {
 }
 
 // Reads the whole file after checking its header against `kind`; returns the records and count.
+// An ifstream opens a directory and reads 0 bytes from it: say what it is instead.
+void check_not_directory(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) fail(file, "is a directory, not a ray file");
+}
+
 std::string read_records(const std::filesystem::path& file, RayFileKind kind, uint64_t& count) {
+  check_not_directory(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, std::string("cannot open ") + what_of(kind));
   char head[kRayFileHeaderBytes];
@@ -197,6 +204,7 @@ std::vector<uint8_t> read_occlusion(const std::filesystem::path& file) {
 }
 
 RayFileKind ray_file_kind(const std::filesystem::path& file) {
+  check_not_directory(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, "cannot open");
   char head[kRayFileHeaderBytes];

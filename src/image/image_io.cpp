@@ -165,13 +165,24 @@ float srgb_to_linear(float e) {
   return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
 }
 
+void check_image_path(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a directory, not an image file");
+  const std::string ext = lower_extension(path);
+  if (ext != ".png" && ext != ".exr" && ext != ".pfm")
+    throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+  const std::filesystem::path parent = path.parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw InputError(path.string() + ": folder " + parent.string() + " does not exist");
+}
+
 void write_image(const Image& image, const std::filesystem::path& path) {
   check_size(image, path);
+  check_image_path(path);
   const std::string ext = lower_extension(path);
   if (ext == ".png") return write_png(image, path);
   if (ext == ".exr") return write_exr(image, path);
-  if (ext == ".pfm") return write_pfm(image, path);
-  throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+  write_pfm(image, path);
 }
 
 Image read_image(const std::filesystem::path& path) {

@@ -26,6 +26,11 @@ struct Image {
 /// extension or a file that cannot be written.
 void write_image(const Image& image, const std::filesystem::path& path);
 
+/// Throws InputError (naming the path) when write_image could not write `path`: another
+/// extension than .png, .exr or .pfm, a directory, or a parent folder that does not exist.
+/// Commands call it before their work, so a mistyped --out never costs a finished render.
+void check_image_path(const std::filesystem::path& path);
+
 /// Reads .exr, .pfm or .png (8-bit sRGB decoded to linear). Throws InputError naming the file.
 Image read_image(const std::filesystem::path& path);
 
