@@ -139,12 +139,18 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout)");
   cmd->add_option("--out", opts->out, "output image: .png, .exr or .pfm")->capture_default_str();
 
-  // ---- Integrator-specific options: one call per integrator module below, e.g.
-  //      add_manylight_options(*cmd); ----
-  add_manylight_options(*cmd);
+  // ---- Integrator-specific options: one option group per integrator module (a warning
+  //      names them when another integrator is chosen) ----
+  auto* manylight = cmd->add_option_group("manylight", "Options of --integrator manylight");
+  add_manylight_options(*manylight);
   // ---- end of integrator-specific options ----
 
-  cmd->callback([opts] { run(*opts); });
+  cmd->callback([opts, manylight] {
+    if (manylight->count_all() > 0 && opts->integrator != "manylight")
+      fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n",
+                 opts->integrator);
+    run(*opts);
+  });
 }};
 
 }  // namespace

@@ -89,3 +89,5 @@ expect(2 "--stats .*no-such-dir/s.json: folder" render --width 8 --height 8 --ou
 expect(2 "--out .*no-such-dir/r.rays: folder" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/no-such-dir/r.rays)
 expect(2 "--out .*: is a directory" trace --scene cornell --rays ${WORK}/ok.rays --out ${WORK})
 expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
+# Options of another integrator are not silently dropped.
+expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
