@@ -1,10 +1,12 @@
 // `rayscout render`: renders a scene with an integrator on an accelerator and writes the image.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/core.h>
@@ -145,7 +147,16 @@ CommandRegistration registration{[](CLI::App& app) {
   add_manylight_options(*manylight);
   // ---- end of integrator-specific options ----
 
-  cmd->callback([opts, manylight] {
+  cmd->callback([opts, cmd, manylight] {
+    // An option the chosen integrator does not read is reported, not dropped silently.
+    static const std::vector<std::pair<std::string, std::vector<std::string>>> readers = {
+        {"--max-depth", {"direct", "area", "path"}},
+        {"--light-samples", {"area", "path"}},
+        {"--ao-samples", {"ao"}},
+        {"--ao-radius", {"ao"}}};
+    for (const auto& [option, integrators] : readers)
+      if (cmd->count(option) > 0 && std::find(integrators.begin(), integrators.end(), opts->integrator) == integrators.end())
+        fmt::print(stderr, "rayscout: warning: {} is ignored by --integrator {}\n", option, opts->integrator);
     if (manylight->count_all() > 0 && opts->integrator != "manylight")
       fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n",
                  opts->integrator);

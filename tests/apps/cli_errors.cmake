@@ -91,3 +91,4 @@ expect(2 "--out .*: is a directory" trace --scene cornell --rays ${WORK}/ok.rays
 expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
 # Options of another integrator are not silently dropped.
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
+expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
