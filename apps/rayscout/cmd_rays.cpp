@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
 #include "rayscout/render/workloads.h"
 #include "rayscout/scene/load_scene.h"
@@ -20,11 +21,8 @@ struct RaysArgs {
 };
 
 void run_rays(const RaysArgs& a) {
-  if (a.config.width < 1 || a.config.height < 1 || a.config.spp < 1)
-    throw InputError(fmt::format("--width {} --height {} --spp {}: each must be >= 1", a.config.width,
-                                 a.config.height, a.config.spp));
   const Workload workload = parse_workload(a.workload);
-  check_output_path("--out", a.out);
+  check_output_path(a.out, "--out " + a.out);
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = resolve_scene(a.scene);
   // Secondary workloads start at the primary hits, found with this accelerator.

@@ -18,6 +18,7 @@
 #include "integrators.h"
 #include "manylight_options.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/scene/load_scene.h"
@@ -63,10 +64,10 @@ void run(RenderOptions& o) {
   const int n_threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
   // Output paths are checked before the work, not after it.
   check_image_path(o.out);
-  if (!o.stats.empty() && o.stats != "-") check_output_path("--stats", o.stats);
+  if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
   if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
-    if (!ml.rmse_log.empty()) check_output_path("--rmse-log", ml.rmse_log);
+    if (!ml.rmse_log.empty()) check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);
   }
   const auto integrator = make_integrator(o.integrator);
   if (o.accel.empty()) o.accel = default_accelerator();

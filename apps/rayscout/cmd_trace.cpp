@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
 #include "rayscout/scene/load_scene.h"
 
@@ -51,7 +52,7 @@ void run_trace(const TraceArgs& a) {
   // Limits every TBB parallel region of this process, Embree's build included.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
 
-  if (!a.out.empty()) check_output_path("--out", a.out);
+  if (!a.out.empty()) check_output_path(a.out, "--out " + a.out);
   AcceleratorOptions options;
   for (const auto& kv : a.accel_opts) options.set(kv);
   const Scene scene = resolve_scene(a.scene);

@@ -4,7 +4,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <filesystem>
 #include <functional>
 #include <limits>
 #include <string>
@@ -27,16 +26,6 @@ std::vector<AddCommand>& command_registry();
 struct CommandRegistration {
   explicit CommandRegistration(AddCommand add) { command_registry().push_back(std::move(add)); }
 };
-
-/// Throws InputError unless `path` can be created as a file: not a directory, and its
-/// folder exists. For outputs written after long work (--stats, --rmse-log, --out of rays).
-inline void check_output_path(const std::string& option, const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(option + " " + path.string() + ": is a directory");
-  const std::filesystem::path parent = path.parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(option + " " + path.string() + ": folder " + parent.string() + " does not exist");
-}
 
 /// Use with ->transform(in_range(lo, hi)): the option's value must be a number in [lo, hi]
 /// (hi omitted: >= lo, finite). Unlike CLI::Range it rejects NaN and infinity, reads integers

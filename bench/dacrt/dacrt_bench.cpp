@@ -2,6 +2,8 @@
 // 2014): frame times of Afra's DACRT and the ray-sampled DACRT per resolution and bounce,
 // the ablation, the sampling strategies, ray-box test reduction, and bvh/embree including
 // their build on the same ray sets. Prints markdown tables and writes JSON for the plots.
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -16,7 +18,6 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
-#include <malloc.h>
 
 #include "rayscout/accelerators.h"
 #include "rayscout/core/scenes_dir.h"
@@ -406,14 +407,13 @@ int main(int argc, char** argv) {
           Scene part = *scene;
           part.triangles.resize(t);
           part.emissive_triangles.clear();
-          RaySet sub{primary->kind, primary->bounce, primary->occlusion, {}};
-          sub.rays = primary->rays;
-          sub.rays.resize(r);
+          RayBatch rays = primary->rays;
+          rays.resize(r);
           auto acc = make(name, part, o);
           HitBatch hits;
           hits.reset(r);  // the output, written before the peak restarts: not the accelerator's
           const double before = restart_peak();
-          acc->intersect(sub.rays, hits);
+          acc->intersect(rays, hits);
           const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
           fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
           out["memory"].push_back({{"view", v.name}, {"accel", name}, {"rays", r}, {"triangles", t},

@@ -11,13 +11,13 @@ namespace {
 
 // The t difference that counts as rel_tol = 1 for ray i hitting at t_ref (HitCompareConfig).
 float t_scale(const HitCompareConfig& config, size_t i, float t_ref) {
-  if (!config.rays || i >= config.rays->size()) return std::max(1.0f, std::fabs(t_ref));
+  const float relative = std::max(1.0f, std::fabs(t_ref));  // without rays, or for a degenerate one
+  if (!config.rays || i >= config.rays->size()) return relative;
   const Ray r = (*config.rays)[i];
   const float len = length(r.dir);
-  if (!(len > 0.0f) || !std::isfinite(len)) return std::max(1.0f, std::fabs(t_ref));
   const Vec3 p = r.org + r.dir * t_ref;
   const float world = std::max({1.0f, max_component(abs(r.org)), max_component(abs(p))});
-  if (!std::isfinite(world)) return std::max(1.0f, std::fabs(t_ref));
+  if (!(len > 0.0f) || !std::isfinite(len) || !std::isfinite(world)) return relative;
   return world / len;
 }
 

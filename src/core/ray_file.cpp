@@ -85,13 +85,13 @@ void write_file(const std::filesystem::path& file, const std::string& bytes) {
   if (!out) fail(file, "write failed (" + std::to_string(bytes.size()) + " bytes)");
 }
 
-// Reads the whole file after checking its header against `kind`; returns the records and count.
 // An ifstream opens a directory and reads 0 bytes from it: say what it is instead.
 void check_not_directory(const std::filesystem::path& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) fail(file, "is a directory, not a ray file");
 }
 
+// Reads the whole file after checking its header against `kind`; returns the records and count.
 std::string read_records(const std::filesystem::path& file, RayFileKind kind, uint64_t& count) {
   check_not_directory(file);
   std::ifstream in(file, std::ios::binary);

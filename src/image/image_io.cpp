@@ -29,6 +29,7 @@
 #pragma GCC diagnostic pop
 
 #include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 
 namespace rayscout {
@@ -171,9 +172,7 @@ void check_image_path(const std::filesystem::path& path) {
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
     throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
-  const std::filesystem::path parent = path.parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(path.string() + ": folder " + parent.string() + " does not exist");
+  check_output_path(path, path.string());
 }
 
 void write_image(const Image& image, const std::filesystem::path& path) {

@@ -1,0 +1,14 @@
+// Checking an output path before the work that ends by writing it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace rayscout {
+
+/// Throws InputError, prefixed with `label` (e.g. "--stats out.json"), unless `path` can be
+/// created as a file: it is not a directory and its folder exists. Commands call it before
+/// long work, so that a mistyped output path never costs a finished render.
+void check_output_path(const std::filesystem::path& path, const std::string& label);
+
+}  // namespace rayscout

@@ -1,0 +1,16 @@
+// check_output_path: an output file's folder exists and the path is no directory.
+#include "rayscout/core/output_path.h"
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout {
+
+void check_output_path(const std::filesystem::path& path, const std::string& label) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(label + ": is a directory");
+  const std::filesystem::path parent = path.parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw InputError(label + ": folder " + parent.string() + " does not exist");
+}
+
+}  // namespace rayscout
