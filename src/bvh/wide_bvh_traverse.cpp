@@ -67,14 +67,22 @@ inline uint32_t test_children(const WideNode& node, const detail::WideRay& wr, f
 
 template <bool CaptureStats>
 Hit WideBvh::intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
-  const RayPrecomp rp(ray.dir);
+  return intersect<CaptureStats>(ray, RayPrecomp(ray.dir), start, stats);
+}
+
+template <bool CaptureStats>
+bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
+  return occluded<CaptureStats>(ray, RayPrecomp(ray.dir), start, stats);
+}
+
+template <bool CaptureStats>
+Hit WideBvh::intersect(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const {
   return finite_ray(ray, rp.inv_dir) ? intersect_impl<CaptureStats, true>(ray, rp, start, stats)
                                      : intersect_impl<CaptureStats, false>(ray, rp, start, stats);
 }
 
 template <bool CaptureStats>
-bool WideBvh::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
-  const RayPrecomp rp(ray.dir);
+bool WideBvh::occluded(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const {
   return finite_ray(ray, rp.inv_dir) ? occluded_impl<CaptureStats, true>(ray, rp, start, stats)
                                      : occluded_impl<CaptureStats, false>(ray, rp, start, stats);
 }
@@ -285,5 +293,9 @@ template Hit WideBvh::intersect<false>(const Ray&, std::span<const uint32_t>, Tr
 template Hit WideBvh::intersect<true>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
 template bool WideBvh::occluded<false>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
 template bool WideBvh::occluded<true>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template Hit WideBvh::intersect<false>(const Ray&, const RayPrecomp&, std::span<const uint32_t>, TraceStats*) const;
+template Hit WideBvh::intersect<true>(const Ray&, const RayPrecomp&, std::span<const uint32_t>, TraceStats*) const;
+template bool WideBvh::occluded<false>(const Ray&, const RayPrecomp&, std::span<const uint32_t>, TraceStats*) const;
+template bool WideBvh::occluded<true>(const Ray&, const RayPrecomp&, std::span<const uint32_t>, TraceStats*) const;
 
 }  // namespace rayscout

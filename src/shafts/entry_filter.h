@@ -14,15 +14,18 @@
 namespace rayscout::detail {
 
 /// Writes the entries whose (widened) box the ray meets within [near, far] to refs/dist,
-/// sorted by entry distance; returns their count. NaN slab distances (0 * inf for a ray in a
-/// box plane) leave the interval unconstrained, as core's intersect_box does: conservative.
+/// sorted by entry distance (Sorted) or in list order; returns their count. NaN slab
+/// distances (0 * inf for a ray in a box plane) leave the interval unconstrained, as core's
+/// intersect_box does: conservative.
+template <bool Sorted>
 inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec3& org, const Vec3& inv_dir,
                           float near, float far, uint32_t* refs, float* dist) {
   const int len = int(c.list.size());
   int n = 0;
   auto insert = [&](int k, float d) {
     int j = n++;
-    while (j > 0 && dist[j - 1] > d) { dist[j] = dist[j - 1]; refs[j] = refs[j - 1]; --j; }
+    if constexpr (Sorted)
+      while (j > 0 && dist[j - 1] > d) { dist[j] = dist[j - 1]; refs[j] = refs[j - 1]; --j; }
     dist[j] = d;
     refs[j] = c.list[size_t(k)];
   };

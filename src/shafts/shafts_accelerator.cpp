@@ -66,12 +66,15 @@ template <bool Stats, bool Any>
 void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits,
                                     std::vector<uint8_t>* occ, TraceStats& local) const {
   // Box-test the entries on the BVH's own widened interval (box distances and watertight t
-  // round differently), keep the hit ones sorted near first.
+  // round differently) and keep the hit ones: sorted near first for a closest hit; in list
+  // order (Algorithm 1's near first along the shaft) for an any hit, which has no use for
+  // the exact order (session 6: fewer steps and 1-10 % less time than sorting). rp is made
+  // once here and handed to the traversal.
   const RayPrecomp rp(ray.dir);
   const detail::CullInterval cull(scene_box_, ray);
   uint32_t refs[32];
   float dist[32];
-  const int n = detail::filter_entries(dequant_, c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
+  const int n = detail::filter_entries<!Any>(dequant_, c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
                                        refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
@@ -80,11 +83,11 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   const std::span<const uint32_t> start(refs, size_t(n));
   if constexpr (Any) {
     const bool o = base_ == Base::Binary ? bvh2_.occluded<Stats>(ray, triangles_, start, &local)
-                                         : wide_.occluded<Stats>(ray, start, &local);
+                                         : wide_.occluded<Stats>(ray, rp, start, &local);
     (*occ)[i] = o ? 1 : 0;
   } else {
     const Hit h = base_ == Base::Binary ? bvh2_.intersect<Stats>(ray, triangles_, start, &local)
-                                        : wide_.intersect<Stats>(ray, start, &local);
+                                        : wide_.intersect<Stats>(ray, rp, start, &local);
     if (h.hit()) hits->set(i, h);
   }
 }

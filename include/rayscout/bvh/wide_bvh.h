@@ -110,6 +110,11 @@ class WideBvh {
   /// Any hit with tmin <= t <= tmax, stops at the first one. Same start and stats as intersect.
   template <bool CaptureStats>
   bool occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
+  /// The same two, for a caller that already holds the ray's precomputed RayPrecomp(ray.dir).
+  template <bool CaptureStats>
+  Hit intersect(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
+  template <bool CaptureStats>
+  bool occluded(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
 
   /// The triangle in leaf slot s.
   Triangle leaf_triangle(size_t s) const {
