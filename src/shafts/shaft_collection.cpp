@@ -1,9 +1,8 @@
-// ShaftCollection: occupancy, shaft selection, parallel list construction, deduplication and
-// the memory-budget loop.
+// ShaftCollection: parallel list construction, deduplication and the memory-budget loop
+// (selection: shaft_selection.cpp; sample rays: shaft_samples.cpp).
 #include "rayscout/shafts/shaft_collection.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <bit>
 #include <chrono>
@@ -11,286 +10,22 @@
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
 
 #include <tbb/parallel_for.h>
 
 #include "candidate_list.h"
 #include "group_list_builder.h"
+#include "shaft_samples.h"
+#include "shaft_selection.h"
 
 namespace rayscout {
 namespace {
 
+using detail::PooledSample;
+using detail::Selection;
+
 double ms_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
-uint64_t splitmix64(uint64_t& s) {
-  uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-float uniform01(uint64_t& s) { return float(splitmix64(s) >> 40) * (1.0f / 16777216.0f); }
-
-/// Voxels whose box meets a triangle's box and plane (a cheap conservative overlap).
-std::vector<uint8_t> occupied_voxels(const ShaftGrid& grid, std::span<const Triangle> tris) {
-  std::vector<uint8_t> occ(grid.voxel_count(), 0);
-  const Bounds3& box = grid.box();
-  const auto res = grid.res();
-  Vec3 size;
-  for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
-  auto index = [&](float p, int a) {
-    if (!(size[a] > 0.0f)) return 0;
-    return std::clamp(int(std::floor((p - box.lo[a]) / size[a])), 0, res[a] - 1);
-  };
-  for (const Triangle& t : tris) {
-    const Bounds3 tb = t.bounds();
-    const Vec3 n = t.normal();
-    const int x0 = index(tb.lo.x, 0), x1 = index(tb.hi.x, 0);
-    const int y0 = index(tb.lo.y, 1), y1 = index(tb.hi.y, 1);
-    const int z0 = index(tb.lo.z, 2), z1 = index(tb.hi.z, 2);
-    const bool small = (x1 - x0) + (y1 - y0) + (z1 - z0) <= 1;
-    for (int z = z0; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const uint32_t v = grid.voxel_id(x, y, z);
-          if (occ[v]) continue;
-          if (!small) {
-            // Plane test with a generous margin: rejects voxels far from a big slanted triangle.
-            const Bounds3 vb = grid.voxel_box(v);
-            const Vec3 c = vb.center(), h = vb.diagonal() * 0.5f;
-            const double dist = std::fabs(double(dot(n, c - t.v0)));
-            const double reach = std::fabs(double(n.x) * h.x) + std::fabs(double(n.y) * h.y) +
-                                 std::fabs(double(n.z) * h.z);
-            if (dist > reach * 1.01 + 1e-6 * length(n) * length(h)) continue;
-          }
-          occ[v] = 1;
-        }
-  }
-  return occ;
-}
-
-/// Which shafts get lists (paper sec. 4.4): voxel flags, and per shaft flags for "camera"
-/// (empty = every cell of a listed voxel).
-struct Selection {
-  std::vector<uint8_t> voxel_listed, shaft_selected;
-  size_t shafts = 0;
-};
-
-Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, const RayBatch& sample_rays,
-                        const ShaftConfig& config) {
-  const uint32_t cells = grid.cells_per_voxel();
-  const size_t nvox = grid.voxel_count();
-  Selection sel;
-  sel.voxel_listed.assign(nvox, 0);
-  if (config.select == "occupied") {
-    sel.voxel_listed = occupied_voxels(grid, tris);
-    sel.shafts = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1)) * cells;
-  } else if (config.select == "camera") {
-    std::unordered_map<uint64_t, uint32_t> counts;
-    size_t classified = 0;
-    for (size_t i = 0; i < sample_rays.size(); ++i) {
-      ShaftCoord c;
-      if (!grid.classify(sample_rays[i], c)) continue;
-      ++counts[uint64_t(c.voxel) * cells + c.cell];
-      ++classified;
-    }
-    std::vector<std::pair<uint32_t, uint64_t>> order;
-    for (const auto& [id, n] : counts) order.push_back({n, id});
-    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-      return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-    sel.shaft_selected.assign(nvox * cells, 0);
-    size_t covered = 0;
-    for (const auto& [n, id] : order) {
-      if (double(covered) >= config.coverage * double(classified)) break;
-      covered += n;
-      sel.shaft_selected[id] = 1;
-      sel.voxel_listed[id / cells] = 1;
-      ++sel.shafts;
-    }
-  } else {
-    throw InputError("shafts: select must be 'occupied' or 'camera' (got '" + config.select + "')");
-  }
-  return sel;
-}
-
-/// Random numbers of the sample rays of one shaft (voxel x cell `sid`): depend only on the
-/// seed and the shaft id. Latin hypercube when config.stratified.
-class SampleStream {
- public:
-  SampleStream(uint64_t sid, const ShaftConfig& config)
-      : rng_((uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull)), n_(config.samples),
-        stratified_(config.stratified) {
-    if (stratified_)
-      for (auto& p : perm_) {
-        for (int i = 0; i < n_; ++i) p[i] = uint8_t(i);
-        for (int i = n_ - 1; i > 0; --i) std::swap(p[i], p[splitmix64(rng_) % uint64_t(i + 1)]);
-      }
-  }
-  /// The 5 numbers of sample ray k (k < config.samples, drawn in order).
-  void next(int k, float rnd[5]) {
-    for (int d = 0; d < 5; ++d) rnd[d] = uniform01(rng_);
-    if (stratified_)
-      for (int d = 0; d < 5; ++d) rnd[d] = std::min((float(perm_[d][k]) + rnd[d]) / float(n_), 0.99999994f);
-  }
-  float uniform() { return uniform01(rng_); }
-
- private:
-  uint64_t rng_;
-  int n_;
-  bool stratified_;
-  uint8_t perm_[5][256];
-};
-
-void store_sample(detail::ShaftSamples& samples, size_t k, const Vec3& org, const Vec3& dir, float hit_t) {
-  samples.ox[k] = org.x; samples.oy[k] = org.y; samples.oz[k] = org.z;
-  samples.ix[k] = 1.0f / dir.x; samples.iy[k] = 1.0f / dir.y; samples.iz[k] = 1.0f / dir.z;
-  samples.hit_t[k] = hit_t;
-}
-
-/// Fills samples [at, at + config.samples) with the sample rays of shaft (voxel x cell `sid`)
-/// and their closest-hit distances.
-/// Draws the `config.samples` own sample rays of shaft `sid` (voxel box, direction cell),
-/// traces each and hands it to out(s, ray, hit_t).
-template <class Out>
-void trace_own_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, uint64_t sid,
-                       const ShaftCollection::TraceFn& trace, const ShaftConfig& config, Out&& out) {
-  SampleStream stream(sid, config);
-  for (int s = 0; s < config.samples; ++s) {
-    float rnd[5];
-    stream.next(s, rnd);
-    const Ray ray = Shaft::sample_ray(voxel, cell, rnd);
-    out(size_t(s), ray, trace(ray));
-  }
-}
-
-/// One sample ray in the shared pool (one record: deposits land at random places, and one
-/// cache line per deposit beats seven).
-struct PooledSample {
-  float org[3], inv_dir[3], hit_t;
-};
-
-/// Sample rays shared along their paths (ray reuse): for one direction cell, voxels are
-/// visited upstream first (along the cell's face axis); a voxel still short of samples shoots
-/// its own, and each traced ray also gives a sample to every later listed voxel it crosses
-/// before its hit (origin uniform on its chord through that voxel, so origins stay about
-/// uniform in the voxel; hit distance shortened accordingly). Fills pool[(cell * listed +
-/// li) * per ...] for listed voxel index li; count[cell * listed + li] = samples stored.
-/// Returns the number of rays traced.
-size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, const std::vector<int32_t>& listed_index,
-                    const std::vector<uint8_t>& shaft_selected, const std::vector<Shaft>& cell_shafts,
-                    const ShaftCollection::TraceFn& trace, const ShaftConfig& config, std::vector<PooledSample>& pool,
-                    std::vector<uint8_t>& count) {
-  const uint32_t cells = grid.cells_per_voxel();
-  const int per = config.samples;
-  const auto res = grid.res();
-  const Bounds3& box = grid.box();
-  Vec3 size;
-  for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
-  // Listed voxels upstream first for each of the 6 face directions (stable: by voxel id within a layer).
-  std::array<std::vector<uint32_t>, 6> orders;
-  for (int face = 0; face < 6; ++face) {
-    const int axis = face / 2;
-    const bool positive = face % 2 == 0;
-    std::vector<std::pair<int, uint32_t>> keyed(listed.size());
-    for (uint32_t li = 0; li < listed.size(); ++li) {
-      const uint32_t v = listed[li];
-      const int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
-      keyed[li] = {positive ? idx[axis] : res[axis] - 1 - idx[axis], li};
-    }
-    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [layer, li] : keyed) orders[size_t(face)].push_back(li);
-  }
-  std::atomic<size_t> traced{0};
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, cells, 1), [&](const auto& range) {
-    size_t task_traced = 0;
-    for (uint32_t cell = range.begin(); cell != range.end(); ++cell) {
-      const ShaftGrid::CellRange cr = grid.cell_range(cell);
-      const std::vector<uint32_t>& order = orders[size_t(2 * cr.axis + (cr.sign > 0 ? 0 : 1))];
-      // Cell-major layout: this task's deposits stay within one compact region of the pool.
-      auto wants = [&](uint32_t li) {
-        const size_t k = size_t(cell) * listed.size() + li;
-        return count[k] < per && (shaft_selected.empty() || shaft_selected[uint64_t(listed[li]) * cells + cell]);
-      };
-      auto deposit = [&](uint32_t li, const Vec3& org, const Vec3& dir, float hit_t) {
-        const size_t k = size_t(cell) * listed.size() + li;
-        pool[k * size_t(per) + count[k]] = {{org.x, org.y, org.z}, {1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z}, hit_t};
-        ++count[k];
-      };
-      for (const uint32_t li : order) {
-        if (!wants(li)) continue;
-        const uint32_t v = listed[li];
-        const Bounds3 vbox = grid.voxel_box(v);
-        const ShaftGrid::CellRange& crange = cell_shafts[cell].cell();
-        SampleStream stream(uint64_t(v) * cells + cell, config);
-        for (int k = 0; wants(li); ++k) {
-          float rnd[5];
-          stream.next(k, rnd);
-          const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
-          const float hit_t = trace(ray);
-          ++task_traced;
-          deposit(li, ray.org, ray.dir, hit_t);
-          // 3D-DDA through the grid up to the hit.
-          int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
-          float t_next[3], t_delta[3];
-          int step[3];
-          for (int a = 0; a < 3; ++a) {
-            const float d = ray.dir[a];
-            step[a] = d > 0.0f ? 1 : -1;
-            if (d == 0.0f || !(size[a] > 0.0f)) {
-              t_next[a] = t_delta[a] = kInfinity;
-              continue;
-            }
-            const float bound = box.lo[a] + float(idx[a] + (d > 0.0f ? 1 : 0)) * size[a];
-            t_next[a] = std::max(0.0f, (bound - ray.org[a]) / d);
-            t_delta[a] = size[a] / std::fabs(d);
-          }
-          for (int guard = 0; guard < res[0] + res[1] + res[2] + 3; ++guard) {
-            const int a = t_next[0] <= t_next[1] && t_next[0] <= t_next[2] ? 0 : (t_next[1] <= t_next[2] ? 1 : 2);
-            const float t_in = t_next[a];
-            if (!(t_in < hit_t)) break;
-            idx[a] += step[a];
-            if (idx[a] < 0 || idx[a] >= res[a]) break;
-            t_next[a] += t_delta[a];
-            const int32_t wi = listed_index[grid.voxel_id(idx[0], idx[1], idx[2])];
-            if (wi < 0 || !wants(uint32_t(wi))) continue;
-            const float t_out = std::min(std::min(t_next[0], t_next[1]), std::min(t_next[2], hit_t));
-            const float t = t_in + (t_out - t_in) * stream.uniform();
-            deposit(uint32_t(wi), ray.org + ray.dir * t, ray.dir, hit_t - t);
-          }
-        }
-      }
-    }
-    traced += task_traced;
-  });
-  return traced;
-}
-
-/// The own sample rays (trace_own_samples) of every selected shaft of listed voxels
-/// [l0, l1), traced direction cell by direction cell, into pool[(cell * (l1 - l0) + li - l0)
-/// * per + k]: rays of one cell from neighbouring voxels take similar paths through the BVH,
-/// so the tracing stays in cache (a voxel's own rays scatter in all 6 d^2 directions). The
-/// caller takes chunks of a few dozen voxels: the pool stays small and warm for their walks.
-void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, size_t l0, size_t l1,
-                        const std::vector<uint8_t>& shaft_selected, const ShaftCollection::TraceFn& trace,
-                        const ShaftConfig& config, std::vector<PooledSample>& pool) {
-  const uint32_t cells = grid.cells_per_voxel();
-  const size_t per = size_t(config.samples), n = l1 - l0;
-  pool.resize(size_t(cells) * n * per);
-  for (uint32_t cell = 0; cell < cells; ++cell) {
-    const ShaftGrid::CellRange crange = grid.cell_range(cell);
-    for (size_t li = l0; li < l1; ++li) {
-      const uint32_t v = listed[li];
-      const uint64_t sid = uint64_t(v) * cells + cell;
-      if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
-      PooledSample* out = pool.data() + (size_t(cell) * n + (li - l0)) * per;
-      trace_own_samples(grid.voxel_box(v), crange, sid, trace, config, [&](size_t s, const Ray& ray, float hit_t) {
-        out[s] = {{ray.org.x, ray.org.y, ray.org.z}, {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z}, hit_t};
-      });
-    }
-  }
 }
 
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
@@ -320,8 +55,8 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples));
-  trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace,
-                    config, [&](size_t s, const Ray& ray, float hit_t) { store_sample(samples, s, ray.org, ray.dir, hit_t); });
+  detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace,
+                    config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
   build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
 }
 
@@ -434,7 +169,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   if (nvox * cells >= (size_t(1) << 32) - 64)
     throw InputError("shafts: too many shafts (" + std::to_string(nvox * cells) + ")");
 
-  Selection sel = select_shafts(grid, tris, sample_rays, config);
+  Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
   const double select_ms = ms_since(t_start);
   const auto t_lists = std::chrono::steady_clock::now();
   std::vector<uint8_t>& voxel_listed = sel.voxel_listed;
@@ -472,7 +207,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     pool.resize(listed.size() * cells * per);
     std::vector<uint8_t> count(listed.size() * cells, 0);
     col.stats_.traced_samples =
-        shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
+        detail::shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
   }
   const bool chunked = pool.empty() && tree.size() > 0;
   std::atomic<int64_t> chunk_trace_ns{0};
@@ -493,7 +228,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         const auto t0 = std::chrono::steady_clock::now();
         chunk_begin = li;
         chunk_end = std::min(range.end(), li + kChunk);
-        cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, trace, config, chunk_pool);
+        detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, trace, config, chunk_pool);
         chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
       }
       const uint32_t voxel = listed[li];
@@ -714,7 +449,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
   // real build; the loop below only corrects a miss.
   auto predict = [&](double n) {
     const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, n), config.dir_res);
-    const Selection sel = select_shafts(grid, tris, sample_rays, config);
+    const Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
     std::vector<uint64_t> ids;
     for (uint32_t v = 0; v < grid.voxel_count(); ++v) {
       if (!sel.voxel_listed[v]) continue;

@@ -1,0 +1,91 @@
+// Shaft selection: see shaft_selection.h.
+#include "shaft_selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "rayscout/core/accelerator_options.h"  // InputError
+
+namespace rayscout::detail {
+namespace {
+
+/// Voxels whose box meets a triangle's box and plane (a cheap conservative overlap).
+std::vector<uint8_t> occupied_voxels(const ShaftGrid& grid, std::span<const Triangle> tris) {
+  std::vector<uint8_t> occ(grid.voxel_count(), 0);
+  const Bounds3& box = grid.box();
+  const auto res = grid.res();
+  Vec3 size;
+  for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
+  auto index = [&](float p, int a) {
+    if (!(size[a] > 0.0f)) return 0;
+    return std::clamp(int(std::floor((p - box.lo[a]) / size[a])), 0, res[a] - 1);
+  };
+  for (const Triangle& t : tris) {
+    const Bounds3 tb = t.bounds();
+    const Vec3 n = t.normal();
+    const int x0 = index(tb.lo.x, 0), x1 = index(tb.hi.x, 0);
+    const int y0 = index(tb.lo.y, 1), y1 = index(tb.hi.y, 1);
+    const int z0 = index(tb.lo.z, 2), z1 = index(tb.hi.z, 2);
+    const bool small = (x1 - x0) + (y1 - y0) + (z1 - z0) <= 1;
+    for (int z = z0; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const uint32_t v = grid.voxel_id(x, y, z);
+          if (occ[v]) continue;
+          if (!small) {
+            // Plane test with a generous margin: rejects voxels far from a big slanted triangle.
+            const Bounds3 vb = grid.voxel_box(v);
+            const Vec3 c = vb.center(), h = vb.diagonal() * 0.5f;
+            const double dist = std::fabs(double(dot(n, c - t.v0)));
+            const double reach = std::fabs(double(n.x) * h.x) + std::fabs(double(n.y) * h.y) +
+                                 std::fabs(double(n.z) * h.z);
+            if (dist > reach * 1.01 + 1e-6 * length(n) * length(h)) continue;
+          }
+          occ[v] = 1;
+        }
+  }
+  return occ;
+}
+
+}  // namespace
+
+Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, const RayBatch& sample_rays,
+                        const ShaftConfig& config) {
+  const uint32_t cells = grid.cells_per_voxel();
+  const size_t nvox = grid.voxel_count();
+  Selection sel;
+  sel.voxel_listed.assign(nvox, 0);
+  if (config.select == "occupied") {
+    sel.voxel_listed = occupied_voxels(grid, tris);
+    sel.shafts = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1)) * cells;
+  } else if (config.select == "camera") {
+    std::unordered_map<uint64_t, uint32_t> counts;
+    size_t classified = 0;
+    for (size_t i = 0; i < sample_rays.size(); ++i) {
+      ShaftCoord c;
+      if (!grid.classify(sample_rays[i], c)) continue;
+      ++counts[uint64_t(c.voxel) * cells + c.cell];
+      ++classified;
+    }
+    std::vector<std::pair<uint32_t, uint64_t>> order;
+    for (const auto& [id, n] : counts) order.push_back({n, id});
+    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    sel.shaft_selected.assign(nvox * cells, 0);
+    size_t covered = 0;
+    for (const auto& [n, id] : order) {
+      if (double(covered) >= config.coverage * double(classified)) break;
+      covered += n;
+      sel.shaft_selected[id] = 1;
+      sel.voxel_listed[id / cells] = 1;
+      ++sel.shafts;
+    }
+  } else {
+    throw InputError("shafts: select must be 'occupied' or 'camera' (got '" + config.select + "')");
+  }
+  return sel;
+}
+
+}  // namespace rayscout::detail
