@@ -19,6 +19,19 @@
 #include "shaft_selection.h"
 
 namespace rayscout {
+
+namespace detail {
+/// The lists of one listed voxel before packing: per cell a status (0 = no list, 1 = list,
+/// 2 = reaches nothing) and the cell's list, concatenated in data.
+struct VoxelLists {
+  std::vector<uint8_t> status;
+  std::vector<uint8_t> len;
+  std::vector<uint32_t> begin;  ///< start of the cell's list in data (groups fill data out of cell order)
+  std::vector<uint32_t> data;
+  size_t retries = 0, fallbacks = 0;
+};
+}  // namespace detail
+
 namespace {
 
 using detail::PooledSample;
@@ -101,6 +114,98 @@ std::vector<CellGroup> cell_groups(const ShaftGrid& grid, bool split_by_sign) {
   return groups;
 }
 
+/// Algorithm 1 for every selected shaft of one listed voxel, a cell group at a time
+/// (GroupListBuilder), with the raised thresholds on overflow and the cullNodeSubtree(root)
+/// fallback. One per task: it owns the task's scratch.
+class VoxelListMaker {
+ public:
+  struct Context {
+    const TreeView& tree;
+    const ShaftGrid& grid;
+    const ShaftConfig& config;
+    double min_prob;
+    const std::vector<CellGroup>& groups;
+    const std::vector<Shaft>& group_shafts;  ///< one group cone per group, at voxel 0
+    const std::vector<Shaft>& cell_shafts;   ///< one cone per cell, at voxel 0
+    const std::vector<uint8_t>& shaft_selected;
+  };
+  explicit VoxelListMaker(const Context& c) : c_(c), lists_(detail::GroupListBuilder::kMaxGroup) {}
+
+  /// The lists of voxel into vl; samples_of(cell) points at the cell's config.samples
+  /// sample rays of this voxel.
+  template <class SamplesOf>
+  void make(uint32_t voxel, SamplesOf&& samples_of, detail::VoxelLists& vl) {
+    const TreeView& tree = c_.tree;
+    const uint32_t cells = c_.grid.cells_per_voxel();
+    const size_t per = size_t(c_.config.samples);
+    vl.status.assign(cells, 0);
+    vl.len.assign(cells, 0);
+    vl.begin.assign(cells, 0);
+    for (size_t gi = 0; gi < c_.groups.size(); ++gi) {
+      members_.clear();
+      member_cells_.clear();
+      for (uint32_t cell : c_.groups[gi].cells) {
+        if (!c_.shaft_selected.empty() && !c_.shaft_selected[uint64_t(voxel) * cells + cell]) continue;
+        members_.push_back(&c_.cell_shafts[cell]);  // cones only (GroupListBuilder)
+        member_cells_.push_back(cell);
+      }
+      if (members_.empty()) continue;
+      Shaft group = c_.group_shafts[gi];
+      group.set_voxel(c_.grid, voxel);
+      samples_.resize(members_.size() * per);
+      // Without a tree there is nothing to walk, and no samples were traced.
+      for (size_t m = 0; m < members_.size() && tree.size() > 0; ++m) {
+        const PooledSample* from = samples_of(member_cells_[m]);
+        for (size_t k = 0; k < per; ++k) {
+          const size_t i = m * per + k;
+          samples_.ox[i] = from[k].org[0]; samples_.oy[i] = from[k].org[1]; samples_.oz[i] = from[k].org[2];
+          samples_.ix[i] = from[k].inv_dir[0]; samples_.iy[i] = from[k].inv_dir[1]; samples_.iz[i] = from[k].inv_dir[2];
+          samples_.hit_t[i] = from[k].hit_t;
+        }
+      }
+      const uint64_t all = members_.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members_.size()) - 1;
+      if (tree.size() > 0) {
+        detail::GroupListBuilder builder(tree, group, members_, samples_, c_.config.samples, scratch_);
+        uint64_t failed = all & ~builder.build(c_.min_prob, c_.config.max_list, all, lists_.data());
+        // Overflowing members retry together with raised thresholds (Algorithm 1 retries),
+        // then fall back to cullNodeSubtree(root).
+        for (int i = 0; failed && i < c_.config.retries; ++i) {
+          vl.retries += size_t(std::popcount(failed));
+          failed &= ~builder.build(c_.min_prob + double(i + 1) / 20.0, c_.config.max_list, failed, lists_.data());
+        }
+        for (uint64_t f = failed; f; f &= f - 1) {
+          const int m = std::countr_zero(f);
+          ++vl.fallbacks;
+          lists_[m].clear();
+          const uint32_t n = detail::cull_subtree(tree, members_[m]->at_voxel(c_.grid, voxel), tree.root);
+          if (n != detail::kNoNode) lists_[m].push_back(n);
+        }
+      }
+      for (size_t m = 0; m < members_.size(); ++m) {
+        std::vector<uint32_t>& list = lists_[m];
+        if (tree.size() == 0) list.clear();
+        const uint32_t cell = member_cells_[m];
+        if (list.empty()) {
+          vl.status[cell] = 2;
+          continue;
+        }
+        vl.status[cell] = 1;
+        vl.len[cell] = uint8_t(list.size());
+        vl.begin[cell] = uint32_t(vl.data.size());
+        vl.data.insert(vl.data.end(), list.begin(), list.end());
+      }
+    }
+  }
+
+ private:
+  const Context& c_;
+  detail::ShaftSamples samples_;
+  std::vector<const Shaft*> members_;
+  std::vector<uint32_t> member_cells_;
+  std::vector<std::vector<uint32_t>> lists_;
+  detail::GroupListBuilder::Scratch scratch_;
+};
+
 }  // namespace
 
 std::string ShaftStats::summary() const {
@@ -153,6 +258,124 @@ ShaftCollection::QBox ShaftCollection::quantize(const Bounds3& box) const {
   return q;
 }
 
+void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& listed,
+                           const std::vector<detail::VoxelLists>& out) {
+  const uint32_t cells = grid_.cells_per_voxel();
+  const size_t nvox = grid_.voxel_count();
+  ShaftStats& st = stats_;
+  st.res = grid_.res();
+  st.dir_res = grid_.dir_res();
+  st.voxels = nvox;
+  st.shafts = nvox * cells;
+  st.listed_voxels = listed.size();
+  st.length_histogram.assign(32, 0);
+  voxel_base_.assign(nvox, kNoVoxel);
+  entries_.assign(listed.size() * cells, 0);
+  // Deduplication: open addressing over list contents (slots hold offset << 5 | length,
+  // plus 1; 0 = free), sized for every listed shaft at load <= 1/2.
+  size_t capacity = 1024;
+  while (capacity < 2 * listed.size() * cells) capacity *= 2;
+  // Hash and packed list side by side: one cache miss per probe (the table is ~8 MiB).
+  struct Slot {
+    uint32_t hash = 0, list = 0;
+  };
+  std::vector<Slot> slots(capacity);
+  size_t unique = 0;
+  // Entry boxes are quantised once per tree node.
+  std::vector<QBox> qcache(boxed_ ? tree.size() : 0);
+  std::vector<uint8_t> qdone(qcache.size(), 0);
+  size_t total_len = 0, nonempty = 0;
+  // Hashes of every list in packing order first, so the probe of a list kAhead lists later
+  // is prefetched (the probes are random accesses into a table of several MiB).
+  auto hash_refs = [&](const uint32_t* nodes, uint32_t len) {
+    uint64_t h = 1469598103934665603ull ^ len;
+    for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
+    return uint32_t(h ^ (h >> 32));
+  };
+  std::vector<uint32_t> hashes;
+  size_t total_entries = 0;
+  for (const detail::VoxelLists& vl : out) {
+    total_entries += vl.data.size();
+    for (uint32_t cell = 0; cell < cells; ++cell)
+      if (vl.status[cell] == 1) hashes.push_back(hash_refs(vl.data.data() + vl.begin[cell], vl.len[cell]));
+  }
+  lists_.reserve(total_entries * (boxed_ ? 3 : 1) + 2);
+  constexpr size_t kAhead = 8;
+  size_t next_hash = 0;
+  for (size_t li = 0; li < listed.size(); ++li) {
+    const detail::VoxelLists& vl = out[li];
+    const uint32_t base = uint32_t(li * cells);
+    voxel_base_[listed[li]] = base;
+    st.overflow_retries += vl.retries;
+    st.overflow_fallbacks += vl.fallbacks;
+    for (uint32_t cell = 0; cell < cells; ++cell) {
+      if (vl.status[cell] == 0) continue;
+      ++st.listed_shafts;
+      if (vl.status[cell] == 2) {
+        ++st.empty_lists;
+        entries_[base + cell] = kEmptyList;
+        continue;
+      }
+      const uint32_t len = vl.len[cell];
+      const size_t pos = vl.begin[cell];
+      const uint32_t offset = uint32_t(lists_.size());
+      for (uint32_t k = 0; k < len; ++k) lists_.push_back(tree.ref[vl.data[pos + k]]);
+      if (next_hash + kAhead < hashes.size()) __builtin_prefetch(&slots[hashes[next_hash + kAhead] & (capacity - 1)]);
+      const uint32_t h = hashes[next_hash++];
+      size_t slot = h & (capacity - 1);
+      uint32_t at = offset;
+      bool twin = false;
+      for (; slots[slot].list != 0; slot = (slot + 1) & (capacity - 1)) {
+        if (slots[slot].hash != h) continue;
+        const uint32_t packed = slots[slot].list - 1, o = packed >> 5;
+        if ((packed & 31u) == len &&
+            std::equal(lists_.begin() + o, lists_.begin() + o + len, lists_.begin() + offset)) {
+          at = o;
+          twin = true;
+          break;
+        }
+      }
+      if (twin) {
+        lists_.resize(offset);
+        st.dedup_saved_bytes += len * bytes_per_entry();
+      } else {
+        if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
+        slots[slot] = {h, ((offset << 5) | len) + 1};
+        ++unique;
+        if (boxed_) {
+          QBox q[31];
+          for (uint32_t k = 0; k < len; ++k) {
+            const uint32_t node = vl.data[pos + k];
+            if (!qdone[node]) {
+              qcache[node] = quantize(tree.bounds[node]);
+              qdone[node] = 1;
+            }
+            q[k] = qcache[node];
+          }
+          // The rows follow the list's ids in the same area: one cache line serves both.
+          uint8_t rows[6 * 31];
+          for (int row = 0; row < 6; ++row)
+            for (uint32_t k = 0; k < len; ++k) rows[size_t(row) * len + k] = row < 3 ? q[k].lo[row] : q[k].hi[row - 3];
+          const size_t at_rows = lists_.size();
+          lists_.resize(at_rows + (6 * len + 3) / 4, 0);
+          std::memcpy(lists_.data() + at_rows, rows, 6 * size_t(len));
+        }
+      }
+      entries_[base + cell] = (at << 5) | len;
+      ++st.length_histogram[len];
+      total_len += len;
+      ++nonempty;
+      st.max_list = std::max(st.max_list, int(len));
+    }
+  }
+  if (boxed_) lists_.resize(lists_.size() + 2, 0);  // SIMD rows read 8 bytes
+  lists_.shrink_to_fit();
+  st.unique_lists = unique;
+  st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
+  st.lookup_bytes = (voxel_base_.size() + entries_.size()) * sizeof(uint32_t);
+  st.list_bytes = lists_.size() * sizeof(uint32_t);  // ids (and entry-box rows)
+}
+
 ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGrid& grid,
                                             std::span<const Triangle> tris, const TraceFn& trace,
                                             const RayBatch& sample_rays, const ShaftConfig& config_in) {
@@ -178,16 +401,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   for (uint32_t v = 0; v < nvox; ++v)
     if (voxel_listed[v]) listed.push_back(v);
 
-  // Per listed voxel: for each cell, (status, list) where status 0 = no list, 1 = list,
-  // 2 = reaches nothing; lists concatenated in `data`.
-  struct VoxelLists {
-    std::vector<uint8_t> status;
-    std::vector<uint8_t> len;
-    std::vector<uint32_t> begin;  ///< start of the cell's list in data (groups fill data out of cell order)
-    std::vector<uint32_t> data;
-    size_t retries = 0, fallbacks = 0;
-  };
-  std::vector<VoxelLists> out(listed.size());
+  std::vector<detail::VoxelLists> out(listed.size());  // per listed voxel, its lists before packing
   const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
 
   // Cones are the same in every voxel: made once, moved to each voxel.
@@ -215,14 +429,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
 
   // Chunks of up to kChunk listed voxels: their sample rays are traced cell-major first.
   constexpr size_t kChunk = 32;
+  const VoxelListMaker::Context context{tree, grid, config, min_prob, groups, group_shafts, cell_shafts, shaft_selected};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), kChunk / 2), [&](const auto& range) {
+    VoxelListMaker maker(context);
     std::vector<PooledSample> chunk_pool;
     size_t chunk_begin = 0, chunk_end = 0;
-    detail::ShaftSamples samples;
-    std::vector<const Shaft*> members;
-    std::vector<uint32_t> member_cells;
-    std::vector<std::vector<uint32_t>> lists(detail::GroupListBuilder::kMaxGroup);
-    detail::GroupListBuilder::Scratch scratch;
     for (size_t li = range.begin(); li != range.end(); ++li) {
       if (chunked && li >= chunk_end) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -231,186 +442,19 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, trace, config, chunk_pool);
         chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
       }
-      const uint32_t voxel = listed[li];
-      VoxelLists& vl = out[li];
-      vl.status.assign(cells, 0);
-      vl.len.assign(cells, 0);
-      vl.begin.assign(cells, 0);
-      for (size_t gi = 0; gi < groups.size(); ++gi) {
-        members.clear();
-        member_cells.clear();
-        for (uint32_t cell : groups[gi].cells) {
-          if (!shaft_selected.empty() && !shaft_selected[uint64_t(voxel) * cells + cell]) continue;
-          members.push_back(&cell_shafts[cell]);  // cones only (GroupListBuilder)
-          member_cells.push_back(cell);
-        }
-        if (members.empty()) continue;
-        Shaft group = group_shafts[gi];
-        group.set_voxel(grid, voxel);
-        samples.resize(members.size() * per);
-        // Without a tree there is nothing to walk, and no samples were traced.
-        for (size_t m = 0; m < members.size() && tree.size() > 0; ++m) {
-          const PooledSample* from =
-              chunked ? chunk_pool.data() + (member_cells[m] * (chunk_end - chunk_begin) + (li - chunk_begin)) * per
-                      : pool.data() + (member_cells[m] * listed.size() + li) * per;
-          for (size_t k = 0; k < per; ++k) {
-            const size_t i = m * per + k;
-            samples.ox[i] = from[k].org[0]; samples.oy[i] = from[k].org[1]; samples.oz[i] = from[k].org[2];
-            samples.ix[i] = from[k].inv_dir[0]; samples.iy[i] = from[k].inv_dir[1]; samples.iz[i] = from[k].inv_dir[2];
-            samples.hit_t[i] = from[k].hit_t;
-          }
-        }
-        const uint64_t all = members.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members.size()) - 1;
-        if (tree.size() > 0) {
-          detail::GroupListBuilder builder(tree, group, members, samples, config.samples, scratch);
-          uint64_t failed = all & ~builder.build(min_prob, config.max_list, all, lists.data());
-          // Overflowing members retry together with raised thresholds (Algorithm 1 retries),
-          // then fall back to cullNodeSubtree(root).
-          for (int i = 0; failed && i < config.retries; ++i) {
-            vl.retries += size_t(std::popcount(failed));
-            failed &= ~builder.build(min_prob + double(i + 1) / 20.0, config.max_list, failed, lists.data());
-          }
-          for (uint64_t f = failed; f; f &= f - 1) {
-            const int m = std::countr_zero(f);
-            ++vl.fallbacks;
-            lists[m].clear();
-            const uint32_t n = detail::cull_subtree(tree, members[m]->at_voxel(grid, voxel), tree.root);
-            if (n != detail::kNoNode) lists[m].push_back(n);
-          }
-        }
-        for (size_t m = 0; m < members.size(); ++m) {
-          std::vector<uint32_t>& list = lists[m];
-          if (tree.size() == 0) list.clear();
-          const uint32_t cell = member_cells[m];
-          if (list.empty()) {
-            vl.status[cell] = 2;
-            continue;
-          }
-          vl.status[cell] = 1;
-          vl.len[cell] = uint8_t(list.size());
-          vl.begin[cell] = uint32_t(vl.data.size());
-          vl.data.insert(vl.data.end(), list.begin(), list.end());
-        }
-      }
+      auto samples_of = [&](uint32_t cell) {
+        return chunked ? chunk_pool.data() + (cell * (chunk_end - chunk_begin) + (li - chunk_begin)) * per
+                       : pool.data() + (cell * listed.size() + li) * per;
+      };
+      maker.make(listed[li], samples_of, out[li]);
     }
   });
 
   const double lists_ms = ms_since(t_lists);
   if (chunked) col.stats_.samples_ms = double(chunk_trace_ns.load()) * 1e-6;
   const auto t_pack = std::chrono::steady_clock::now();
-  // Serial packing with deduplication keeps offsets independent of the thread count.
+  col.pack(tree, listed, out);
   ShaftStats& st = col.stats_;
-  st.res = grid.res();
-  st.dir_res = grid.dir_res();
-  st.voxels = nvox;
-  st.shafts = nvox * cells;
-  st.listed_voxels = listed.size();
-  st.length_histogram.assign(32, 0);
-  col.voxel_base_.assign(nvox, kNoVoxel);
-  col.entries_.assign(listed.size() * cells, 0);
-  // Deduplication: open addressing over list contents (slots hold offset << 5 | length,
-  // plus 1; 0 = free), sized for every listed shaft at load <= 1/2.
-  size_t capacity = 1024;
-  while (capacity < 2 * listed.size() * cells) capacity *= 2;
-  // Hash and packed list side by side: one cache miss per probe (the table is ~8 MiB).
-  struct Slot {
-    uint32_t hash = 0, list = 0;
-  };
-  std::vector<Slot> slots(capacity);
-  size_t unique = 0;
-  // Entry boxes are quantised once per tree node.
-  std::vector<QBox> qcache(col.boxed_ ? tree.size() : 0);
-  std::vector<uint8_t> qdone(qcache.size(), 0);
-  size_t total_len = 0, nonempty = 0;
-  // Hashes of every list in packing order first, so the probe of a list kAhead lists later
-  // is prefetched (the probes are random accesses into a table of several MiB).
-  auto hash_refs = [&](const uint32_t* nodes, uint32_t len) {
-    uint64_t h = 1469598103934665603ull ^ len;
-    for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
-    return uint32_t(h ^ (h >> 32));
-  };
-  std::vector<uint32_t> hashes;
-  size_t total_entries = 0;
-  for (const VoxelLists& vl : out) {
-    total_entries += vl.data.size();
-    for (uint32_t cell = 0; cell < cells; ++cell)
-      if (vl.status[cell] == 1) hashes.push_back(hash_refs(vl.data.data() + vl.begin[cell], vl.len[cell]));
-  }
-  col.lists_.reserve(total_entries * (col.boxed_ ? 3 : 1) + 2);
-  constexpr size_t kAhead = 8;
-  size_t next_hash = 0;
-  for (size_t li = 0; li < listed.size(); ++li) {
-    const VoxelLists& vl = out[li];
-    const uint32_t base = uint32_t(li * cells);
-    col.voxel_base_[listed[li]] = base;
-    st.overflow_retries += vl.retries;
-    st.overflow_fallbacks += vl.fallbacks;
-    for (uint32_t cell = 0; cell < cells; ++cell) {
-      if (vl.status[cell] == 0) continue;
-      ++st.listed_shafts;
-      if (vl.status[cell] == 2) {
-        ++st.empty_lists;
-        col.entries_[base + cell] = kEmptyList;
-        continue;
-      }
-      const uint32_t len = vl.len[cell];
-      const size_t pos = vl.begin[cell];
-      const uint32_t offset = uint32_t(col.lists_.size());
-      for (uint32_t k = 0; k < len; ++k) col.lists_.push_back(tree.ref[vl.data[pos + k]]);
-      if (next_hash + kAhead < hashes.size()) __builtin_prefetch(&slots[hashes[next_hash + kAhead] & (capacity - 1)]);
-      const uint32_t h = hashes[next_hash++];
-      size_t slot = h & (capacity - 1);
-      uint32_t at = offset;
-      bool twin = false;
-      for (; slots[slot].list != 0; slot = (slot + 1) & (capacity - 1)) {
-        if (slots[slot].hash != h) continue;
-        const uint32_t packed = slots[slot].list - 1, o = packed >> 5;
-        if ((packed & 31u) == len &&
-            std::equal(col.lists_.begin() + o, col.lists_.begin() + o + len, col.lists_.begin() + offset)) {
-          at = o;
-          twin = true;
-          break;
-        }
-      }
-      if (twin) {
-        col.lists_.resize(offset);
-        st.dedup_saved_bytes += len * col.bytes_per_entry();
-      } else {
-        if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
-        slots[slot] = {h, ((offset << 5) | len) + 1};
-        ++unique;
-        if (col.boxed_) {
-          QBox q[31];
-          for (uint32_t k = 0; k < len; ++k) {
-            const uint32_t node = vl.data[pos + k];
-            if (!qdone[node]) {
-              qcache[node] = col.quantize(tree.bounds[node]);
-              qdone[node] = 1;
-            }
-            q[k] = qcache[node];
-          }
-          // The rows follow the list's ids in the same area: one cache line serves both.
-          uint8_t rows[6 * 31];
-          for (int row = 0; row < 6; ++row)
-            for (uint32_t k = 0; k < len; ++k) rows[size_t(row) * len + k] = row < 3 ? q[k].lo[row] : q[k].hi[row - 3];
-          const size_t at_rows = col.lists_.size();
-          col.lists_.resize(at_rows + (6 * len + 3) / 4, 0);
-          std::memcpy(col.lists_.data() + at_rows, rows, 6 * size_t(len));
-        }
-      }
-      col.entries_[base + cell] = (at << 5) | len;
-      ++st.length_histogram[len];
-      total_len += len;
-      ++nonempty;
-      st.max_list = std::max(st.max_list, int(len));
-    }
-  }
-  if (col.boxed_) col.lists_.resize(col.lists_.size() + 2, 0);  // SIMD rows read 8 bytes
-  col.lists_.shrink_to_fit();
-  st.unique_lists = unique;
-  st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
-  st.lookup_bytes = (col.voxel_base_.size() + col.entries_.size()) * sizeof(uint32_t);
-  st.list_bytes = col.lists_.size() * sizeof(uint32_t);  // ids (and entry-box rows)
   st.select_ms = select_ms;
   st.lists_ms = lists_ms;
   st.pack_ms = ms_since(t_pack);

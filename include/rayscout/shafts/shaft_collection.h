@@ -17,6 +17,10 @@
 
 namespace rayscout {
 
+namespace detail {
+struct VoxelLists;  // one voxel's lists before packing (shaft_collection.cpp)
+}  // namespace detail
+
 /// Build and memory figures of a collection (paper sec. 5 reports the same).
 struct ShaftStats {
   double build_ms = 0.0;             ///< collection only (all budget iterations), BVH excluded
@@ -120,6 +124,9 @@ class ShaftCollection {
   void init_quantization();
   QBox quantize(const Bounds3& box) const;
   size_t bytes_per_entry() const { return sizeof(uint32_t) + (boxed_ ? 6 : 0); }
+  /// Packs the lists of the listed voxels (serial, so offsets do not depend on the thread
+  /// count): lookup tables, deduplicated list area, entry boxes, and the figures in stats_.
+  void pack(const TreeView& tree, const std::vector<uint32_t>& listed, const std::vector<detail::VoxelLists>& out);
 
   ShaftGrid grid_;
   bool boxed_ = false;
