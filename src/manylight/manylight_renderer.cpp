@@ -10,7 +10,7 @@
 
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/manylight/brdf.h"
-#include "sampling.h"
+#include "rng.h"
 
 namespace rayscout {
 

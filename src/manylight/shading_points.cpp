@@ -3,7 +3,7 @@
 
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/manylight/brdf.h"
-#include "sampling.h"
+#include "rng.h"
 
 namespace rayscout {
 
@@ -63,7 +63,7 @@ std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Acce
         if (bounce >= config.max_mirror_bounces) continue;
         tp *= m.specular;
         if (max_component(tp) <= 0.0f) continue;
-        next_rays.push_back({p + nrm * offset, 0.0f, reflect(wo, nrm), kInfinity});
+        next_rays.push_back({p + nrm * offset, 0.0f, reflect(-wo, nrm), kInfinity});
         next_active.push_back(active[k]);
         continue;
       }

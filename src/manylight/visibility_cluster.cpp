@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscout/manylight/brdf.h"
-#include "sampling.h"
+#include "rng.h"
 
 namespace rayscout {
 
@@ -80,7 +80,7 @@ Vec3 tentative_contribution(const Scene& scene, const ShadingPoint& sp, const Vp
   if (cos_x <= 0.0f) return Vec3(0.0f);
   const Vec3 intensity = vpl_intensity(vpl, scene, -w);
   if (max_component(intensity) <= 0.0f) return Vec3(0.0f);
-  const Vec3 f = eval_brdf(scene.materials[sp.material], sp.normal, w, sp.wo);
+  const Vec3 f = eval_bsdf(scene.materials[sp.material], sp.normal, sp.wo, w);
   return intensity * f * (cos_x / std::max(dist2, clamp_distance * clamp_distance));
 }
 

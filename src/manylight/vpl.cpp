@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "rayscout/manylight/brdf.h"
-#include "sampling.h"
+#include "rng.h"
 
 namespace rayscout {
 
@@ -18,7 +18,7 @@ Vec3 vpl_intensity(const Vpl& vpl, const Scene& scene, const Vec3& w) {
     case Vpl::Kind::Surface: {
       const float c = dot(vpl.normal, w);
       if (c <= 0.0f) return Vec3(0.0f);
-      return vpl.power * eval_brdf(scene.materials[vpl.material], vpl.normal, vpl.wi, w) * c;
+      return vpl.power * eval_bsdf(scene.materials[vpl.material], vpl.normal, w, vpl.wi) * c;
     }
   }
   return Vec3(0.0f);
@@ -100,7 +100,8 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
         v.normal = n;
         const Vec3 le = scene.material_of(ls.index).emission;
         v.power = le * (kPi * tri.area() / float(pdf));
-        dir = manylight_detail::sample_cosine(n, rng.uniform(), rng.uniform());
+        const float u1 = rng.uniform(), u2 = rng.uniform();
+        dir = sample_cosine_hemisphere(n, u1, u2);
         org = v.position + n * offset;
         flux = v.power;  // Le cos / (pdf_area cos / pi) = pi Le A
       }
@@ -140,29 +141,14 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
         }
         if (st.bounces >= config.max_vpl_bounces) continue;
         Rng rng(config.seed, 0x5CA7 + uint64_t(st.bounces), st.path);
-        Vec3 wo;
-        Vec3 weight;
-        if (m.type == Material::Type::Mirror) {
-          wo = reflect(wi, n);
-          weight = m.specular;
-        } else {
-          const float kd = luminance(m.diffuse);
-          const float ks = m.type == Material::Type::Glossy ? luminance(m.specular) : 0.0f;
-          if (kd + ks <= 0.0f) continue;
-          const float pd = kd / (kd + ks);
-          const Vec3 axis = reflect(wi, n);
-          if (rng.uniform() < pd) wo = manylight_detail::sample_cosine(n, rng.uniform(), rng.uniform());
-          else wo = manylight_detail::sample_phong(axis, m.exponent, rng.uniform(), rng.uniform());
-          const float cos_o = dot(wo, n);
-          if (cos_o <= 0.0f) continue;
-          float pdf = pd * cos_o / kPi;
-          if (ks > 0.0f) {
-            const float ca = std::max(0.0f, dot(axis, wo));
-            pdf += (1.0f - pd) * (m.exponent + 1.0f) / (2.0f * kPi) * std::pow(ca, m.exponent);
-          }
-          if (!(pdf > 0.0f)) continue;
-          weight = eval_brdf(m, n, wi, wo) * (cos_o / pdf);
-        }
+        // The renderer's BSDF sampling (symmetric lobes, so the same for light paths); a
+        // mirror takes no random numbers.
+        float u[3] = {0.0f, 0.0f, 0.0f};
+        if (m.type != Material::Type::Mirror)
+          for (float& x : u) x = rng.uniform();
+        const BsdfSample bs = sample_bsdf(m, n, wi, u[0], u[1], u[2]);
+        if (!bs.valid) continue;
+        const Vec3 wo = bs.wi, weight = bs.weight;
         const Vec3 nt = st.throughput * weight;
         // Russian roulette keeps the flux per path roughly constant.
         const float survive = std::min(1.0f, max_component(nt) / std::max(1e-30f, max_component(st.throughput)));

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "bsdf.h"
+#include "rayscout/render/bsdf.h"
 #include "rayscout/render/wavefront.h"
 
 namespace rayscout::detail {

@@ -25,7 +25,7 @@ class PathIntegrator final : public WavefrontIntegrator {
       detail::add_area_light_rays(ctx, state, m, sp, wo, out);
     }
     const PathSampler sampler = ctx.sampler(state);
-    const detail::BsdfSample bs = detail::sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf),
+    const BsdfSample bs = sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf),
                                                       sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
     if (!bs.valid) return;
     // The vertex after the last bounce only adds emission, which a non-mirror bounce ignores.

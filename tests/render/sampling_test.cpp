@@ -6,7 +6,7 @@
 #include <numbers>
 #include <set>
 
-#include "bsdf.h"
+#include "rayscout/render/bsdf.h"
 #include "rayscout/render/camera_rays.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/sampler.h"
@@ -119,12 +119,12 @@ TEST(Bsdf, GlossySamplingWeightsMatchItsValue) {
   double sampled = 0, reference = 0;
   for (int i = 0; i < count; ++i) {
     const PathSampler s(9, uint32_t(i), 0, 0);
-    const detail::BsdfSample bs = detail::sample_bsdf(m, n, wo, s.get(0), s.get(1), s.get(2));
+    const BsdfSample bs = sample_bsdf(m, n, wo, s.get(0), s.get(1), s.get(2));
     if (bs.valid) sampled += bs.weight.x;
     // reference: uniform hemisphere directions, f cos / (1 / 2 pi)
     const float z = s.get(3), phi = 2 * std::numbers::pi_v<float> * s.get(4), r = std::sqrt(1 - z * z);
     const Vec3 wi{r * std::cos(phi), r * std::sin(phi), z};
-    reference += detail::eval_bsdf(m, n, wo, wi).x * z * 2 * std::numbers::pi;
+    reference += eval_bsdf(m, n, wo, wi).x * z * 2 * std::numbers::pi;
   }
   sampled /= count;
   reference /= count;
@@ -132,9 +132,9 @@ TEST(Bsdf, GlossySamplingWeightsMatchItsValue) {
   EXPECT_LT(sampled, 0.8 + 1e-6);  // energy: kd + ks at most
   // Diffuse: weight is the albedo; mirror: the reflectance along the mirror direction.
   const Material d{.diffuse = Vec3{0.4f}};
-  EXPECT_EQ(detail::sample_bsdf(d, n, wo, 0.5f, 0.3f, 0.7f).weight.x, 0.4f);
+  EXPECT_EQ(sample_bsdf(d, n, wo, 0.5f, 0.3f, 0.7f).weight.x, 0.4f);
   const Material mirror{.type = Material::Type::Mirror, .specular = Vec3{0.9f}};
-  const detail::BsdfSample ms = detail::sample_bsdf(mirror, n, wo, 0.1f, 0.2f, 0.3f);
+  const BsdfSample ms = sample_bsdf(mirror, n, wo, 0.1f, 0.2f, 0.3f);
   EXPECT_TRUE(ms.specular);
   EXPECT_NEAR(ms.wi.x, -wo.x, 1e-6f);
   EXPECT_NEAR(ms.wi.z, wo.z, 1e-6f);

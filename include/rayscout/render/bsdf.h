@@ -1,4 +1,6 @@
-// Material scattering for shading: evaluation and sampling of diffuse, mirror and glossy lobes.
+// Material scattering: evaluation and sampling of the diffuse, mirror and glossy lobes. The one
+// BSDF of rayscout: the integrators of the render module and the many-light renderer's VPLs and
+// shading both use it.
 #pragma once
 
 #include <algorithm>
@@ -8,7 +10,7 @@
 #include "rayscout/render/surface.h"
 #include "rayscout/scene/scene.h"
 
-namespace rayscout::detail {
+namespace rayscout {
 
 inline constexpr float kInvPi = std::numbers::inv_pi_v<float>;
 
@@ -84,4 +86,4 @@ inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, 
   return s;
 }
 
-}  // namespace rayscout::detail
+}  // namespace rayscout
