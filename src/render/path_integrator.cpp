@@ -25,8 +25,8 @@ class PathIntegrator final : public WavefrontIntegrator {
       detail::add_area_light_rays(ctx, state, m, sp, wo, out);
     }
     const PathSampler sampler = ctx.sampler(state);
-    const BsdfSample bs = sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf),
-                                                      sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
+    const BsdfSample bs =
+        sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf), sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
     if (!bs.valid) return;
     // The vertex after the last bounce only adds emission, which a non-mirror bounce ignores.
     if (ctx.bounce + 1 == max_depth && !bs.specular) return;
