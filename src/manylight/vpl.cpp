@@ -40,11 +40,8 @@ struct PathState {
   int bounces = 0;
 };
 
-}  // namespace
-
-VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const ManylightConfig& config) {
-  const auto start = std::chrono::steady_clock::now();
-  VplSet out;
+/// The lights with positive power.
+std::vector<LightSource> light_sources(const Scene& scene) {
   std::vector<LightSource> lights;
   for (uint32_t i = 0; i < scene.point_lights.size(); ++i)
     lights.push_back({true, i, 4.0f * kPi * luminance(scene.point_lights[i].intensity)});
@@ -53,6 +50,96 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
     const float p = kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
     if (p > 0) lights.push_back({false, id, p});
   }
+  return lights;
+}
+
+/// The first vertex of a light path: the VPL on the light (chosen with probability pdf), the
+/// ray leaving it and the flux that ray carries.
+struct PathStart {
+  Vpl vpl;
+  Ray ray;
+  Vec3 flux;
+};
+
+PathStart start_path(const Scene& scene, const LightSource& ls, double pdf, float offset, Rng& rng) {
+  PathStart s;
+  Vpl& v = s.vpl;
+  Vec3 dir, org;
+  if (ls.point) {
+    const PointLight& pl = scene.point_lights[ls.index];
+    v.kind = Vpl::Kind::Point;
+    v.position = pl.position;
+    v.power = pl.intensity * float(1.0 / pdf);
+    const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    dir = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+    org = pl.position;
+    s.flux = pl.intensity * float(4.0 * kPi / pdf);
+  } else {
+    const Triangle& tri = scene.triangles[ls.index];
+    float a = rng.uniform(), b = rng.uniform();
+    if (a + b > 1.0f) { a = 1.0f - a; b = 1.0f - b; }
+    v.kind = Vpl::Kind::Emitter;
+    v.position = tri.v0 + (tri.v1 - tri.v0) * a + (tri.v2 - tri.v0) * b;
+    const Vec3 n = normalize(tri.normal());
+    v.normal = n;
+    const Vec3 le = scene.material_of(ls.index).emission;
+    v.power = le * (kPi * tri.area() / float(pdf));
+    const float u1 = rng.uniform(), u2 = rng.uniform();
+    dir = sample_cosine_hemisphere(n, u1, u2);
+    org = v.position + n * offset;
+    s.flux = v.power;  // Le cos / (pdf_area cos / pi) = pi Le A
+  }
+  s.ray = {org, 0.0f, dir, kInfinity};
+  return s;
+}
+
+/// A path segment that hit triangle prim at distance t: the VPL there (none on a mirror) goes
+/// to vpls; returns true and the next ray when the path scatters and survives Russian roulette.
+bool extend_path(const Scene& scene, const ManylightConfig& config, float offset, const Ray& ray, float t,
+                 uint32_t prim, PathState& st, std::vector<Vpl>& vpls, Ray& next) {
+  const Triangle& tri = scene.triangles[prim];
+  const uint32_t mat_id = scene.material_ids[prim];
+  const Material& m = scene.materials[mat_id];
+  const Vec3 p = ray.org + ray.dir * t;
+  const Vec3 wi = -normalize(ray.dir);
+  Vec3 n = normalize(tri.normal());
+  if (dot(n, wi) < 0.0f) n = -n;
+  st.bounces++;
+  if (m.type != Material::Type::Mirror) {
+    Vpl v;
+    v.kind = Vpl::Kind::Surface;
+    v.position = p;
+    v.normal = n;
+    v.wi = wi;
+    v.power = st.throughput;
+    v.material = mat_id;
+    vpls.push_back(v);
+  }
+  if (st.bounces >= config.max_vpl_bounces) return false;
+  Rng rng(config.seed, 0x5CA7 + uint64_t(st.bounces), st.path);
+  // The renderer's BSDF sampling (symmetric lobes, so the same for light paths); a mirror
+  // takes no random numbers.
+  float u[3] = {0.0f, 0.0f, 0.0f};
+  if (m.type != Material::Type::Mirror)
+    for (float& x : u) x = rng.uniform();
+  const BsdfSample bs = sample_bsdf(m, n, wi, u[0], u[1], u[2]);
+  if (!bs.valid) return false;
+  const Vec3 nt = st.throughput * bs.weight;
+  // Russian roulette keeps the flux per path roughly constant.
+  const float survive = std::min(1.0f, max_component(nt) / std::max(1e-30f, max_component(st.throughput)));
+  if (!(survive > 0.0f) || rng.uniform() >= survive) return false;
+  st.throughput = nt / survive;
+  next = {p + n * (dot(bs.wi, n) > 0 ? offset : -offset), 0.0f, bs.wi, kInfinity};
+  return true;
+}
+
+}  // namespace
+
+VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const ManylightConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  VplSet out;
+  const std::vector<LightSource> lights = light_sources(scene);
   if (lights.empty() || config.vpl_count == 0) return out;
   std::vector<double> cdf(lights.size());
   double total = 0;
@@ -76,39 +163,11 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
       const double u = rng.uniform_double();
       const size_t li = std::min(size_t(std::lower_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), lights.size() - 1);
       const double pdf = (cdf[li] - (li ? cdf[li - 1] : 0.0));
-      const LightSource& ls = lights[li];
-      Vpl v;
-      Vec3 dir, org;
-      Vec3 flux;
-      if (ls.point) {
-        const PointLight& pl = scene.point_lights[ls.index];
-        v.kind = Vpl::Kind::Point;
-        v.position = pl.position;
-        v.power = pl.intensity * float(1.0 / pdf);
-        const float z = 1.0f - 2.0f * rng.uniform(), phi = 2.0f * kPi * rng.uniform();
-        const float s = std::sqrt(std::max(0.0f, 1.0f - z * z));
-        dir = Vec3(s * std::cos(phi), s * std::sin(phi), z);
-        org = pl.position;
-        flux = pl.intensity * float(4.0 * kPi / pdf);
-      } else {
-        const Triangle& tri = scene.triangles[ls.index];
-        float a = rng.uniform(), b = rng.uniform();
-        if (a + b > 1.0f) { a = 1.0f - a; b = 1.0f - b; }
-        v.kind = Vpl::Kind::Emitter;
-        v.position = tri.v0 + (tri.v1 - tri.v0) * a + (tri.v2 - tri.v0) * b;
-        const Vec3 n = normalize(tri.normal());
-        v.normal = n;
-        const Vec3 le = scene.material_of(ls.index).emission;
-        v.power = le * (kPi * tri.area() / float(pdf));
-        const float u1 = rng.uniform(), u2 = rng.uniform();
-        dir = sample_cosine_hemisphere(n, u1, u2);
-        org = v.position + n * offset;
-        flux = v.power;  // Le cos / (pdf_area cos / pi) = pi Le A
-      }
-      out.vpls.push_back(v);
+      const PathStart s = start_path(scene, lights[li], pdf, offset, rng);
+      out.vpls.push_back(s.vpl);
       if (config.max_vpl_bounces > 0) {
-        states.push_back({flux, path, 0});
-        rays.push_back({org, 0.0f, dir, kInfinity});
+        states.push_back({s.flux, path, 0});
+        rays.push_back(s.ray);
       }
     }
     out.light_paths += batch_paths;
@@ -120,42 +179,10 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
       for (size_t i = 0; i < rays.size(); ++i) {
         if (hits.prim[i] == kInvalidId) continue;
         PathState st = states[i];
-        const Ray ray = rays[i];
-        const Triangle& tri = scene.triangles[hits.prim[i]];
-        const uint32_t mat_id = scene.material_ids[hits.prim[i]];
-        const Material& m = scene.materials[mat_id];
-        const Vec3 p = ray.org + ray.dir * hits.t[i];
-        const Vec3 wi = -normalize(ray.dir);
-        Vec3 n = normalize(tri.normal());
-        if (dot(n, wi) < 0.0f) n = -n;
-        st.bounces++;
-        if (m.type != Material::Type::Mirror) {
-          Vpl v;
-          v.kind = Vpl::Kind::Surface;
-          v.position = p;
-          v.normal = n;
-          v.wi = wi;
-          v.power = st.throughput;
-          v.material = mat_id;
-          out.vpls.push_back(v);
-        }
-        if (st.bounces >= config.max_vpl_bounces) continue;
-        Rng rng(config.seed, 0x5CA7 + uint64_t(st.bounces), st.path);
-        // The renderer's BSDF sampling (symmetric lobes, so the same for light paths); a
-        // mirror takes no random numbers.
-        float u[3] = {0.0f, 0.0f, 0.0f};
-        if (m.type != Material::Type::Mirror)
-          for (float& x : u) x = rng.uniform();
-        const BsdfSample bs = sample_bsdf(m, n, wi, u[0], u[1], u[2]);
-        if (!bs.valid) continue;
-        const Vec3 wo = bs.wi, weight = bs.weight;
-        const Vec3 nt = st.throughput * weight;
-        // Russian roulette keeps the flux per path roughly constant.
-        const float survive = std::min(1.0f, max_component(nt) / std::max(1e-30f, max_component(st.throughput)));
-        if (!(survive > 0.0f) || rng.uniform() >= survive) continue;
-        st.throughput = nt / survive;
+        Ray next;
+        if (!extend_path(scene, config, offset, rays[i], hits.t[i], hits.prim[i], st, out.vpls, next)) continue;
         next_states.push_back(st);
-        next_rays.push_back({p + n * (dot(wo, n) > 0 ? offset : -offset), 0.0f, wo, kInfinity});
+        next_rays.push_back(next);
       }
       states.swap(next_states);
       rays = std::move(next_rays);
