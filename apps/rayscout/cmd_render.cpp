@@ -130,7 +130,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
   cmd->add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
   cmd->add_option("--spp", c.spp, "camera samples per pixel")->capture_default_str()->transform(in_range(1, 1 << 16));
-  cmd->add_option("--seed", c.seed, "random seed (same seed, same image)")->capture_default_str()->transform(in_range<uint64_t>(0));
+  cmd->add_option("--seed", c.seed, "random seed (same seed, same image; manylight's skipping modes also need --costs and no --time-budget)")->capture_default_str()->transform(in_range<uint64_t>(0));
   cmd->add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")->capture_default_str()->transform(in_range(0));
   cmd->add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -22,6 +23,12 @@ inline ManylightRunOptions& manylight_cli_options() {
 inline std::string& manylight_cli_visibility() {
   static std::string visibility = "proposed";
   return visibility;
+}
+
+/// The --costs values as parsed (microseconds per VPL sample with / without its shadow ray).
+inline std::vector<double>& manylight_cli_costs() {
+  static std::vector<double> costs;
+  return costs;
 }
 
 /// Adds the manylight options to `rayscout render` (called from cmd_render.cpp's hook).
@@ -60,12 +67,22 @@ inline void add_manylight_options(CLI::App& cmd) {
       ->capture_default_str()
       ->transform(in_range(1));
   cmd.add_flag("--cpu-clock", c.cpu_clock, "manylight: time budget and calibration in process CPU time");
+  cmd.add_option("--costs", manylight_cli_costs(),
+                 "manylight: EVAL,SKIP microseconds per VPL sample with / without its shadow ray, instead of "
+                 "measuring them (a run prints both); fixed costs make the skipping modes repeatable")
+      ->expected(2)
+      ->delimiter(',')
+      ->transform(in_range(0.001));
 }
 
 /// The integrator of the table entry "manylight", configured by the parsed options.
 inline std::unique_ptr<Integrator> make_manylight_cli_integrator() {
   ManylightRunOptions o = manylight_cli_options();
   o.config.mode = parse_visibility_mode(manylight_cli_visibility());
+  if (const auto& costs = manylight_cli_costs(); costs.size() == 2) {
+    o.config.t_eval = costs[0] * 1e-6;
+    o.config.t_skip = costs[1] * 1e-6;
+  }
   return make_manylight_integrator(o);
 }
 

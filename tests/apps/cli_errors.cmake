@@ -92,3 +92,14 @@ expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
 # Options of another integrator are not silently dropped.
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
 expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
+# Manylight costs: two positive numbers; given, the skipping modes are repeatable (no timing in
+# the skip probabilities), so two runs with the same seed write the same bytes.
+expect(2 "--costs: At least 2 required" ${R} --integrator manylight --costs 0.5)
+expect(2 "--costs: '-1' is not a number >= 0.001" ${R} --integrator manylight --costs 0.5,-1)
+set(ML render --integrator manylight --visibility proposed --vpls 2000 --passes 4 --width 24 --height 16 --threads 2 --costs 0.7,0.25)
+expect(0 "t_eval 0.7 us, t_skip 0.25 us" ${ML} --out ${WORK}/ml1.pfm)
+expect(0 "wrote" ${ML} --out ${WORK}/ml2.pfm)
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/ml1.pfm ${WORK}/ml2.pfm RESULT_VARIABLE same)
+if(NOT same EQUAL 0)
+  message(FATAL_ERROR "manylight proposed with --costs gave two different images for one seed")
+endif()
