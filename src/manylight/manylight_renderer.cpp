@@ -170,7 +170,7 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
         const uint32_t pid = list[i];
         const ShadingPoint& sp = points_[pid];
         for (int j = 0; j < spp_samples; ++j) {
-          manylight_detail::Rng rng(seed_ + passes_ * 0x9E3779B97F4A7C15ull, pid, uint64_t(j) | (uint64_t(forced) << 32));
+          manylight_detail::Rng rng(seed_ + passes_ * kGolden64, pid, uint64_t(j) | (uint64_t(forced) << 32));
           Sample& s = samples[c * stride + (i - b) * spp_samples + j];
           s.point = pid;
           const float u = rng.uniform();

@@ -4,22 +4,19 @@
 
 #include <cstdint>
 
+#include "rayscout/core/random.h"
+
 namespace rayscout::manylight_detail {
 
-/// SplitMix64 finaliser: a good 64-bit mix.
-inline uint64_t mix64(uint64_t z) {
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+/// One SplitMix64 step as a hash: the stream's next output from state z.
+inline uint64_t hash64(uint64_t z) { return mix64(z + kGolden64); }
 
 /// PCG32 seeded from a key tuple, so results never depend on thread scheduling.
 class Rng {
  public:
   Rng(uint64_t a, uint64_t b = 0, uint64_t c = 0) {
-    state_ = mix64(a ^ mix64(b ^ mix64(c)));
-    inc_ = (mix64(state_ + 0x632BE59BD9B4E019ull) << 1u) | 1u;
+    state_ = hash64(a ^ hash64(b ^ hash64(c)));
+    inc_ = (hash64(state_ + 0x632BE59BD9B4E019ull) << 1u) | 1u;
     next();
   }
   uint32_t next() {

@@ -4,17 +4,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "rayscout/core/random.h"
+
 namespace rayscout {
 namespace {
 
+/// The pre-pass's random numbers: one SplitMix64 stream.
 struct Rng {
-  uint64_t s;
-  float next() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return float((z ^ (z >> 31)) >> 40) * (1.0f / 16777216.0f);
-  }
+  SplitMix64 stream;
+  float next() { return stream.uniform(); }
 };
 
 Vec3 cosine_direction(const Vec3& n, Rng& rng) {
@@ -40,7 +38,7 @@ RayBatch camera_prepass_rays(const Scene& scene, const std::function<Hit(const R
   const float th = std::tan(0.5f * cam.fov_deg * std::numbers::pi_v<float> / 180.0f);
   const float tw = th * float(width) / float(height);
   const float eps = 1e-4f * length(scene.bounds().diagonal());
-  Rng rng{uint64_t(seed) * 0x9E3779B97F4A7C15ull + 7};
+  Rng rng{{uint64_t(seed) * kGolden64 + 7}};
   auto spawn_at = [&](const Ray& ray, const Hit& h) {
     const Vec3 p = ray.org + ray.dir * h.t;
     Vec3 n = normalize(scene.triangles[h.prim].normal());

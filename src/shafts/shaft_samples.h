@@ -7,42 +7,35 @@
 #include <vector>
 
 #include "candidate_list.h"
+#include "rayscout/core/random.h"
 #include "rayscout/shafts/shaft_collection.h"
 #include "shaft.h"
 
 namespace rayscout::detail {
-
-inline uint64_t splitmix64(uint64_t& s) {
-  uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-inline float uniform01(uint64_t& s) { return float(splitmix64(s) >> 40) * (1.0f / 16777216.0f); }
 
 /// Random numbers of the sample rays of one shaft (voxel x cell `sid`): depend only on the
 /// seed and the shaft id. Latin hypercube when config.stratified.
 class SampleStream {
  public:
   SampleStream(uint64_t sid, const ShaftConfig& config)
-      : rng_((uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull)), n_(config.samples),
+      : rng_{(uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull)}, n_(config.samples),
         stratified_(config.stratified) {
     if (stratified_)
       for (auto& p : perm_) {
         for (int i = 0; i < n_; ++i) p[i] = uint8_t(i);
-        for (int i = n_ - 1; i > 0; --i) std::swap(p[i], p[splitmix64(rng_) % uint64_t(i + 1)]);
+        for (int i = n_ - 1; i > 0; --i) std::swap(p[i], p[rng_.next() % uint64_t(i + 1)]);
       }
   }
   /// The 5 numbers of sample ray k (k < config.samples, drawn in order).
   void next(int k, float rnd[5]) {
-    for (int d = 0; d < 5; ++d) rnd[d] = uniform01(rng_);
+    for (int d = 0; d < 5; ++d) rnd[d] = rng_.uniform();
     if (stratified_)
       for (int d = 0; d < 5; ++d) rnd[d] = std::min((float(perm_[d][k]) + rnd[d]) / float(n_), 0.99999994f);
   }
-  float uniform() { return uniform01(rng_); }
+  float uniform() { return rng_.uniform(); }
 
  private:
-  uint64_t rng_;
+  SplitMix64 rng_;
   int n_;
   bool stratified_;
   uint8_t perm_[5][256];

@@ -4,18 +4,9 @@
 
 #include <cstdint>
 
-namespace rayscout {
+#include "rayscout/core/random.h"
 
-/// The 64-bit finaliser of SplitMix64 (Steele et al., "Fast splittable pseudorandom number
-/// generators", 2014): a bijective mix with full avalanche.
-constexpr uint64_t mix64(uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return x;
-}
+namespace rayscout {
 
 /// Random numbers of one path vertex: the key (seed, pixel, sample, bounce) is hashed once,
 /// dimension d is then output d of a SplitMix64 stream seeded with it. Dimensions in use:
@@ -25,14 +16,14 @@ class PathSampler {
  public:
   PathSampler(uint64_t seed, uint32_t pixel, uint32_t sample, uint32_t bounce)
       : seed_(seed), pixel_(pixel) {
-    uint64_t h = mix64(seed + 0x9E3779B97F4A7C15ULL);
+    uint64_t h = mix64(seed + kGolden64);
     h = mix64(h ^ ((uint64_t(pixel) << 32) | sample));
     key_ = mix64(h ^ bounce);
   }
   /// Uniform float in [0, 1), 24 random bits.
   float get(uint32_t dim) const { return float(bits(dim) >> 40) * 0x1p-24f; }
   /// 64 random bits of dimension dim.
-  uint64_t bits(uint32_t dim) const { return mix64(key_ + (uint64_t(dim) + 1) * 0x9E3779B97F4A7C15ULL); }
+  uint64_t bits(uint32_t dim) const { return mix64(key_ + (uint64_t(dim) + 1) * kGolden64); }
   /// A sampler of the same seed and pixel that no (sample, bounce) key reaches: per-pixel choices.
   PathSampler pixel_sampler() const { return {seed_, pixel_, 0xFFFFFFFFu, 0xFFFFFFFFu}; }
 
