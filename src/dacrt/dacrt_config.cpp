@@ -43,7 +43,7 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
                    ? DacrtSampling::Random : DacrtSampling::Stride;
   c.samples = int(o.get_int("samples", c.samples, 1, INT_MAX));
-  c.fraction = o.get_double("fraction", c.fraction);
+  c.fraction = o.get_double("fraction", c.fraction, 0.0, 1.0);
   c.min_rays_sampling = size_t(o.get_int("min_rays", long(c.min_rays_sampling), 0, LONG_MAX));
   c.sample_budget = o.get_double("sample_budget", c.sample_budget);
   c.seed = uint64_t(o.get_int("seed", long(c.seed)));
@@ -56,7 +56,6 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   c.c_bv = o.get_double("C_bv", c.c_bv);
   c.c_tri = o.get_double("C_tri", c.c_tri);
   c.parallel = o.get_bool("parallel", c.parallel);
-  require(c.fraction >= 0.0 && c.fraction <= 1.0, "fraction: must be in [0, 1]");
   require(c.sample_budget >= 0.0, "sample_budget: must be >= 0");
   require(c.midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
   require(c.c_t >= 0 && c.c_i > 0 && c.c_bv > 0 && c.c_tri > 0, "C_T >= 0, C_I, C_bv, C_tri > 0 required");
