@@ -23,22 +23,26 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("a", opts->a, "image (.png, .exr, .pfm)")->required();
   cmd->add_option("b", opts->b, "reference image")->required();
   cmd->add_option("--out", opts->out, "write a false-colour difference PNG");
-  cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference)");
-  cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this");
+  cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)")
+      ->transform(in_range(0.0f));
+  cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this (or NaN)")
+      ->transform(in_range(0.0));
   cmd->callback([opts] {
     const Image a = read_image(opts->a), b = read_image(opts->b);
     if (a.width != b.width || a.height != b.height)
       throw InputError(fmt::format("{} and {}: images differ in size: {}x{} vs {}x{}", opts->a, opts->b, a.width,
                                    a.height, b.width, b.height));
     const ImageError e = compare_images(a, b);
-    fmt::print("rmse     {:.6g}\nrel_mse  {:.6g}\npsnr     {} dB\nmax_abs  {:.6g}\n", e.rmse, e.rel_mse,
-               std::isinf(e.psnr) ? std::string("inf") : fmt::format("{:.2f}", e.psnr), e.max_abs);
+    fmt::print("rmse     {:.6g}\nrel_mse  {:.6g}\npsnr     {:.2f} dB\nmax_abs  {:.6g}\n", e.rmse, e.rel_mse, e.psnr,
+               e.max_abs);
+    if (e.nonfinite > 0) fmt::print("nonfinite {} channel values (NaN or inf) in the two images\n", e.nonfinite);
     if (!opts->out.empty()) {
       write_image(difference_image(a, b, opts->scale), opts->out);
       fmt::print("wrote {}\n", opts->out);
     }
-    if (opts->max_rmse >= 0 && e.rmse > opts->max_rmse) {
-      fmt::print("rmse {:.6g} is above --max-rmse {:.6g}\n", e.rmse, opts->max_rmse);
+    if (opts->max_rmse >= 0 && !(e.rmse <= opts->max_rmse)) {  // a NaN RMSE fails too
+      fmt::print("rmse {:.6g} is {} --max-rmse {:.6g}\n", e.rmse, std::isnan(e.rmse) ? "not a number: fails" : "above",
+                 opts->max_rmse);
       throw CLI::RuntimeError(1);
     }
   });

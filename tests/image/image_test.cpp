@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/image/image.h"
@@ -169,6 +170,25 @@ TEST(ImageCompare, DifferenceImageRamp) {
   EXPECT_FLOAT_EQ(linear_to_srgb(d.at(2, 0).x), 1.0f);      // the largest: red
   EXPECT_FLOAT_EQ(d.at(2, 0).y, 0.0f);
   EXPECT_GT(d.at(1, 0).y, 0.5f);                            // half way: green
+}
+
+// A NaN or infinite pixel must not pass for a close image, nor break the picture.
+TEST(ImageCompare, NonFinitePixels) {
+  Image a(2, 1), b(2, 1);
+  a.at(1, 0).y = std::numeric_limits<float>::quiet_NaN();
+  ImageError e = compare_images(a, b);
+  EXPECT_TRUE(std::isnan(e.rmse));
+  EXPECT_TRUE(std::isnan(e.max_abs));
+  EXPECT_EQ(e.nonfinite, 1u);
+  a.at(1, 0).y = std::numeric_limits<float>::infinity();
+  e = compare_images(a, b);
+  EXPECT_TRUE(std::isinf(e.rmse));
+  EXPECT_TRUE(std::isinf(e.psnr) && e.psnr < 0);
+  const Image d = difference_image(a, b);
+  EXPECT_EQ(d.at(0, 0), Vec3(0.0f));                    // no difference: black
+  EXPECT_FLOAT_EQ(linear_to_srgb(d.at(1, 0).x), 1.0f);  // broken pixel: red
+  EXPECT_FLOAT_EQ(d.at(1, 0).y, 0.0f);
+  EXPECT_THROW(difference_image(a, b, std::numeric_limits<float>::quiet_NaN()), InputError);
 }
 
 }  // namespace

@@ -34,19 +34,23 @@ void check_image_path(const std::filesystem::path& path);
 /// Reads .exr, .pfm or .png (8-bit sRGB decoded to linear). Throws InputError naming the file.
 Image read_image(const std::filesystem::path& path);
 
-/// Error of image a against reference b, over every pixel and channel.
+/// Error of image a against reference b, over every pixel and channel. A NaN or infinite
+/// channel value on either side makes rmse, rel_mse and max_abs NaN or +inf (and psnr NaN
+/// or -inf): such an image never passes for a close one.
 struct ImageError {
-  double rmse = 0;     ///< sqrt(mean (a - b)^2)
-  double rel_mse = 0;  ///< mean (a - b)^2 / (b^2 + 0.01), pbrt's relative MSE
-  double psnr = 0;     ///< 10 log10(1 / mse), peak value 1; +inf for identical images
-  double max_abs = 0;  ///< max |a - b|
+  double rmse = 0;       ///< sqrt(mean (a - b)^2)
+  double rel_mse = 0;    ///< mean (a - b)^2 / (b^2 + 0.01), pbrt's relative MSE
+  double psnr = 0;       ///< 10 log10(1 / mse), peak value 1; +inf for identical images
+  double max_abs = 0;    ///< max |a - b|
+  size_t nonfinite = 0;  ///< channel values that are NaN or infinite in a or b
 };
 
 /// Compares two images of equal size (throws InputError otherwise); b is the reference.
 ImageError compare_images(const Image& a, const Image& b);
 
 /// A false-colour picture of |a - b| (mean over channels), black = 0 through blue, green,
-/// yellow to red = scale; scale <= 0 uses the largest difference.
+/// yellow to red = scale; scale <= 0 uses the largest finite difference. A pixel whose
+/// difference is NaN or infinite is red. Throws InputError for a NaN or infinite scale.
 Image difference_image(const Image& a, const Image& b, float scale = 0);
 
 /// sRGB encoding of one linear channel value clamped to [0, 1] (IEC 61966-2-1).
