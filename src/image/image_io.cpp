@@ -57,6 +57,10 @@ void write_png(const Image& image, const std::filesystem::path& path) {
 
 Image read_png(const std::filesystem::path& path) {
   int w = 0, h = 0, n = 0;
+  // stb keeps its last failure reason until the next failure, and some corrupt data fails
+  // without one: clear it (stb's own static in this file, no API) so that an earlier file's
+  // error is never reported for this one.
+  stbi__g_failure_reason = nullptr;
   std::unique_ptr<uint8_t, void (*)(void*)> data(stbi_load(path.string().c_str(), &w, &h, &n, 3), stbi_image_free);
   if (!data) {
     const char* why = stbi_failure_reason();  // null for some corrupt data: stb returns without a reason
