@@ -71,10 +71,14 @@ bool compare_files(const CompareArgs& args) {
   fmt::print("rays:                  {}\n", d.rays);
   fmt::print("hits:                  {} in A, {} in B, {} in both\n", hits_a, hits_b, d.both_hit);
   fmt::print("hit/miss:              {}\n", d.hit_miss);
-  fmt::print("different triangle:    {} (true ties excluded: {})\n", d.other_prim, d.ties);
+  if (args.tolerance == 0)
+    fmt::print("different triangle:    {} (tolerance 0: an exact tie broken another way counts)\n", d.other_prim);
+  else
+    fmt::print("different triangle:    {} (true ties excluded: {})\n", d.other_prim, d.ties);
   fmt::print("grazing contacts:      {}{}\n", d.grazing,
              args.strict ? "" : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", cfg.edge_eps));
   fmt::print("t beyond tolerance:    {}\n", d.t_mismatch);
+  if (args.tolerance == 0) fmt::print("u, v not identical:    {}\n", d.uv_mismatch);
   fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} ({})\n", d.max_rel_diff, d.p99_rel_diff,
              cfg.rays ? "world space: |dt| |d| / max(1, |o|, |hit point|)" : "|dt| / max(1, t_A)");
   if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
@@ -90,13 +94,17 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("B", args->b, "Candidate file of the same kind")->required();
   cmd->add_option("--tolerance", args->tolerance,
                   "Relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
-                  "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms)")
-      ->capture_default_str();
+                  "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms). 0 = bit-identical: same "
+                  "triangle (no ties), t, u and v")
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
   cmd->add_option("--rays", args->rays,
                   "The RAYS file both were traced from: judge distances in world space, where float "
                   "coordinates have their precision (a hit near the origin far from the world origin)");
   cmd->add_option("--edge-eps", args->edge_eps,
-                  "A hit with a barycentric <= this is a grazing (edge/vertex) contact")->capture_default_str();
+                  "A hit with a barycentric <= this is a grazing (edge/vertex) contact")
+      ->capture_default_str()
+      ->transform(in_range(0.0f, 1.0f));
   cmd->add_option("--hits-a", args->hits_a,
                   "OCCL only: A's closest hits (HITS file) of the same rays, so that a disagreement whose "
                   "blocker is a grazing contact is not counted");

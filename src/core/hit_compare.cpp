@@ -2,6 +2,7 @@
 #include "rayscout/core/hit_compare.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -64,8 +65,9 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     ++d.both_hit;
     const float diff = std::fabs(g.t - r.t) / t_scale(config, i, r.t);
     const bool t_close = diff <= config.rel_tol;
+    const bool exact = config.rel_tol == 0.0f;  // bit-identical: no ties, u and v compared too
     if (r.prim != g.prim) {
-      if (t_close) {
+      if (t_close && !exact) {
         ++d.ties;
       } else if (config.allow_grazing && is_grazing(g.t < r.t ? g : r, config, i)) {
         ++d.grazing;  // the nearer contact is grazing; the other side passed it by
@@ -78,6 +80,10 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     } else if (!t_close) {
       ++d.t_mismatch;
       note(i, "distance");
+    } else if (exact && (std::bit_cast<uint32_t>(g.u) != std::bit_cast<uint32_t>(r.u) ||
+                         std::bit_cast<uint32_t>(g.v) != std::bit_cast<uint32_t>(r.v))) {
+      ++d.uv_mismatch;
+      note(i, "barycentrics");
     }
     rel.push_back(diff);
   }

@@ -65,9 +65,9 @@ TEST_P(AcceleratorSuite, ClosestHitsMatchBruteForce) {
   const Tolerance tol = tolerance_for(p.accel, p.mesh.name, rays.size());
   const HitDiff d = compare_hits(ref, got, tol.cfg);
   EXPECT_LE(d.grazing, rays.size() / 5) << "grazing disagreements should be rare";
-  EXPECT_LE(d.hit_miss + d.other_prim + d.t_mismatch, tol.max_errors)
-      << d.hit_miss << " hit/miss, " << d.other_prim << " other triangle, " << d.t_mismatch
-      << " distance; first: " << d.first;
+  EXPECT_LE(d.hit_miss + d.other_prim + d.t_mismatch + d.uv_mismatch, tol.max_errors)
+      << d.hit_miss << " hit/miss, " << d.other_prim << " other triangle, " << d.t_mismatch << " distance, "
+      << d.uv_mismatch << " barycentrics; first: " << d.first;
   size_t hits = 0;
   for (uint32_t prim : ref.prim) hits += prim != kInvalidId;
   EXPECT_GT(hits, rays.size() / 20) << "the ray set should hit something";

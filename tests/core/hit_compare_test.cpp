@@ -1,6 +1,8 @@
 // compare_hits / compare_occlusion: ties, grazing contacts, t percentiles, tolerance.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "rayscout/core/hit_compare.h"
 
 namespace rayscout {
@@ -67,6 +69,23 @@ TEST(HitCompare, TiesAreCountedNotErrors) {
   EXPECT_EQ(d.ties, 1u);
   EXPECT_EQ(d.other_prim, 1u);
   EXPECT_NE(d.first.find("ray 1: different triangle"), std::string::npos) << d.first;
+}
+
+// Tolerance 0 is the accelerators' bit-identity check: a tie broken the other way and
+// barycentrics that differ in the last bit are errors there.
+TEST(HitCompare, ToleranceZeroAllowsNoTiesAndComparesBarycentrics) {
+  const HitBatch ref = batch({{1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
+  const HitBatch got = batch({{1.0f, 9, 0.2f, 0.3f}, {1.0f, 3, std::nextafter(0.2f, 1.0f), 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
+  HitDiff d = compare_hits(ref, got, 0.0f);
+  EXPECT_EQ(d.other_prim, 1u);
+  EXPECT_EQ(d.ties, 0u);
+  EXPECT_EQ(d.uv_mismatch, 1u);
+  EXPECT_FALSE(d.ok());
+  EXPECT_NE(d.first.find("ray 0: different triangle"), std::string::npos) << d.first;
+  d = compare_hits(ref, got, 1e-6f);  // any tolerance: a tie, and u, v are not compared
+  EXPECT_EQ(d.ties, 1u);
+  EXPECT_EQ(d.uv_mismatch, 0u);
+  EXPECT_TRUE(d.ok());
 }
 
 TEST(HitCompare, GrazingContactsOnlyWhenAllowed) {

@@ -13,7 +13,8 @@ namespace rayscout {
 /// How compare_hits judges two hit batches.
 struct HitCompareConfig {
   /// t agrees when |t - t_ref| <= rel_tol * scale, scale = max(1, |t_ref|) without `rays`.
-  /// 0 = bit-identical.
+  /// 0 = bit-identical: the same triangle (an exact tie must be broken the same way, by the
+  /// smaller id), the same t and the same u, v, bit for bit.
   float rel_tol = 1e-5f;
   /// The rays both batches traced (optional, must outlive the call). With them the tolerance
   /// is in world space, the precision float coordinates really have: t agrees when
@@ -43,17 +44,18 @@ struct HitDiff {
   size_t hit_miss = 0;      ///< one hits, the other misses
   size_t other_prim = 0;    ///< both hit, different triangle and different t
   size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * scale
-  size_t ties = 0;          ///< different triangle at the same t (within tolerance): not an error
+  size_t uv_mismatch = 0;   ///< rel_tol = 0 only: same triangle and t, different u or v bits
+  size_t ties = 0;          ///< different triangle at the same t (within tolerance, rel_tol > 0): not an error
   size_t grazing = 0;       ///< disagreements at a grazing contact (allow_grazing only): not an error
   /// Max and 99th percentile of |t - t_ref| / scale (HitCompareConfig::rel_tol) over rays
   /// that both hit (the same triangle or a tie).
   double max_rel_diff = 0.0, p99_rel_diff = 0.0;
   std::string first;        ///< description of the first disagreement
-  bool ok() const { return hit_miss == 0 && other_prim == 0 && t_mismatch == 0; }
+  bool ok() const { return hit_miss == 0 && other_prim == 0 && t_mismatch == 0 && uv_mismatch == 0; }
 };
 
-/// Compares ray by ray. A different triangle at the same t (within tolerance) is a true tie
-/// and not counted as an error.
+/// Compares ray by ray. With rel_tol > 0 a different triangle at the same t (within
+/// tolerance) is a true tie and not counted as an error; with rel_tol = 0 it is an error.
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareConfig& config);
 /// Same, with config {rel_tol} (no grazing allowance).
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, float rel_tol = 1e-5f);
