@@ -2,6 +2,7 @@
 #include "scene_builder.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "rayscout/core/accelerator_options.h"
 
@@ -61,19 +62,25 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
   std::vector<Vec3> moved;
   if (!identity) {
     moved.reserve(mesh.positions.size());
-    for (size_t i = 0; i < mesh.positions.size(); ++i) {
-      moved.push_back(xf.apply_point(mesh.positions[i]));
-      if (!is_finite(moved.back()))
-        throw InputError(source + ": the transform makes vertex " + std::to_string(i) + " non-finite");
-    }
+    for (size_t i = 0; i < mesh.positions.size(); ++i) moved.push_back(xf.apply_point(mesh.positions[i]));
   }
   const std::vector<Vec3>& pos = identity ? mesh.positions : moved;
   // The readers reject non-finite coordinates, but a shape's corners are sums (a box from
-  // -3e38 to 3e38 is infinitely wide) and other importers may not check.
-  if (identity)
-    for (size_t i = 0; i < pos.size(); ++i)
-      if (!is_finite(pos[i]))
-        throw InputError(source + ": vertex " + std::to_string(i) + " is not finite (beyond float range)");
+  // -3e38 to 3e38 is infinitely wide), a transform may overflow, and other importers may not
+  // check. Finite is not enough: the renderer squares distances in float (light falloff, the
+  // scene diagonal), which overflows beyond ~1e19, and a silently black image would follow.
+  for (size_t i = 0; i < pos.size(); ++i) {
+    const Vec3& p = pos[i];
+    if (is_finite(p) && max_component(abs(p)) <= kMaxCoordinate) continue;
+    const std::string vertex = "vertex " + std::to_string(i);
+    if (!is_finite(p))
+      throw InputError(source + (identity ? ": " + vertex + " is not finite (beyond float range)"
+                                          : ": the transform makes " + vertex + " non-finite"));
+    char at[96];
+    std::snprintf(at, sizeof at, "(%g, %g, %g)", double(p.x), double(p.y), double(p.z));
+    throw InputError(source + ": " + vertex + (identity ? "" : " (transformed)") + " at " + at +
+                     " is beyond +-1e18, where squared distances overflow float; scale the scene down");
+  }
   // Grow geometrically: an exact reserve per mesh would copy everything for every mesh added.
   const size_t need = scene_.triangles.size() + mesh.faces.size();
   if (need > scene_.triangles.capacity()) {

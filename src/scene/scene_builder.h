@@ -11,6 +11,9 @@
 
 namespace rayscout::detail {
 
+/// Largest |coordinate| of a vertex: squared distances (falloff, diagonals) stay finite in float.
+inline constexpr float kMaxCoordinate = 1e18f;
+
 /// Appends meshes to a scene in call order, so triangle ids are the load order.
 class SceneBuilder {
  public:

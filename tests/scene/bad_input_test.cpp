@@ -249,7 +249,12 @@ TEST(SceneBadInput, JsonDeepNesting) {
 TEST(SceneBadInput, JsonShapeAndCameraOverflow) {
   TempDir dir;
   expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [-3e38, -3e38, -3e38], "max": [3e38, 3e38, 3e38]}]})"),
-                  {"scene.json: meshes[0] (shape box): vertex 1 is not finite (beyond float range)"});
+                  {"scene.json: meshes[0] (shape box): vertex 0 at (-3e+38, -3e+38, -3e+38) is beyond +-1e18"});
+  // Finite but huge: the renderer's squared distances would overflow (a black image).
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {"scale": 1e20}}]})"),
+                  {"scene.json: meshes[0] (shape box): vertex 1 (transformed) at (0, 0, 1e+20) is beyond +-1e18"});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 2e18]}]})"),
+                  {"scene.json: meshes[0] (shape box): vertex 1 at (0, 0, 2e+18) is beyond +-1e18"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [-1e20, 0, 0], "look_at": [1e20, 0, 0]}})"),
                   {"scene.json: camera: eye and look_at are too far apart (their distance overflows float)"});
 }
