@@ -11,11 +11,10 @@
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include "commands.h"
 #include "integrators.h"
+#include "thread_limit.h"
 #include "manylight_options.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
@@ -58,10 +57,8 @@ void draw_progress(const RenderProgress& p) {
 }
 
 void run(RenderOptions& o) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (o.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
-  const int n_threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
+  const ThreadLimit limit(o.threads);
+  const int n_threads = limit.threads;
   // Output paths are checked before the work, not after it.
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
@@ -136,7 +133,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")->capture_default_str()->transform(in_range(0.0f));
   cmd->add_option("--ray-epsilon", c.ray_epsilon, "tmin of secondary rays (0 = 1e-5 x scene size)")->capture_default_str()->transform(in_range(0.0f));
-  cmd->add_option("--max-batch", c.max_batch_rays, "largest camera batch; more samples run in passes (0 = 2^24)")->capture_default_str()->transform(in_range(0L));
+  cmd->add_option("--max-batch", c.max_batch_rays, "camera rays per pass: the samples per pixel are traced in passes of whole samples that stay under this, at least one sample per pixel per pass (0 = 2^24)")->capture_default_str()->transform(in_range(0L));
   cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
   cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower)");
   cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout)");
@@ -154,7 +151,12 @@ CommandRegistration registration{[](CLI::App& app) {
         {"--max-depth", {"direct", "area", "path"}},
         {"--light-samples", {"area", "path"}},
         {"--ao-samples", {"ao"}},
-        {"--ao-radius", {"ao"}}};
+        {"--ao-radius", {"ao"}},
+        // The many-light renderer offsets its rays by its own 1e-4 of the scene diagonal,
+        // makes its own batches, and keeps no traversal counters.
+        {"--ray-epsilon", {"direct", "area", "ao", "path"}},
+        {"--max-batch", {"direct", "area", "ao", "path"}},
+        {"--count", {"direct", "area", "ao", "path"}}};
     for (const auto& [option, integrators] : readers)
       if (cmd->count(option) > 0 && std::find(integrators.begin(), integrators.end(), opts->integrator) == integrators.end())
         fmt::print(stderr, "rayscout: warning: {} is ignored by --integrator {}\n", option, opts->integrator);

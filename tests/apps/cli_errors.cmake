@@ -81,6 +81,14 @@ expect(0 "mrays_per_s" ${T} --accel shafts-wide --accel-opt collapse=greedy)
 expect(0 "" render --width 8 --height 8 --out ${WORK}/a8.pfm)
 expect(0 "" render --width 8 --height 6 --out ${WORK}/b6.pfm)
 expect(2 "a8\\.pfm and .*b6\\.pfm: images differ in size: 8x8 vs 8x6" diff ${WORK}/a8.pfm ${WORK}/b6.pfm)
+# A NaN pixel (a 1x1 PFM of NaN) fails --max-rmse and is drawn red, not read out of the
+# colour ramp with int(NaN); a NaN scale is refused.
+execute_process(COMMAND printf "PF\\n1 1\\n-1.0\\n\\000\\000\\300\\177\\000\\000\\300\\177\\000\\000\\300\\177"
+                OUTPUT_FILE ${WORK}/nan1.pfm)
+expect(0 "" render --width 1 --height 1 --out ${WORK}/ref1.pfm)
+expect(1 "nonfinite 3 channel values.*not a number: fails --max-rmse" diff ${WORK}/nan1.pfm ${WORK}/ref1.pfm --max-rmse 0.01)
+expect(0 "wrote" diff ${WORK}/nan1.pfm ${WORK}/ref1.pfm --out ${WORK}/nan-diff.png)
+expect(2 "--scale: 'nan' is not a number" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --scale nan)
 # Output paths are checked before any work: a missing folder, a directory, an unknown format.
 expect(2 "folder .*no-such-dir does not exist" render --width 8 --height 8 --out ${WORK}/no-such-dir/x.png)
 expect(2 "is a directory" render --width 8 --height 8 --out ${WORK})
@@ -92,6 +100,7 @@ expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
 # Options of another integrator are not silently dropped.
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
 expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
+expect(0 "--count is ignored by --integrator manylight" render --integrator manylight --width 8 --height 8 --vpls 50 --count --out ${WORK}/x.png)
 # Manylight costs: two positive numbers; given, the skipping modes are repeatable (no timing in
 # the skip probabilities), so two runs with the same seed write the same bytes.
 expect(2 "--costs: At least 2 required" ${R} --integrator manylight --costs 0.5)
