@@ -7,10 +7,9 @@
 #include <vector>
 
 #include <fmt/core.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include "commands.h"
+#include "thread_limit.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
@@ -48,9 +47,8 @@ std::string quoted(const std::string& s) {
 }
 
 void run_trace(const TraceArgs& a) {
-  const int threads = a.threads > 0 ? a.threads : tbb::info::default_concurrency();
-  // Limits every TBB parallel region of this process, Embree's build included.
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  const ThreadLimit limit(a.threads);
+  const int threads = limit.threads;
 
   if (!a.out.empty()) check_output_path(a.out, "--out " + a.out);
   AcceleratorOptions options;

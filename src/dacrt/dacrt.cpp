@@ -10,6 +10,7 @@
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "dacrt_tracer.h"
@@ -26,7 +27,9 @@ constexpr size_t kMinRaysPerTask = 16384;
 
 size_t task_count(const DacrtConfig& c, size_t n) {
   if (!c.parallel) return 1;
-  const size_t threads = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  // The limit may be set above the cores; the arena never runs more threads than its concurrency.
+  const size_t threads = std::min(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+                                  size_t(tbb::this_task_arena::max_concurrency()));
   return std::max<size_t>(1, std::min(threads, n / kMinRaysPerTask));
 }
 
@@ -91,7 +94,10 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   if (kOccluded) occluded->assign(n, 0); else hits->reset(n);
   if (stats) stats->rays += n;
   const size_t tasks = task_count(config_, n);
-  last_memory_ = n == 0 ? 0 : scratch_bytes(n, nt, tasks);
+  {
+    std::lock_guard report(last_mutex_);
+    last_memory_ = n == 0 ? 0 : scratch_bytes(n, nt, tasks);
+  }
   if (n == 0 || nt == 0) return;
   const bool par = config_.parallel;
 
@@ -161,8 +167,19 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   if (stats) {
     DacrtDetails d;
     for (size_t k = 0; k < tasks; ++k) { *stats += task_stats[k]; d += task_details[k]; }
+    std::lock_guard report(last_mutex_);
     last_details_ = d;
   }
+}
+
+size_t Dacrt::last_trace_memory_bytes() const {
+  std::lock_guard report(last_mutex_);
+  return last_memory_;
+}
+
+DacrtDetails Dacrt::last_details() const {
+  std::lock_guard report(last_mutex_);
+  return last_details_;
 }
 
 void Dacrt::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {

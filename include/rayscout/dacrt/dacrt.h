@@ -44,10 +44,11 @@ class Dacrt final : public Accelerator {
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
                 TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return {}; }
-  /// Scratch bytes of the last trace call: scratch_bytes(|R|, |T|, tasks).
-  size_t last_trace_memory_bytes() const override { return last_memory_; }
+  /// Scratch bytes of the last trace call: scratch_bytes(|R|, |T|, tasks). With concurrent
+  /// calls, of the one that finished last (here and in last_details).
+  size_t last_trace_memory_bytes() const override;
   /// Counts of the last call that passed non-null stats.
-  const DacrtDetails& last_details() const { return last_details_; }
+  DacrtDetails last_details() const;
   const DacrtConfig& config() const { return config_; }
 
   /// Scratch bytes a call with n_rays and n_triangles allocates, with `tasks` ray ranges.
@@ -67,6 +68,7 @@ class Dacrt final : public Accelerator {
   struct Arena;
   mutable std::unique_ptr<Arena> arena_;
   mutable std::mutex arena_mutex_;
+  mutable std::mutex last_mutex_;  ///< guards the two reports below (calls may run concurrently)
   mutable size_t last_memory_ = 0;
   mutable DacrtDetails last_details_;
 };
