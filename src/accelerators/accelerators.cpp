@@ -34,13 +34,13 @@ const std::vector<Entry>& registry() {
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<Dacrt>(s.triangles, DacrtConfig::from_options(o, DacrtConfig::ray_sampled()), "dacrt-rs");
        }},
-      {{"bvh2", "binary binned-SAH BVH, scalar single-ray traversal (options bins, max_leaf_size, traversal_cost, intersection_cost)"},
+      {{"bvh2", "binary binned-SAH BVH, scalar single-ray traversal (options bins, max_leaf_size, traversal_cost, intersection_cost, leaf_block, presplit, presplit_pieces)"},
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<Bvh2Accelerator>(s.triangles, bvh_config_from_options(o));
        }},
-      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2, plus leaf_block, presplit, presplit_pieces)"},
+      {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2, plus collapse=greedy|sah, collapse_node_cost, collapse_leaf_cost, collapse_block_cost, collapse_max_leaf)"},
        [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<WideBvhAccelerator>(s.triangles, bvh_config_from_options(o, wide_bvh_default_config()));
+         return std::make_unique<WideBvhAccelerator>(s.triangles, wide_bvh_config_from_options(o));
        }},
       {{"shafts", "ray classification, Hendrich et al. 2019: shaft candidate lists seed the binary BVH (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
@@ -50,7 +50,7 @@ const std::vector<Entry>& registry() {
       {{"shafts-wide", "ray classification over the 8-wide BVH, min hit probability 7/8 (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
          return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o),
-                                                    bvh_config_from_options(o, wide_bvh_default_config()));
+                                                    wide_bvh_config_from_options(o));
        }},
 #if RAYSCOUT_WITH_EMBREE
       {{"embree", "Intel Embree 3, high-quality build, robust mode (peer; options robust, quality, packet)"},

@@ -66,6 +66,13 @@ BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const 
   c.leaf_block = int(options.get_int("leaf_block", c.leaf_block, 1, 15));
   c.presplit = float(options.get_double("presplit", c.presplit, 0.0, 4.0));
   c.presplit_max_pieces = int(options.get_int("presplit_pieces", c.presplit_max_pieces, 1, 65));
+  if (!(c.traversal_cost > 0) || !(c.intersection_cost > 0))
+    throw InputError("bvh options traversal_cost and intersection_cost must be positive");
+  return c;
+}
+
+BvhBuildConfig wide_bvh_config_from_options(const AcceleratorOptions& options) {
+  BvhBuildConfig c = bvh_config_from_options(options, wide_bvh_default_config());
   const std::string collapse = options.get_string("collapse", c.collapse == CollapseMethod::Sah ? "sah" : "greedy");
   if (collapse == "greedy") {
     c.collapse = CollapseMethod::Greedy;
@@ -80,8 +87,6 @@ BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const 
   c.collapse_max_leaf = int(options.get_int("collapse_max_leaf", c.collapse_max_leaf, 1, 15));
   if (!(c.collapse_node_cost > 0) || !(c.collapse_leaf_cost >= 0) || !(c.collapse_block_cost > 0))
     throw InputError("bvh options collapse_node_cost and collapse_block_cost must be positive, collapse_leaf_cost >= 0");
-  if (!(c.traversal_cost > 0) || !(c.intersection_cost > 0))
-    throw InputError("bvh options traversal_cost and intersection_cost must be positive");
   return c;
 }
 

@@ -11,11 +11,15 @@
 
 namespace rayscout {
 
-/// Reads the build tunables from accelerator options: bins, max_leaf_size, traversal_cost,
-/// intersection_cost, leaf_block, presplit, presplit_pieces, and the 8-wide collapse's
-/// collapse (greedy|sah), collapse_node_cost, collapse_leaf_cost, collapse_block_cost,
-/// collapse_max_leaf (defaults from `defaults`); throws InputError for values out of range.
+/// Reads the binary build's tunables from accelerator options: bins, max_leaf_size,
+/// traversal_cost, intersection_cost, leaf_block, presplit, presplit_pieces (defaults from
+/// `defaults`); throws InputError for values out of range.
 BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const BvhBuildConfig& defaults = {});
+/// The same from wide_bvh_default_config(), plus the 8-wide collapse's keys: collapse
+/// (greedy|sah), collapse_node_cost, collapse_leaf_cost, collapse_block_cost,
+/// collapse_max_leaf. Only the accelerators that collapse read them, so that a collapse key
+/// given to `bvh2` or `shafts` is reported as unused, not silently ignored.
+BvhBuildConfig wide_bvh_config_from_options(const AcceleratorOptions& options);
 
 /// The build the "bvh" accelerator uses by default: leaves of up to 8 triangles costed per
 /// 4-triangle block, and 10 % pre-split references of at most 2 pieces per triangle (budget
