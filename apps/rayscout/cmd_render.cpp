@@ -14,8 +14,8 @@
 
 #include "commands.h"
 #include "integrators.h"
-#include "thread_limit.h"
 #include "manylight_options.h"
+#include "thread_limit.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
