@@ -51,6 +51,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     d.hit_miss = std::max(ref.size(), got.size()) - n;
     d.first = "batch sizes differ: " + std::to_string(ref.size()) + " vs " + std::to_string(got.size());
   }
+  const bool exact = config.rel_tol == 0.0f;  // bit-identical: no ties, u and v compared too
   std::vector<float> rel;
   for (size_t i = 0; i < n; ++i) {
     const Hit r = ref[i], g = got[i];
@@ -65,7 +66,6 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     ++d.both_hit;
     const float diff = std::fabs(g.t - r.t) / t_scale(config, i, r.t);
     const bool t_close = diff <= config.rel_tol;
-    const bool exact = config.rel_tol == 0.0f;  // bit-identical: no ties, u and v compared too
     if (r.prim != g.prim) {
       if (t_close && !exact) {
         ++d.ties;
