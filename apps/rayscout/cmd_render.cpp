@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -110,8 +109,7 @@ void run(RenderOptions& o) {
     if (o.stats == "-") {
       fmt::print("{}\n", j.dump());
     } else {
-      std::ofstream f(o.stats);
-      if (!(f << j.dump() << "\n")) throw InputError("--stats: cannot write " + o.stats);
+      write_file(o.stats, j.dump() + "\n", "--stats");
     }
   }
 }

@@ -1,6 +1,8 @@
 // check_output_path: an output file's folder exists and the path is no directory.
 #include "rayscout/core/output_path.h"
 
+#include <fstream>
+
 #include "rayscout/core/accelerator_options.h"
 
 namespace rayscout {
@@ -11,6 +13,14 @@ void check_output_path(const std::filesystem::path& path, const std::string& lab
   const std::filesystem::path parent = path.parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
     throw InputError(label + ": folder " + parent.string() + " does not exist");
+}
+
+void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(label + ": cannot open " + path.string() + " for writing");
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+  out.close();
+  if (!out) throw InputError(label + ": cannot write " + path.string() + " (" + std::to_string(bytes.size()) + " bytes)");
 }
 
 }  // namespace rayscout

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/output_path.h"
 
 namespace rayscout {
 namespace {
@@ -77,14 +78,6 @@ std::string header(RayFileKind kind, uint64_t count) {
   return out;
 }
 
-void write_file(const std::filesystem::path& file, const std::string& bytes) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) fail(file, "cannot open for writing");
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  out.close();
-  if (!out) fail(file, "write failed (" + std::to_string(bytes.size()) + " bytes)");
-}
-
 // An ifstream opens a directory and reads 0 bytes from it: say what it is instead.
 void check_not_directory(const std::filesystem::path& file) {
   std::error_code ec;
@@ -139,7 +132,7 @@ void write_rays(const std::filesystem::path& file, const RayBatch& rays) {
   for (size_t i = 0; i < rays.size(); ++i)
     for (float f : {rays.ox[i], rays.oy[i], rays.oz[i], rays.tmin[i], rays.dx[i], rays.dy[i], rays.dz[i], rays.tmax[i]})
       put_f32(out, f);
-  write_file(file, out);
+  write_file(file, out, "ray file");
 }
 
 RayBatch read_rays(const std::filesystem::path& file) {
@@ -165,7 +158,7 @@ void write_hits(const std::filesystem::path& file, const HitBatch& hits) {
     put_f32(out, hit ? hits.u[i] : 0.0f);
     put_f32(out, hit ? hits.v[i] : 0.0f);
   }
-  write_file(file, out);
+  write_file(file, out, "ray file");
 }
 
 HitBatch read_hits(const std::filesystem::path& file) {
@@ -188,7 +181,7 @@ HitBatch read_hits(const std::filesystem::path& file) {
 void write_occlusion(const std::filesystem::path& file, const std::vector<uint8_t>& occluded) {
   std::string out = header(RayFileKind::Occlusion, occluded.size());
   for (uint8_t o : occluded) out.push_back(char(o ? 1 : 0));
-  write_file(file, out);
+  write_file(file, out, "ray file");
 }
 
 std::vector<uint8_t> read_occlusion(const std::filesystem::path& file) {

@@ -14,6 +14,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 
 // stb is third-party code compiled here, privately (static), so its warnings are not ours.
 #pragma GCC diagnostic push
@@ -51,8 +52,12 @@ void write_png(const Image& image, const std::filesystem::path& path) {
   for (size_t i = 0; i < image.pixels.size(); ++i)
     for (int c = 0; c < 3; ++c)
       bytes[3 * i + c] = uint8_t(std::lround(255.0f * linear_to_srgb(image.pixels[i][c])));
-  if (!stbi_write_png(path.string().c_str(), image.width, image.height, 3, bytes.data(), image.width * 3))
-    throw InputError(path.string() + ": cannot write PNG");
+  // Encoded in memory and written by write_file: stb's own file writer ignores write errors.
+  std::string png;
+  auto append = [](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), size_t(size)); };
+  if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(), image.width * 3))
+    throw InputError(path.string() + ": cannot encode PNG");
+  write_file(path, png, "image");
 }
 
 Image read_png(const std::filesystem::path& path) {
@@ -73,10 +78,15 @@ Image read_png(const std::filesystem::path& path) {
 }
 
 void write_exr(const Image& image, const std::filesystem::path& path) {
+  // Our own stream, closed and checked after OpenEXR is done: its file's last flush happens
+  // in a destructor that drops errors.
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError("image: cannot open " + path.string() + " for writing");
   try {
+    Imf::StdOFStream stream(out, path.string().c_str());
     Imf::Header header(image.width, image.height);
     for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    Imf::OutputFile file(path.string().c_str(), header);
+    Imf::OutputFile file(stream, header);
     Imf::FrameBuffer fb;
     char* base = reinterpret_cast<char*>(const_cast<Vec3*>(image.pixels.data()));
     const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(image.width);
@@ -88,6 +98,8 @@ void write_exr(const Image& image, const std::filesystem::path& path) {
   } catch (const std::exception& e) {
     throw InputError(path.string() + ": cannot write EXR: " + e.what());
   }
+  out.close();
+  if (!out) throw InputError("image: cannot write " + path.string());
 }
 
 Image read_exr(const std::filesystem::path& path) {
@@ -121,7 +133,8 @@ void write_pfm(const Image& image, const std::filesystem::path& path) {
   static_assert(std::endian::native == std::endian::little);
   for (int y = image.height - 1; y >= 0; --y)
     out.write(reinterpret_cast<const char*>(&image.at(0, y)), std::streamsize(sizeof(Vec3)) * image.width);
-  if (!out) throw InputError(path.string() + ": write failed");
+  out.close();  // the last flush can fail too (a full disk)
+  if (!out) throw InputError("image: cannot write " + path.string());
 }
 
 Image read_pfm(const std::filesystem::path& path) {

@@ -3,12 +3,13 @@
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 #include "rayscout/manylight/manylight_renderer.h"
 
@@ -74,7 +75,7 @@ class ManylightIntegrator final : public Integrator {
 
  private:
   void write_log(const ManylightRenderer& r, const std::vector<ProgressRecord>& records) const {
-    std::ofstream f(o_.rmse_log);
+    std::ostringstream f;
     const bool csv = o_.rmse_log.size() >= 4 && o_.rmse_log.substr(o_.rmse_log.size() - 4) == ".csv";
     if (csv) {
       f << "seconds,passes,rmse,skip_rate\n";
@@ -93,7 +94,7 @@ class ManylightIntegrator final : public Integrator {
         j["records"].push_back({{"seconds", p.seconds}, {"passes", p.passes}, {"rmse", p.rmse}, {"skip_rate", p.skip_rate}});
       f << j.dump(2) << "\n";
     }
-    if (!f) throw InputError("--rmse-log: cannot write " + o_.rmse_log);
+    write_file(o_.rmse_log, f.str(), "--rmse-log");
   }
 
   ManylightRunOptions o_;

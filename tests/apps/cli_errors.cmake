@@ -112,3 +112,19 @@ execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/ml1.pfm ${WORK
 if(NOT same EQUAL 0)
   message(FATAL_ERROR "manylight proposed with --costs gave two different images for one seed")
 endif()
+# A write that fails only when the file is flushed or closed (a full disk: /dev/full) is an
+# error, not "wrote" and exit 0.
+if(EXISTS /dev/full)
+  foreach(ext png pfm exr json csv rays)
+    file(CREATE_LINK /dev/full ${WORK}/full.${ext} SYMBOLIC)
+  endforeach()
+  foreach(ext png pfm exr)
+    expect(2 "image: cannot write .*full\\.${ext}" render --width 8 --height 8 --spp 1 --out ${WORK}/full.${ext})
+  endforeach()
+  expect(2 "--stats: cannot write .*full\\.json" render --width 8 --height 8 --out ${WORK}/x.png --stats ${WORK}/full.json)
+  expect(2 "--rmse-log: cannot write .*full\\.csv" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 1
+         --out ${WORK}/x.pfm --rmse-log ${WORK}/full.csv)
+  expect(2 "ray file: cannot write .*full\\.rays" rays --scene cornell --workload primary --width 8 --height 8
+         --out ${WORK}/full.rays)
+  expect(2 "image: cannot write .*full\\.png" diff ${WORK}/ml1.pfm ${WORK}/ml2.pfm --out ${WORK}/full.png)
+endif()

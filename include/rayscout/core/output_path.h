@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace rayscout {
 
@@ -10,5 +11,10 @@ namespace rayscout {
 /// created as a file: it is not a directory and its folder exists. Commands call it before
 /// long work, so that a mistyped output path never costs a finished render.
 void check_output_path(const std::filesystem::path& path, const std::string& label);
+
+/// Writes bytes to path, replacing it, and checks the write only after closing the file: a full
+/// disk is often reported only by the last flush. Throws InputError "label: cannot write
+/// path (...)" on any failure.
+void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label);
 
 }  // namespace rayscout
