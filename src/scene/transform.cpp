@@ -63,4 +63,9 @@ bool Transform::is_identity() const {
   return true;
 }
 
+double Transform::determinant() const {
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
 }  // namespace rayscout

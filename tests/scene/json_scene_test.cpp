@@ -130,6 +130,28 @@ TEST(JsonScene, Transforms) {
   expect_near(v2(7), {0, 0, 3});
 }
 
+// A mirroring transform (negative determinant) would turn faces inside out; corners are
+// swapped so that each face's front, and with it a one-sided area light, faces where it did.
+TEST(JsonScene, MirroringTransformKeepsEachFaceFront) {
+  TempDir dir;
+  dir.write("tri.obj", "v -1 0 -1\nv 0 0 1\nv 1 0 -1\nf 1 2 3\n");  // symmetric in x, normal +y
+  const Scene s = load_scene(dir.write("m.json", R"({"meshes": [
+      {"file": "tri.obj"},
+      {"file": "tri.obj", "transform": {"scale": [-1, 1, 1]}},
+      {"file": "tri.obj", "transform": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, -1, 0], [0, 0, 0, 1]]}},
+      {"file": "tri.obj", "transform": {"scale": [-1, -1, 1]}}
+    ],
+    "lights": [{"type": "area", "center": [0, 3, 0], "normal": [0, -1, 0], "size": 1, "emission": 10,
+                "transform": {"scale": [-1, 1, 1]}}]})"));
+  ASSERT_EQ(s.triangles.size(), 6u);
+  const Vec3 up = normalize(s.triangles[0].normal());
+  expect_near(up, {0, 1, 0});
+  expect_near(normalize(s.triangles[1].normal()), up);   // mirrored in x: same front
+  expect_near(normalize(s.triangles[2].normal()), up);   // mirrored in z: same front
+  expect_near(normalize(s.triangles[3].normal()), -up);  // a rotation by 180 deg about z: turned over
+  for (size_t t : {4u, 5u}) expect_near(normalize(s.triangles[t].normal()), {0, -1, 0});  // the light still faces down
+}
+
 TEST(JsonScene, CameraLightsAndIdOrder) {
   TempDir dir;
   dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

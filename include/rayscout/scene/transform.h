@@ -24,6 +24,9 @@ struct Transform {
   Vec3 apply_vector(const Vec3& v) const;
   /// True when exactly the identity (then points are copied bit for bit).
   bool is_identity() const;
+  /// Determinant of the linear part: negative for a mirroring transform, which reverses
+  /// every triangle's winding (and so its normal).
+  double determinant() const;
 };
 
 }  // namespace rayscout
