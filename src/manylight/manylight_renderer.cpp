@@ -69,7 +69,9 @@ ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& acce
   t0 = now();
   points_ = generate_shading_points(scene, accel, config_);
   timings_.shading_points_ms = (now() - t0) * 1e3;
-  if (vpls_.vpls.empty()) throw InputError("manylight: the scene has no light (point light or emissive triangle)");
+  if (vpls_.vpls.empty())
+    throw InputError("manylight: the scene has no light that emits (a point light with intensity > 0 or an "
+                     "emissive triangle)");
   t0 = now();
   clusters_ = build_visibility_clusters(scene, accel, points_, vpls_, config_);
   const double total_ms = (now() - t0) * 1e3;

@@ -43,8 +43,11 @@ struct PathState {
 /// The lights with positive power.
 std::vector<LightSource> light_sources(const Scene& scene) {
   std::vector<LightSource> lights;
-  for (uint32_t i = 0; i < scene.point_lights.size(); ++i)
-    lights.push_back({true, i, 4.0f * kPi * luminance(scene.point_lights[i].intensity)});
+  for (uint32_t i = 0; i < scene.point_lights.size(); ++i) {
+    // A dark light would get probability 0 (or, alone, divide the cdf by 0: NaN VPLs).
+    const float p = 4.0f * kPi * luminance(scene.point_lights[i].intensity);
+    if (p > 0) lights.push_back({true, i, p});
+  }
   for (uint32_t id : scene.emissive_triangles) {
     // One-sided emitters (the side of the geometric normal, as in the render module): pi Le A.
     const float p = kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
@@ -149,8 +152,9 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
   const size_t target = config.vpl_count;
-  // Start small (paths make 1-6 VPLs each); later batches aim at the remainder.
-  size_t batch_paths = std::max<size_t>(256, target / 8);
+  // Start small (paths make 1-6 VPLs each, so target / 6 paths never overshoot much); later
+  // batches aim at the remainder.
+  size_t batch_paths = std::max<size_t>(1, std::min(std::max<size_t>(256, target / 8), target / 6));
   std::vector<PathState> states;
   RayBatch rays;
   HitBatch hits;
@@ -190,7 +194,7 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
     const size_t made = out.vpls.size();
     if (made < target) {
       const double per_path = made > 0 ? double(made) / double(out.light_paths) : 1.0;
-      batch_paths = std::max<size_t>(64, size_t(double(target - made) / per_path) + 1);
+      batch_paths = size_t(double(target - made) / per_path) + 1;
     }
   }
   const float inv = 1.0f / float(out.light_paths);

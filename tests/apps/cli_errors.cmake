@@ -128,3 +128,8 @@ if(EXISTS /dev/full)
          --out ${WORK}/full.rays)
   expect(2 "image: cannot write .*full\\.png" diff ${WORK}/ml1.pfm ${WORK}/ml2.pfm --out ${WORK}/full.png)
 endif()
+# A scene whose only light is dark: manylight says so (it made all-NaN pixels, exit 0).
+file(WRITE ${WORK}/dark.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
+  "lights": [{"type": "point", "position": [0.5, 0.5, 3], "intensity": 0}]}]=])
+expect(2 "no light that emits" render --scene ${WORK}/dark.json --integrator manylight --width 4 --height 4 --vpls 10
+       --passes 1 --out ${WORK}/x.pfm)

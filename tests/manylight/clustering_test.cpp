@@ -69,6 +69,41 @@ TEST(Vpls, PowerIsConservedAndPathsAreCounted) {
   EXPECT_GT(surface, set.vpls.size() / 2) << "most VPLs are indirect-light vertices";
 }
 
+// "At least N, a few more": whole light paths are kept, but a small N is not rounded up to a
+// batch of hundreds of paths (--vpls 20 used to make 680 VPLs).
+TEST(Vpls, CountIsAtLeastTheTargetAndCloseToIt) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  for (size_t n : {1u, 10u, 20u, 100u, 1000u, 5000u}) {
+    config.vpl_count = n;
+    const VplSet set = generate_vpls(scene, *accel, config);
+    EXPECT_GE(set.vpls.size(), n);
+    EXPECT_LE(set.vpls.size(), n + std::max<size_t>(12, n / 8)) << "--vpls " << n;
+  }
+}
+
+// A dark point light carries no power: it is never chosen. Alone, it used to divide the
+// light cdf by 0 and make every VPL NaN (an all-NaN image with exit 0).
+TEST(Vpls, DarkPointLightsAreNeverChosen) {
+  Scene scene = default_scene();
+  scene.point_lights.push_back({scene.bounds().center(), Vec3(0.0f)});
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.vpl_count = 500;
+  const VplSet set = generate_vpls(scene, *accel, config);
+  ASSERT_GE(set.vpls.size(), 500u);
+  for (const Vpl& v : set.vpls) {
+    ASSERT_TRUE(is_finite(v.power));
+    if (v.kind == Vpl::Kind::Point) {
+      EXPECT_GT(luminance(v.power), 0.0f);
+    }
+  }
+  scene.emissive_triangles.clear();
+  scene.point_lights.assign(1, {scene.bounds().center(), Vec3(0.0f)});
+  EXPECT_TRUE(generate_vpls(scene, *accel, config).vpls.empty());
+}
+
 TEST(VisibilityClusters, PmfsArePositiveAndNormalised) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("brute", scene);
