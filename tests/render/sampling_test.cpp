@@ -140,5 +140,27 @@ TEST(Bsdf, GlossySamplingWeightsMatchItsValue) {
   EXPECT_NEAR(ms.wi.z, wo.z, 1e-6f);
 }
 
+// A very sharp lobe (any exponent >= 0 is valid) stays finite: along the mirror direction
+// the cosine can round to 1 + ulp, and (1 + ulp)^1e10 was inf (NaN pixels in manylight).
+TEST(Bsdf, SharpGlossyLobeStaysFinite) {
+  const Material m{.type = Material::Type::Glossy, .diffuse = Vec3{0.3f}, .specular = Vec3{0.5f}, .exponent = 1e10f};
+  const Vec3 n{0, 0, 1};
+  int above_one = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const PathSampler s(3, uint32_t(i), 0, 0);
+    const float z = 0.05f + 0.95f * s.get(0), phi = 2 * std::numbers::pi_v<float> * s.get(1);
+    const Vec3 wo = normalize(Vec3{std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z});
+    const Vec3 wi = normalize(Vec3{-wo.x, -wo.y, wo.z});  // the mirror direction
+    above_one += dot(reflect(-wo, n), wi) > 1.0f ? 1 : 0;
+    const Vec3 f = eval_bsdf(m, n, wo, wi);
+    ASSERT_TRUE(std::isfinite(f.x)) << "wo " << wo.x << " " << wo.y << " " << wo.z;
+    const BsdfSample bs = sample_bsdf(m, n, wo, 0.1f, s.get(2), s.get(3));
+    if (bs.valid) {
+      ASSERT_TRUE(std::isfinite(bs.weight.x));
+    }
+  }
+  EXPECT_GT(above_one, 0) << "no direction rounded above 1: the test would not catch the overflow";
+}
+
 }  // namespace
 }  // namespace rayscout

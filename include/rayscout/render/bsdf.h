@@ -22,7 +22,8 @@ inline float glossy_lobe_probability(const Material& m) {
 
 /// cos^e of the angle between wi and the mirror direction of wo (0 below it).
 inline float phong_cos_power(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
-  const float c = dot(reflect(-wo, n), wi);
+  // Two unit vectors' dot product can round to 1 + ulp, and (1 + ulp)^e is inf for a large e.
+  const float c = std::min(dot(reflect(-wo, n), wi), 1.0f);
   return c > 0 ? std::pow(c, m.exponent) : 0.0f;
 }
 
