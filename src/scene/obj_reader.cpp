@@ -107,9 +107,16 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out) {
     if (!known) return;  // Ka, Ni, d, Tr, Tf, map_*, bump...: not used by rayscout
     if (defs.empty()) fail_at(path, line, std::string(key) + " before any newmtl");
     Pending& d = defs.back();
-    if (key == "Kd") d.kd = read_vec3(q, line_end, path, line, "Kd", true);
-    else if (key == "Ks") d.ks = read_vec3(q, line_end, path, line, "Ks", true);
-    else if (key == "Ke") d.ke = read_vec3(q, line_end, path, line, "Ke", true);
+    // Colours: one number (grey) or three, each >= 0, as in JSON scenes (a negative
+    // reflectance or emission would make negative radiance).
+    auto colour = [&](std::string_view what) {
+      const Vec3 c = read_vec3(q, line_end, path, line, what, true);
+      if (c.x < 0 || c.y < 0 || c.z < 0) fail_at(path, line, std::string(what) + ": colour components must be >= 0");
+      return c;
+    };
+    if (key == "Kd") d.kd = colour("Kd");
+    else if (key == "Ks") d.ks = colour("Ks");
+    else if (key == "Ke") d.ke = colour("Ke");
     else if (key == "Ns") {
       std::string_view tok = next_token(q, line_end);
       if (!detail::parse_float(tok, d.ns) || !std::isfinite(d.ns) || d.ns < 0)

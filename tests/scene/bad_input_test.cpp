@@ -78,6 +78,9 @@ TEST(SceneBadInput, MtlMalformedLine) {
   dir.write("m.mtl", "newmtl a\nKd 0.5 x 0.5\n");
   expect_contains(error_loading(dir, "m.obj", "mtllib m.mtl\n" + kTriangle + "usemtl a\nf 1 2 3\n"),
                   {"m.mtl:2: ", "Kd: 'x' is not a number"});
+  dir.write("neg.mtl", "newmtl a\nKd 0.5 0.5 0.5\nKe -5 0 0\n");
+  expect_contains(error_loading(dir, "neg.obj", "mtllib neg.mtl\n" + kTriangle + "usemtl a\nf 1 2 3\n"),
+                  {"neg.mtl:3: ", "Ke: colour components must be >= 0"});
   dir.write("n.mtl", "Kd 1 1 1\n");
   expect_contains(error_loading(dir, "n.obj", "mtllib n.mtl\n" + kTriangle + "f 1 2 3\n"),
                   {"n.mtl:1: ", "before any newmtl"});
