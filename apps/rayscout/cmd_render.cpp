@@ -74,6 +74,11 @@ void run(RenderOptions& o) {
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
   for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
+  if (o.integrator == "direct" && scene.point_lights.empty())
+    fmt::print(stderr,
+               "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "
+               "(its {} emissive triangles light --integrator area, path or manylight): the image will be dark\n",
+               scene.emissive_triangles.size());
   t = Clock::now();
   const auto accel = make_accelerator(o.accel, scene, accel_options);
   const double build_ms = ms_since(t);

@@ -133,3 +133,8 @@ file(WRITE ${WORK}/dark.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "
   "lights": [{"type": "point", "position": [0.5, 0.5, 3], "intensity": 0}]}]=])
 expect(2 "no light that emits" render --scene ${WORK}/dark.json --integrator manylight --width 4 --height 4 --vpls 10
        --passes 1 --out ${WORK}/x.pfm)
+# A scene lit only by area lights renders dark under the default integrator: say so.
+file(WRITE ${WORK}/area-only.json [=[{"meshes": [{"shape": "box", "min": [-1, -1, -1], "max": [1, 1, 1]}],
+  "lights": [{"type": "area", "center": [0, 3, 0], "normal": [0, -1, 0], "size": 1, "emission": 10}]}]=])
+expect(0 "direct lights with point lights only.*2 emissive triangles" render --scene ${WORK}/area-only.json
+       --width 8 --height 8 --out ${WORK}/x.png)
