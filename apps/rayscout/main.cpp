@@ -1,6 +1,7 @@
 // rayscout: the command-line front end. Parses options, wires modules, prints results.
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -30,6 +31,9 @@ int main(int argc, char** argv) {
   } catch (const rayscout::InputError& e) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "rayscout: error: out of memory (a smaller --width/--height, scene or ray batch needs less)\n");
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());
     return 1;

@@ -106,7 +106,15 @@ Image read_exr(const std::filesystem::path& path) {
   try {
     Imf::InputFile file(path.string().c_str());
     const auto dw = file.header().dataWindow();
-    Image image(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
+    // The header is checked before the pixels are allocated: a corrupt or hostile data window
+    // of a small file could ask for gigabytes. 32768 is the largest image rayscout renders.
+    const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+    if (w < 1 || h < 1 || w > 32768 || h > 32768)
+      throw InputError(path.string() + ": EXR data window of " + std::to_string(w) + "x" + std::to_string(h) +
+                       " pixels: not an image rayscout reads (1 to 32768 pixels a side)");
+    // And a header that claims more scan lines than the file holds is caught here too.
+    if (!file.isComplete()) throw InputError(path.string() + ": incomplete EXR: its pixel data is missing or cut short");
+    Image image{int(w), int(h)};
     char* base = reinterpret_cast<char*>(image.pixels.data());
     const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(image.width);
     // OpenEXR addresses slices by absolute pixel coordinates: shift the base to the data window.
@@ -119,6 +127,8 @@ Image read_exr(const std::filesystem::path& path) {
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     return image;
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError(path.string() + ": cannot read EXR: " + e.what());
   }

@@ -123,6 +123,39 @@ TEST(ImageIo, PfmHugeHeaderIsCheckedAgainstTheFileSize) {
       << msg;
 }
 
+// An EXR's data window is checked before its pixels are allocated: a corrupt header of a
+// small file asked for 1.2 GB and more. A well-formed file beyond rayscout's largest image
+// (32768 a side) meets the same check.
+TEST(ImageIo, ExrDataWindowIsCheckedBeforeAllocating) {
+  const fs::path p = temp_file("wide.exr");
+  write_image(Image(40000, 1), p);
+  const std::string msg = read_error(p);
+  EXPECT_NE(msg.find("wide.exr: EXR data window of 40000x1 pixels"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("cannot read EXR"), std::string::npos) << "said once, not wrapped: " << msg;
+}
+
+// A corrupt 8x8 file whose header claims 10000x10000 pixels (padded with zeros, where the
+// missing line offsets would be) is refused before 1.2 GB of pixels are allocated.
+TEST(ImageIo, ExrClaimingMorePixelsThanItHoldsIsIncomplete) {
+  const fs::path p = temp_file("claims.exr");
+  write_image(Image(8, 8), p);
+  std::string bytes;
+  {
+    std::ifstream in(p, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string attr("dataWindow\0box2i\0", 17);
+  const size_t at = bytes.find(attr);
+  ASSERT_NE(at, std::string::npos);
+  const int32_t max_xy = 9999;
+  std::memcpy(&bytes[at + attr.size() + 4 + 8], &max_xy, 4);  // after the size and (xmin, ymin)
+  std::memcpy(&bytes[at + attr.size() + 4 + 12], &max_xy, 4);
+  bytes.append(80000, '\0');
+  std::ofstream(p, std::ios::binary) << bytes;
+  const std::string msg = read_error(p);
+  EXPECT_NE(msg.find("claims.exr: incomplete EXR"), std::string::npos) << msg;
+}
+
 // Found by fuzzing: for this corrupt IDAT stream stb returns no failure reason (null).
 TEST(ImageIo, PngWithoutFailureReason) {
   const fs::path p = temp_file("corrupt.png");
