@@ -228,8 +228,18 @@ class JsonSceneLoader {
     const std::string text = read_file(path_);
     check_nesting(text, f_.file());
     Json root;
+    // nlohmann keeps the last of two equal keys; a duplicate is a typo or a merge left over,
+    // and unknown keys are errors here for the same reason.
+    std::vector<std::set<std::string>> keys;
+    auto no_duplicate_keys = [&](int, Json::parse_event_t event, Json& parsed) {
+      if (event == Json::parse_event_t::object_start) keys.emplace_back();
+      else if (event == Json::parse_event_t::object_end) keys.pop_back();
+      else if (event == Json::parse_event_t::key && !keys.back().insert(parsed.get<std::string>()).second)
+        throw InputError(f_.file() + ": key \"" + parsed.get<std::string>() + "\" appears twice in one object");
+      return true;
+    };
     try {
-      root = Json::parse(text);
+      root = Json::parse(text, no_duplicate_keys);
     } catch (const Json::exception& e) {  // parse_error, or out_of_range for a number like 1e400
       std::string what = e.what();
       if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
@@ -304,6 +314,15 @@ class JsonSceneLoader {
       builder.add(*pl.mesh, pl.transform, maps[i], f_.file() + ": " + pl.field + " (" + pl.source + ")");
     }
     builder.finish(f_.file());
+    if (root.contains("materials")) {
+      // A material no triangle uses is most likely a misspelt override ("defualt").
+      std::vector<uint8_t> used(scene.materials.size(), 0);
+      for (uint32_t id : scene.material_ids) used[id] = 1;
+      for (const auto& [name, value] : root["materials"].items())
+        if (auto index = builder.find(name); index && !used[*index])
+          scene.warnings.push_back(f_.file() + ": " + Fields::join("materials", name) +
+                                   ": no triangle uses this material (a misspelt name?)");
+    }
 
     const Bounds3 bounds = scene.bounds();
     scene.camera = framing_camera(bounds, camera && camera->fov_deg ? *camera->fov_deg : 60.0f);

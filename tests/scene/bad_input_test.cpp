@@ -208,6 +208,12 @@ TEST(SceneBadInput, JsonSyntaxAndTypes) {
 TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   TempDir dir;
   expect_contains(json_error(dir, R"({"mesh": []})"), {"scene.json: mesh: unknown key"});
+  // nlohmann keeps the last of two equal keys: a typo would pass silently.
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": 30, "fov_deg": 90}})"),
+                  {"scene.json: key \"fov_deg\" appears twice in one object"});
+  // The same key in two objects is fine.
+  dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_NO_THROW(load_scene(dir.write("two.json", R"({"meshes": [{"file": "tri.obj"}, {"file": "tri.obj"}]})")));
   // Found by fuzzing: nlohmann reports this as out_of_range, not as a parse_error.
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": 1e400}})"),
                   {"scene.json: invalid JSON: number overflow parsing '1e400'"});

@@ -99,6 +99,21 @@ TEST(JsonScene, ShapesWithExactVertices) {
   expect_near(box.hi, {1, 2, 3}, 0);
 }
 
+// An override whose name no mesh uses is most likely misspelt: it is kept, with a warning.
+TEST(JsonScene, UnusedMaterialWarns) {
+  TempDir dir;
+  write_room(dir);
+  const Scene s = load_scene(dir.write("scene.json", R"({
+    "meshes": [{"file": "room.obj"}],
+    "materials": {"flor": {"type": "mirror"}, "wall": {"emission": 2}}})"));
+  size_t unused = 0;
+  for (const auto& w : s.warnings) {
+    if (w.find("materials.flor: no triangle uses this material") != std::string::npos) ++unused;
+    EXPECT_EQ(w.find("materials.wall"), std::string::npos) << w;
+  }
+  EXPECT_EQ(unused, 1u);
+}
+
 TEST(JsonScene, Transforms) {
   TempDir dir;
   dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
