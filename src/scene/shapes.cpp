@@ -27,7 +27,9 @@ Mesh make_quad(const Vec3& corner, const Vec3& edge1, const Vec3& edge2) {
 }
 
 Mesh make_quad_centered(const Vec3& center, const Vec3& normal, float width, float height, const Vec3& up) {
-  const Vec3 n = normalize(normal);
+  // Scaled to its largest component first: the squared length of a tiny (1e-30) or huge
+  // normal under- or overflows float, and only the direction matters.
+  const Vec3 n = normalize(normal / max_component(abs(normal)));
   Vec3 v = up - n * dot(up, n);
   if (length(v) < 1e-6f) {  // up parallel to the normal: pick any perpendicular direction
     v = std::abs(n.x) < 0.9f ? cross(n, Vec3(1, 0, 0)) : cross(n, Vec3(0, 1, 0));

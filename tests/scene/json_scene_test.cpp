@@ -67,6 +67,18 @@ TEST(JsonScene, MeshMaterialByNameOrInline) {
   EXPECT_EQ(s.material_of(10).name, "wall");
 }
 
+// Only a normal's direction matters: a tiny one (its squared length underflows float) made
+// the quad's vertices NaN ("vertex 0 is not finite").
+TEST(JsonScene, QuadNormalOfAnyLength) {
+  TempDir dir;
+  for (const char* normal : {"[1e-30, 0, 0]", "[3e38, 0, 0]", "[1, 0, 0]"}) {
+    const Scene s = load_scene(dir.write("q.json", std::string(R"({"meshes": [{"shape": "quad", "center": [0, 0, 0],
+        "normal": )") + normal + R"(, "size": 1}]})"));
+    ASSERT_EQ(s.triangles.size(), 2u) << normal;
+    expect_near(normalize(s.triangles[0].normal()), {1, 0, 0});
+  }
+}
+
 TEST(JsonScene, ShapesWithExactVertices) {
   TempDir dir;
   const Scene s = load_scene(dir.write("shapes.json", R"({
