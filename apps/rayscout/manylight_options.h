@@ -35,7 +35,7 @@ inline std::vector<double>& manylight_cli_costs() {
 inline void add_manylight_options(CLI::App& cmd) {
   ManylightRunOptions& o = manylight_cli_options();
   ManylightConfig& c = o.config;
-  cmd.add_option("--vpls", c.vpl_count, "manylight: number of VPLs (instant radiosity)")
+  cmd.add_option("--vpls", c.vpl_count, "manylight: VPLs to make, at least this many (whole light paths are kept, so a few more)")
       ->capture_default_str()
       ->transform(in_range<size_t>(1, 4294967295));
   cmd.add_option("--visibility", manylight_cli_visibility(), "manylight: exact, veach, conservative or proposed")
