@@ -54,7 +54,9 @@ void write_png(const Image& image, const std::filesystem::path& path) {
       bytes[3 * i + c] = uint8_t(std::lround(255.0f * linear_to_srgb(image.pixels[i][c])));
   // Encoded in memory and written by write_file: stb's own file writer ignores write errors.
   std::string png;
-  auto append = [](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<char*>(data), size_t(size)); };
+  auto append = [](void* out, void* data, int size) {
+    static_cast<std::string*>(out)->append(static_cast<char*>(data), size_t(size));
+  };
   if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, bytes.data(), image.width * 3))
     throw InputError(path.string() + ": cannot encode PNG");
   write_file(path, png, "image");
@@ -78,12 +80,10 @@ Image read_png(const std::filesystem::path& path) {
 }
 
 void write_exr(const Image& image, const std::filesystem::path& path) {
-  // Our own stream, closed and checked after OpenEXR is done: its file's last flush happens
-  // in a destructor that drops errors.
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError("image: cannot open " + path.string() + " for writing");
+  // Encoded in memory and written by write_file: OpenEXR's own file flushes last in a
+  // destructor that drops errors.
+  Imf::StdOSStream stream;
   try {
-    Imf::StdOFStream stream(out, path.string().c_str());
     Imf::Header header(image.width, image.height);
     for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     Imf::OutputFile file(stream, header);
@@ -98,8 +98,7 @@ void write_exr(const Image& image, const std::filesystem::path& path) {
   } catch (const std::exception& e) {
     throw InputError(path.string() + ": cannot write EXR: " + e.what());
   }
-  out.close();
-  if (!out) throw InputError("image: cannot write " + path.string());
+  write_file(path, stream.str(), "image");
 }
 
 Image read_exr(const std::filesystem::path& path) {
@@ -137,14 +136,12 @@ Image read_exr(const std::filesystem::path& path) {
 // PFM: "PF\n<w> <h>\n<scale>\n", then float RGB rows bottom to top; a negative scale means
 // little endian.
 void write_pfm(const Image& image, const std::filesystem::path& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw InputError(path.string() + ": cannot write PFM");
-  out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+  std::string pfm = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
   static_assert(std::endian::native == std::endian::little);
-  for (int y = image.height - 1; y >= 0; --y)
-    out.write(reinterpret_cast<const char*>(&image.at(0, y)), std::streamsize(sizeof(Vec3)) * image.width);
-  out.close();  // the last flush can fail too (a full disk)
-  if (!out) throw InputError("image: cannot write " + path.string());
+  const size_t row_bytes = sizeof(Vec3) * size_t(image.width);
+  pfm.reserve(pfm.size() + row_bytes * size_t(image.height));
+  for (int y = image.height - 1; y >= 0; --y) pfm.append(reinterpret_cast<const char*>(&image.at(0, y)), row_bytes);
+  write_file(path, pfm, "image");
 }
 
 Image read_pfm(const std::filesystem::path& path) {

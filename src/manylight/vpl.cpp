@@ -152,9 +152,10 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
   const size_t target = config.vpl_count;
-  // Start small (paths make 1-6 VPLs each, so target / 6 paths never overshoot much); later
-  // batches aim at the remainder.
-  size_t batch_paths = std::max<size_t>(1, std::min(std::max<size_t>(256, target / 8), target / 6));
+  // Start small: an eighth of the target in paths, at least 256, but never more than target / 6
+  // (a path makes 1-6 VPLs, so a small target is not overshot much). Later batches aim at the
+  // remainder.
+  size_t batch_paths = std::min(std::max<size_t>(1, target / 6), std::max<size_t>(256, target / 8));
   std::vector<PathState> states;
   RayBatch rays;
   HitBatch hits;
