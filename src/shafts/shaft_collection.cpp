@@ -381,8 +381,6 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
                                             const RayBatch& sample_rays, const ShaftConfig& config_in) {
   const auto t_start = std::chrono::steady_clock::now();
   const ShaftConfig config = config_in.resolved(tree.arity);
-  if (config.max_list < 1 || config.max_list > 31)
-    throw InputError("shafts: max_list must be in 1..31 (got " + std::to_string(config.max_list) + ")");
   ShaftCollection col;
   col.grid_ = grid;
   col.boxed_ = config.entry_boxes > 0;
@@ -468,8 +466,6 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
                                        const RayBatch& sample_rays, const ShaftConfig& config_in) {
   const auto t_start = std::chrono::steady_clock::now();
   const ShaftConfig config = config_in.resolved(tree.arity);
-  if (config.dir_res < 1 || config.dir_res > 64)
-    throw InputError("shafts: dir_res must be in 1..64 (got " + std::to_string(config.dir_res) + ")");
   const size_t budget = config.budget_mib > 0.0 ? size_t(config.budget_mib * 1048576.0)
                                                 : size_t(config.budget_rel * double(bvh_bytes));
   double pilot_ms = 0.0;

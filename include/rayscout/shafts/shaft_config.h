@@ -64,8 +64,13 @@ struct ShaftConfig {
   unsigned seed = 1;
 
   /// The automatic values (-1) resolved for a BVH of the given arity (2 = Bvh2): samples,
-  /// reuse_rays, entry_boxes.
+  /// reuse_rays, entry_boxes. Throws InputError for a structural value out of range (dir_res,
+  /// max_list), so that every builder checks a config it was handed in this one place.
   ShaftConfig resolved(int arity) const {
+    if (dir_res < 1 || dir_res > 64)
+      throw InputError("shafts: dir_res must be in 1..64 (got " + std::to_string(dir_res) + ")");
+    if (max_list < 1 || max_list > 31)
+      throw InputError("shafts: max_list must be in 1..31 (got " + std::to_string(max_list) + ")");
     ShaftConfig c = *this;
     if (c.samples < 0) c.samples = arity == 2 ? 4 : 3;
     if (c.reuse_rays < 0) c.reuse_rays = arity == 2 ? 0 : 1;
