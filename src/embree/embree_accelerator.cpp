@@ -55,13 +55,14 @@ RTCIntersectContext make_context() {
 // What Embree 3's traversal asserts (RayK::valid() and tnear >= 0): origin and direction
 // components of magnitude <= FLT_LARGE, tnear >= 0, tfar not NaN. Debian's Embree is built
 // with assertions, so handing it any other ray aborts the process; such rays are not traced
-// and miss (Embree defines no answer for them).
+// and miss (Embree defines no answer for them). An empty segment (tmin > tmax) is not traced
+// either: Embree would return it untouched, and a tfar of -inf would then read as occluded.
 constexpr float kEmbreeLarge = 1.844e18f;  // FLT_LARGE of Embree's math/constants.h
 
 inline bool embree_can_trace(const RayBatch& rays, size_t i) {
   auto fits = [](float x) { return std::fabs(x) <= kEmbreeLarge; };  // false for NaN
   return fits(rays.ox[i]) && fits(rays.oy[i]) && fits(rays.oz[i]) && fits(rays.dx[i]) && fits(rays.dy[i]) &&
-         fits(rays.dz[i]) && rays.tmin[i] >= 0.0f && !std::isnan(rays.tmax[i]);
+         fits(rays.dz[i]) && rays.tmin[i] >= 0.0f && rays.tmin[i] <= rays.tmax[i];  // false for NaN tmax
 }
 
 // Embree's ray from ours; tnear/tfar carry tmin/tmax.
