@@ -22,10 +22,12 @@ struct CompareArgs {
 
 // Returns true when the files agree within the tolerance.
 bool compare_files(const CompareArgs& args) {
-  const RayFileKind ka = ray_file_kind(args.a), kb = ray_file_kind(args.b);
-  if (ka == RayFileKind::Rays || kb == RayFileKind::Rays)
-    throw InputError((ka == RayFileKind::Rays ? args.a : args.b) + ": a RAYS file; compare-hits compares HITS or OCCL files");
-  if (ka != kb) throw InputError(args.a + " and " + args.b + ": one is a HITS file, the other an OCCL file");
+  const ResultFile fa = read_results(args.a), fb = read_results(args.b);
+  if (fa.kind != fb.kind) throw InputError(args.a + " and " + args.b + ": one is a HITS file, the other an OCCL file");
+  const bool occl = fa.kind == RayFileKind::Occlusion;
+  if (!occl && (!args.hits_a.empty() || !args.hits_b.empty()))
+    throw InputError("--hits-a and --hits-b are for OCCL files; " + args.a + " is a HITS file");
+  if (args.hits_a.empty() != args.hits_b.empty()) throw InputError("--hits-a and --hits-b go together");
   HitCompareConfig cfg;
   cfg.rel_tol = args.tolerance;
   cfg.allow_grazing = !args.strict;
@@ -36,34 +38,41 @@ bool compare_files(const CompareArgs& args) {
     cfg.rays = &rays;
   }
 
-  // Every file of a comparison describes the same rays.
-  auto check_size = [&](size_t n, const std::string& file, const char* what) {
-    if (cfg.rays && rays.size() != n)
-      throw InputError(args.rays + ": " + std::to_string(rays.size()) + " rays, but " + file + " holds " +
-                       std::to_string(n) + " " + what);
+  // Every file of a comparison describes the same rays, as many as A (or the RAYS file).
+  const size_t n = cfg.rays ? rays.size() : occl ? fa.occluded.size() : fa.hits.size();
+  const std::string& first = cfg.rays ? args.rays : args.a;
+  auto check_size = [&](size_t size, const std::string& file, const char* what) {
+    if (size != n)
+      throw InputError(first + ": " + std::to_string(n) + (cfg.rays ? " rays" : occl ? " results" : " hits") + ", but " + file +
+                       " holds " + std::to_string(size) + " " + what);
   };
-  if (ka == RayFileKind::Occlusion) {
-    if (args.hits_a.empty() != args.hits_b.empty()) throw InputError("--hits-a and --hits-b go together");
+  if (occl) {
     HitBatch ha, hb;
     if (!args.hits_a.empty()) {
       ha = read_hits(args.hits_a);
       hb = read_hits(args.hits_b);
     }
     const bool with_hits = !args.hits_a.empty();
-    const std::vector<uint8_t> oa = read_occlusion(args.a), ob = read_occlusion(args.b);
+    const std::vector<uint8_t>&oa = fa.occluded, &ob = fb.occluded;
     check_size(oa.size(), args.a, "results");
+    check_size(ob.size(), args.b, "results");
+    if (with_hits) {
+      check_size(ha.size(), args.hits_a, "hits");
+      check_size(hb.size(), args.hits_b, "hits");
+    }
     const OcclusionDiff d = compare_occlusion(oa, ob, cfg, with_hits ? &ha : nullptr, with_hits ? &hb : nullptr);
     fmt::print("rays:                  {}\n", d.rays);
     fmt::print("occluded:              {} in A, {} in B\n", d.occluded_ref, d.occluded_got);
     fmt::print("disagreements:         {}\n", d.differ);
-    if (with_hits && !args.strict)
+    if (with_hits && cfg.excuses_grazing())
       fmt::print("grazing contacts:      {} (the occluded side's closest hit is grazing; not counted)\n", d.grazing);
     if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
     fmt::print("result:                {}\n", d.ok() ? "OK" : "DIFFERENT");
     return d.ok();
   }
-  const HitBatch ha = read_hits(args.a), hb = read_hits(args.b);
+  const HitBatch &ha = fa.hits, &hb = fb.hits;
   check_size(ha.size(), args.a, "hits");
+  check_size(hb.size(), args.b, "hits");
   const HitDiff d = compare_hits(ha, hb, cfg);
   size_t hits_a = 0, hits_b = 0;
   for (uint32_t p : ha.prim) hits_a += p != kInvalidId;
@@ -76,7 +85,7 @@ bool compare_files(const CompareArgs& args) {
   else
     fmt::print("different triangle:    {} (true ties excluded: {})\n", d.other_prim, d.ties);
   fmt::print("grazing contacts:      {}{}\n", d.grazing,
-             args.strict ? "" : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", cfg.edge_eps));
+             !cfg.excuses_grazing() ? "" : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", cfg.edge_eps));
   fmt::print("t beyond tolerance:    {}\n", d.t_mismatch);
   if (args.tolerance == 0) fmt::print("u, v not identical:    {}\n", d.uv_mismatch);
   fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} ({})\n", d.max_rel_diff, d.p99_rel_diff,
@@ -95,7 +104,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--tolerance", args->tolerance,
                   "Relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
                   "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms). 0 = bit-identical: same "
-                  "triangle (no ties), t, u and v")
+                  "triangle (no ties), t, u and v, and no grazing contact excused (as --strict)")
       ->capture_default_str()
       ->transform(in_range(0.0f));
   cmd->add_option("--rays", args->rays,

@@ -57,7 +57,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     const Hit r = ref[i], g = got[i];
     if (r.hit() != g.hit()) {
       // The side that hit found a contact the other missed.
-      if (config.allow_grazing && is_grazing(r.hit() ? r : g, config, i)) { ++d.grazing; continue; }
+      if (config.excuses_grazing() && is_grazing(r.hit() ? r : g, config, i)) { ++d.grazing; continue; }
       ++d.hit_miss;
       note(i, "hit/miss");
       continue;
@@ -69,7 +69,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     if (r.prim != g.prim) {
       if (t_close && !exact) {
         ++d.ties;
-      } else if (config.allow_grazing && is_grazing(g.t < r.t ? g : r, config, i)) {
+      } else if (config.excuses_grazing() && is_grazing(g.t < r.t ? g : r, config, i)) {
         ++d.grazing;  // the nearer contact is grazing; the other side passed it by
         continue;
       } else {
@@ -111,7 +111,7 @@ OcclusionDiff compare_occlusion(const std::vector<uint8_t>& ref, const std::vect
     d.occluded_got += got[i] != 0;
     if ((ref[i] != 0) == (got[i] != 0)) continue;
     const HitBatch* blocker = ref[i] ? ref_hits : got_hits;
-    if (config.allow_grazing && blocker && i < blocker->size() && is_grazing((*blocker)[i], config, i)) {
+    if (config.excuses_grazing() && blocker && i < blocker->size() && is_grazing((*blocker)[i], config, i)) {
       ++d.grazing;
       continue;
     }

@@ -4,7 +4,9 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "rayscout/core/accelerator_options.h"
@@ -84,44 +86,85 @@ void check_not_directory(const std::filesystem::path& file) {
   if (std::filesystem::is_directory(file, ec)) fail(file, "is a directory, not a ray file");
 }
 
-// Reads the whole file after checking its header against `kind`; returns the records and count.
-std::string read_records(const std::filesystem::path& file, RayFileKind kind, uint64_t& count) {
+// Reads a whole ray file in one sequential pass, so that pipes work too, after checking its
+// header. `kind`: the kind expected, or nullopt for whichever the magic names (then set).
+// Returns the records; the body grows with the bytes that arrive, so a corrupt count cannot
+// ask for terabytes.
+std::string read_records(const std::filesystem::path& file, std::optional<RayFileKind>& kind, uint64_t& count) {
   check_not_directory(file);
   std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, std::string("cannot open ") + what_of(kind));
+  if (!in) fail(file, std::string("cannot open ") + (kind ? what_of(*kind) : "ray file"));
   char head[kRayFileHeaderBytes];
   in.read(head, kRayFileHeaderBytes);
   const size_t got = size_t(in.gcount());
-  if (got >= 4 && std::memcmp(head, magic_of(kind), 4) != 0)
-    fail(file, std::string("bad magic '") + printable(head) + "', expected '" + magic_of(kind) +
-                   "' (" + what_of(kind) + ")");
+  if (!kind && got >= 4)
+    for (RayFileKind k : {RayFileKind::Rays, RayFileKind::Hits, RayFileKind::Occlusion})
+      if (std::memcmp(head, magic_of(k), 4) == 0) kind = k;
+  if (got >= 4 && (!kind || std::memcmp(head, magic_of(*kind), 4) != 0))
+    fail(file, "bad magic '" + printable(head) + "', expected " +
+                   (kind ? std::string("'") + magic_of(*kind) + "' (" + what_of(*kind) + ")"
+                         : std::string("'RAYS', 'HITS' or 'OCCL'")));
   if (got < kRayFileHeaderBytes)
     fail(file, "truncated header: " + std::to_string(got) + " bytes, expected " +
-                   std::to_string(kRayFileHeaderBytes) + " (" + magic_of(kind) + " header)");
+                   std::to_string(kRayFileHeaderBytes) + (kind ? std::string(" (") + magic_of(*kind) + " header)" : ""));
   const uint32_t version = get_u32(head + 4);
   if (version != kRayFileVersion)
-    fail(file, std::string("unsupported ") + magic_of(kind) + " version " + std::to_string(version) +
+    fail(file, std::string("unsupported ") + magic_of(*kind) + " version " + std::to_string(version) +
                    ", expected " + std::to_string(kRayFileVersion));
   count = get_u64(head + 8);
-  const size_t rec = record_bytes(kind);
-  in.seekg(0, std::ios::end);
-  const uint64_t body = uint64_t(in.tellg()) - kRayFileHeaderBytes;
-  // Compare sizes before allocating, so a corrupt count cannot ask for terabytes.
-  if (count > body / rec || body != count * rec) {
-    const std::string expected = std::to_string(count) + " records of " + std::to_string(rec) +
-                                 " bytes = " + (count > UINT64_MAX / rec ? std::string("too many")
-                                                                         : std::to_string(count * rec)) +
-                                 " bytes after the header";
-    if (count > body / rec)
-      fail(file, "truncated: header says " + expected + ", file has " + std::to_string(body));
-    fail(file, std::to_string(body - count * rec) + " trailing bytes: header says " + expected +
-                   ", file has " + std::to_string(body));
+  const uint64_t rec = record_bytes(*kind);
+  const bool too_many = count > UINT64_MAX / rec;
+  const uint64_t want = too_many ? UINT64_MAX : count * rec;
+  std::string data;
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(file, ec))
+    data.reserve(size_t(std::min<uint64_t>(want, std::filesystem::file_size(file, ec))));
+  uint64_t body = 0;  // bytes after the header; beyond `want` only counted
+  std::vector<char> chunk(size_t(1) << 20);
+  while (in.read(chunk.data(), std::streamsize(chunk.size())) || in.gcount() > 0) {
+    const uint64_t n = uint64_t(in.gcount());
+    if (body < want) data.append(chunk.data(), size_t(std::min(n, want - body)));
+    body += n;
   }
-  std::string data(size_t(body), '\0');
-  in.seekg(kRayFileHeaderBytes);
-  in.read(data.data(), std::streamsize(body));
-  if (uint64_t(in.gcount()) != body) fail(file, "read failed");
+  if (in.bad()) fail(file, "read failed");
+  if (body != want) {
+    const std::string expected = std::to_string(count) + " records of " + std::to_string(rec) + " bytes = " +
+                                 (too_many ? std::string("too many") : std::to_string(want)) + " bytes after the header";
+    if (body < want) fail(file, "truncated: header says " + expected + ", file has " + std::to_string(body));
+    fail(file, std::to_string(body - want) + " trailing bytes: header says " + expected + ", file has " +
+                   std::to_string(body));
+  }
   return data;
+}
+
+std::string read_records(const std::filesystem::path& file, RayFileKind kind, uint64_t& count) {
+  std::optional<RayFileKind> expected = kind;
+  return read_records(file, expected, count);
+}
+
+HitBatch hits_from(const std::filesystem::path& file, const std::string& data, uint64_t count) {
+  HitBatch hits;
+  hits.reset(count);
+  const char* p = data.data();
+  for (size_t i = 0; i < count; ++i, p += 16) {
+    const Hit h{get_f32(p), get_u32(p + 4), get_f32(p + 8), get_f32(p + 12)};
+    if (h.hit() != std::isfinite(h.t))
+      fail(file, "record " + std::to_string(i) + ": " +
+                     (h.hit() ? "hit with non-finite t" : "miss (id 0xFFFFFFFF) with finite t " + std::to_string(h.t)) +
+                     " (a miss must be t=+inf, id=0xFFFFFFFF)");
+    hits.set(i, h);
+  }
+  return hits;
+}
+
+std::vector<uint8_t> occlusion_from(const std::filesystem::path& file, const std::string& data, uint64_t count) {
+  std::vector<uint8_t> occ(count);
+  for (size_t i = 0; i < count; ++i) {
+    occ[i] = uint8_t(data[i]);
+    if (occ[i] > 1)
+      fail(file, "record " + std::to_string(i) + ": byte " + std::to_string(occ[i]) + ", expected 0 or 1");
+  }
+  return occ;
 }
 
 }  // namespace
@@ -164,18 +207,7 @@ void write_hits(const std::filesystem::path& file, const HitBatch& hits) {
 HitBatch read_hits(const std::filesystem::path& file) {
   uint64_t count = 0;
   const std::string data = read_records(file, RayFileKind::Hits, count);
-  HitBatch hits;
-  hits.reset(count);
-  const char* p = data.data();
-  for (size_t i = 0; i < count; ++i, p += 16) {
-    const Hit h{get_f32(p), get_u32(p + 4), get_f32(p + 8), get_f32(p + 12)};
-    if (h.hit() != std::isfinite(h.t))
-      fail(file, "record " + std::to_string(i) + ": " +
-                     (h.hit() ? "hit with non-finite t" : "miss (id 0xFFFFFFFF) with finite t " + std::to_string(h.t)) +
-                     " (a miss must be t=+inf, id=0xFFFFFFFF)");
-    hits.set(i, h);
-  }
-  return hits;
+  return hits_from(file, data, count);
 }
 
 void write_occlusion(const std::filesystem::path& file, const std::vector<uint8_t>& occluded) {
@@ -187,32 +219,18 @@ void write_occlusion(const std::filesystem::path& file, const std::vector<uint8_
 std::vector<uint8_t> read_occlusion(const std::filesystem::path& file) {
   uint64_t count = 0;
   const std::string data = read_records(file, RayFileKind::Occlusion, count);
-  std::vector<uint8_t> occ(count);
-  for (size_t i = 0; i < count; ++i) {
-    occ[i] = uint8_t(data[i]);
-    if (occ[i] > 1)
-      fail(file, "record " + std::to_string(i) + ": byte " + std::to_string(occ[i]) + ", expected 0 or 1");
-  }
-  return occ;
+  return occlusion_from(file, data, count);
 }
 
-RayFileKind ray_file_kind(const std::filesystem::path& file) {
-  check_not_directory(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "cannot open");
-  char head[kRayFileHeaderBytes];
-  in.read(head, kRayFileHeaderBytes);
-  if (size_t(in.gcount()) < kRayFileHeaderBytes)
-    fail(file, "truncated header: " + std::to_string(in.gcount()) + " bytes, expected 16");
-  for (RayFileKind kind : {RayFileKind::Rays, RayFileKind::Hits, RayFileKind::Occlusion}) {
-    if (std::memcmp(head, magic_of(kind), 4) != 0) continue;
-    const uint32_t version = get_u32(head + 4);
-    if (version != kRayFileVersion)
-      fail(file, std::string("unsupported ") + magic_of(kind) + " version " + std::to_string(version) +
-                     ", expected " + std::to_string(kRayFileVersion));
-    return kind;
-  }
-  fail(file, "bad magic '" + printable(head) + "', expected 'RAYS', 'HITS' or 'OCCL'");
+ResultFile read_results(const std::filesystem::path& file) {
+  std::optional<RayFileKind> kind;
+  uint64_t count = 0;
+  const std::string data = read_records(file, kind, count);
+  ResultFile r{*kind, {}, {}};
+  if (r.kind == RayFileKind::Rays) fail(file, "a RAYS file, expected a HITS or OCCL file");
+  if (r.kind == RayFileKind::Hits) r.hits = hits_from(file, data, count);
+  else r.occluded = occlusion_from(file, data, count);
+  return r;
 }
 
 }  // namespace rayscout

@@ -32,6 +32,16 @@ expect(0 "wrote" rays --scene cornell --workload diffuse --width 8 --height 8 --
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --out ${WORK}/p.hits)
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/d.rays --accel bvh --out ${WORK}/d.hits)
 expect(1 "result" compare-hits ${WORK}/p.hits ${WORK}/d.hits)
+# Every file of a comparison holds as many results as the first (or the RAYS file), whichever
+# position the odd one is in; --hits-a/--hits-b belong to OCCL files.
+expect(0 "wrote" rays --scene cornell --workload primary --width 4 --height 4 --out ${WORK}/small.rays)
+expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/small.rays --accel bvh --out ${WORK}/small.hits)
+expect(2 "p\\.hits: 64 hits, but .*small\\.hits holds 16 hits" compare-hits ${WORK}/p.hits ${WORK}/small.hits)
+expect(2 "ok\\.rays: 64 rays, but .*small\\.hits holds 16 hits" compare-hits ${WORK}/p.hits ${WORK}/small.hits --rays ${WORK}/ok.rays)
+expect(2 "--hits-a and --hits-b are for OCCL files" compare-hits ${WORK}/p.hits ${WORK}/d.hits --hits-a ${WORK}/p.hits)
+expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --occluded --out ${WORK}/p.occl)
+expect(2 "small\\.hits holds 16 hits" compare-hits ${WORK}/p.occl ${WORK}/p.occl --hits-a ${WORK}/p.hits --hits-b ${WORK}/small.hits)
+expect(2 "a RAYS file, expected a HITS or OCCL file" compare-hits ${WORK}/ok.rays ${WORK}/p.hits)
 
 # Option values out of range: exit 2 naming the option and the value, before any work (never a
 # hang, a wrapped unsigned value or a silent fallback to the default).

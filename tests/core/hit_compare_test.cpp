@@ -105,6 +105,12 @@ TEST(HitCompare, GrazingContactsOnlyWhenAllowed) {
   EXPECT_EQ(d.other_prim, 0u);
   EXPECT_EQ(d.hit_miss, 1u);
   EXPECT_NE(d.first.find("ray 2: hit/miss"), std::string::npos) << d.first;
+  // Tolerance 0 is bit-identical: a grazing contact is an error like any other.
+  cfg.rel_tol = 0.0f;
+  d = compare_hits(ref, got, cfg);
+  EXPECT_EQ(d.grazing, 0u);
+  EXPECT_EQ(d.other_prim, 1u);
+  EXPECT_EQ(d.hit_miss, 2u);
 }
 
 TEST(HitCompare, NinetyNinthPercentile) {
@@ -142,6 +148,10 @@ TEST(OcclusionCompare, CountsAndGrazing) {
   EXPECT_EQ(d.grazing, 1u);
   EXPECT_EQ(d.differ, 1u);
   EXPECT_NE(d.first.find("ray 2"), std::string::npos) << d.first;
+  cfg.rel_tol = 0.0f;
+  d = compare_occlusion(ref, got, cfg, &ref_hits, &got_hits);
+  EXPECT_EQ(d.grazing, 0u);
+  EXPECT_EQ(d.differ, 2u);
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
+
+#include <sys/stat.h>
 
 #include "generated_scenes.h"
 #include "rayscout/core/accelerator_options.h"
@@ -58,7 +61,8 @@ TEST_F(RayFileTest, RaysRoundTripBitExactly) {
   for (auto member : {&RayBatch::ox, &RayBatch::oy, &RayBatch::oz, &RayBatch::tmin, &RayBatch::dx,
                       &RayBatch::dy, &RayBatch::dz, &RayBatch::tmax})
     EXPECT_EQ(std::memcmp((back.*member).data(), (rays.*member).data(), rays.size() * 4), 0);
-  EXPECT_EQ(ray_file_kind(path("r.rays")), RayFileKind::Rays);
+  const std::string e = error_of([&] { read_results(path("r.rays")); });
+  EXPECT_NE(e.find("a RAYS file, expected a HITS or OCCL file"), std::string::npos) << e;
 }
 
 TEST_F(RayFileTest, LayoutIsLittleEndianAsSpecified) {
@@ -95,7 +99,10 @@ TEST_F(RayFileTest, HitsRoundTripWithMisses) {
   EXPECT_EQ(back.t[1], kInfinity);
   EXPECT_EQ(back.prim[2], 0u);
   EXPECT_EQ(back.t[2], 0.0f);
-  EXPECT_EQ(ray_file_kind(path("h.hits")), RayFileKind::Hits);
+  const ResultFile r = read_results(path("h.hits"));
+  EXPECT_EQ(r.kind, RayFileKind::Hits);
+  EXPECT_EQ(r.hits.t, back.t);
+  EXPECT_EQ(r.hits.prim, back.prim);
 }
 
 TEST_F(RayFileTest, OcclusionRoundTrip) {
@@ -103,7 +110,30 @@ TEST_F(RayFileTest, OcclusionRoundTrip) {
   write_occlusion(path("o.occl"), occ);
   EXPECT_EQ(slurp(path("o.occl")), std::string("OCCL\x01\0\0\0\x05\0\0\0\0\0\0\0\x01\0\0\x01\x01", 21));
   EXPECT_EQ(read_occlusion(path("o.occl")), occ);
-  EXPECT_EQ(ray_file_kind(path("o.occl")), RayFileKind::Occlusion);
+  const ResultFile r = read_results(path("o.occl"));
+  EXPECT_EQ(r.kind, RayFileKind::Occlusion);
+  EXPECT_EQ(r.occluded, occ);
+}
+
+// A pipe cannot be sized by seeking: `trace --rays /dev/stdin` and `compare-hits <(...) <(...)`
+// read their files in one sequential pass.
+TEST_F(RayFileTest, PipesAreReadInOnePass) {
+  write_rays(path("r.rays"), testing::random_rays(70000, 3));  // 2.2 MB: more than one read chunk
+  write_hits(path("h.hits"), HitBatch{});
+  for (const char* name : {"r.rays", "h.hits"}) {
+    const fs::path fifo = path(std::string(name) + ".fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string bytes = slurp(path(name));
+    std::thread writer([&] { dump(fifo, bytes); });
+    if (std::string(name) == "r.rays") {
+      const RayBatch rays = read_rays(fifo);
+      EXPECT_EQ(rays.size(), 70000u);
+      EXPECT_EQ(rays.tmax, read_rays(path(name)).tmax);
+    } else {
+      EXPECT_EQ(read_results(fifo).kind, RayFileKind::Hits);
+    }
+    writer.join();
+  }
 }
 
 TEST_F(RayFileTest, EmptyFilesRoundTrip) {
@@ -124,7 +154,7 @@ TEST_F(RayFileTest, BadMagicIsNamed) {
   EXPECT_NE(e.find("h.hits"), std::string::npos) << e;
   EXPECT_NE(e.find("bad magic 'HITS', expected 'RAYS'"), std::string::npos) << e;
   dump(path("junk"), std::string("\x89PNG\r\n\x1a\n\0\0\0\0\0\0\0\0", 16));
-  const std::string e2 = error_of([&] { ray_file_kind(path("junk")); });
+  const std::string e2 = error_of([&] { read_results(path("junk")); });
   EXPECT_NE(e2.find("bad magic '\\x89PNG'"), std::string::npos) << e2;
 }
 
@@ -136,7 +166,7 @@ TEST_F(RayFileTest, BadVersionIsNamed) {
   const std::string e = error_of([&] { read_rays(path("v2.rays")); });
   EXPECT_NE(e.find("v2.rays"), std::string::npos) << e;
   EXPECT_NE(e.find("unsupported RAYS version 2, expected 1"), std::string::npos) << e;
-  EXPECT_NE(error_of([&] { ray_file_kind(path("v2.rays")); }).find("version 2"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_results(path("v2.rays")); }).find("version 2"), std::string::npos);
 }
 
 TEST_F(RayFileTest, TruncatedHeaderAndBodyAreNamed) {

@@ -27,9 +27,13 @@ struct HitCompareConfig {
   /// instead of as errors: a ray exactly through a mesh's boundary edge or vertex, or a ray
   /// starting on a surface, may or may not hit depending on the last bit of arithmetic.
   /// Off (default) for our own accelerators, which share one kernel; on for Embree.
+  /// Ignored when rel_tol is 0: bit-identical excuses nothing.
   bool allow_grazing = false;
   /// A hit is grazing when a barycentric coordinate (u, v or 1-u-v) is <= edge_eps.
   float edge_eps = 1e-4f;
+
+  /// Whether a disagreement at a grazing contact is counted apart instead of as an error.
+  bool excuses_grazing() const { return allow_grazing && rel_tol > 0.0f; }
 };
 
 /// True for a hit on an edge or vertex of its triangle (a barycentric <= edge_eps) or at

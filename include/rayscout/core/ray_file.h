@@ -35,7 +35,13 @@ void write_occlusion(const std::filesystem::path& file, const std::vector<uint8_
 /// Reads an OCCL file; errors as read_rays, plus a byte other than 0 or 1.
 std::vector<uint8_t> read_occlusion(const std::filesystem::path& file);
 
-/// The kind of a ray file from its header (validates magic and version only).
-RayFileKind ray_file_kind(const std::filesystem::path& file);
+/// A HITS or OCCL file, whichever its magic names, read in one pass (so a pipe works too):
+/// `hits` for HITS, `occluded` for OCCL. Errors as read_hits / read_occlusion, plus a RAYS file.
+struct ResultFile {
+  RayFileKind kind;
+  HitBatch hits;
+  std::vector<uint8_t> occluded;
+};
+ResultFile read_results(const std::filesystem::path& file);
 
 }  // namespace rayscout
