@@ -28,6 +28,13 @@ size_t DacrtConfig::sample_count(size_t n) const {
   return std::max<size_t>(1, std::min(ns, n));
 }
 
+double DacrtConfig::skip_threshold(size_t child_tris) const {
+  const bool leaf = child_tris < delta_t;
+  const double c_child = leaf ? c_tri : c_bv;
+  const double n_child = leaf ? double(child_tris) : 2.0;
+  return 1.0 - c_bv / (c_child * n_child);
+}
+
 DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c) {
   c.sampled_cost = pick(o, "cost", "sampled", "sah", c.sampled_cost);
   {
@@ -51,14 +58,12 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   c.delta_t = size_t(o.get_int("delta_t", long(c.delta_t), 2, LONG_MAX));
   c.bins = int(o.get_int("bins", c.bins, 2, 256));
   c.midpoint_ratio = o.get_double("midpoint_ratio", c.midpoint_ratio);
-  c.c_t = o.get_double("C_T", c.c_t);
-  c.c_i = o.get_double("C_I", c.c_i);
   c.c_bv = o.get_double("C_bv", c.c_bv);
   c.c_tri = o.get_double("C_tri", c.c_tri);
   c.parallel = o.get_bool("parallel", c.parallel);
   require(c.sample_budget >= 0.0, "sample_budget: must be >= 0");
   require(c.midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
-  require(c.c_t >= 0 && c.c_i > 0 && c.c_bv > 0 && c.c_tri > 0, "C_T >= 0, C_I, C_bv, C_tri > 0 required");
+  require(c.c_bv > 0 && c.c_tri > 0, "C_bv, C_tri > 0 required");
   return c;
 }
 
@@ -70,7 +75,7 @@ std::string DacrtConfig::describe() const {
     << " strategy=" << (strategy == DacrtSampling::Stride ? "stride" : "random");
   if (fraction > 0) s << " fraction=" << fraction; else s << " samples=" << samples;
   s << " min_rays=" << min_rays_sampling << " sample_budget=" << sample_budget << " delta_r=" << delta_r << " delta_t=" << delta_t << " bins=" << bins
-    << " midpoint_ratio=" << midpoint_ratio << " C_T=" << c_t << " C_I=" << c_i << " C_bv=" << c_bv
+    << " midpoint_ratio=" << midpoint_ratio << " C_bv=" << c_bv
     << " C_tri=" << c_tri << " parallel=" << (parallel ? "on" : "off");
   return s.str();
 }

@@ -119,7 +119,8 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
           pl = area > 0 ? left[j].box.surface_area() / area : 1.0;
           pr = area > 0 ? right[j].box.surface_area() / area : 1.0;
         }
-        const double cost = cfg_.c_t + cfg_.c_i * (pl * left[j].n + pr * right[j].n);
+        // Eqs. (1), (2) without C_T + C_I·(...): only the argmin over the bins is used.
+        const double cost = pl * left[j].n + pr * right[j].n;
         if (cost <= best) { best = cost; jmin = j; }  // Algorithm 1, line 14: <=
       }
       if (jmin >= 0) {

@@ -103,7 +103,7 @@ class DacrtTracer {
       // alpha of the second child: the share of R that hits its box with the hit distances
       // left by the first child, which is what partitioning would test (eqs. 3-5).
       if (k == 1 && s.sampled && cfg_.skip_partitioning && cfg_.resample_second) s.alpha[c] = sample_one(rid, nr, s.box[c]);
-      if (s.sampled && cfg_.skip_partitioning && s.alpha[c] > skip_threshold(cnt)) {
+      if (s.sampled && cfg_.skip_partitioning && s.alpha[c] > cfg_.skip_threshold(cnt)) {
         if constexpr (kStats) ++details.skipped_partitions;
         node(rid, nr, ctid, cnt, s.cb[c]);
       } else {
@@ -123,14 +123,6 @@ class DacrtTracer {
     }
     if constexpr (kStats) { stats.ray_box_tests += ns; details.sampling_box_tests += ns; }
     return double(hits) / double(ns);
-  }
-
-  // Eq. (5): skip when alpha > 1 - C_bv / (C_child n_child); an inner child gives eq. (6).
-  double skip_threshold(size_t child_tris) const {
-    const bool leaf = child_tris < cfg_.delta_t;
-    const double c_child = leaf ? cfg_.c_tri : cfg_.c_bv;
-    const double n_child = leaf ? double(child_tris) : 2.0;
-    return 1.0 - cfg_.c_bv / (c_child * n_child);
   }
 
   // Chooses and performs the triangle split; false when the triangles cannot be separated.

@@ -63,8 +63,17 @@ TEST(DacrtOptions, DefaultsAreThePapers) {
   EXPECT_EQ(rs.delta_r, 8u);
   EXPECT_EQ(rs.delta_t, 8u);
   EXPECT_DOUBLE_EQ(rs.midpoint_ratio, 1.5);
-  // Eq. (6): an inner child is skipped when alpha > 0.5 (C_child = C_bv, n_child = 2).
-  EXPECT_DOUBLE_EQ(1.0 - rs.c_bv / (rs.c_bv * 2.0), 0.5);
+  // Eq. (6): an inner child (>= delta_t triangles) is skipped when alpha > 0.5, whatever C_bv.
+  EXPECT_DOUBLE_EQ(rs.skip_threshold(8), 0.5);
+  EXPECT_DOUBLE_EQ(rs.skip_threshold(100000), 0.5);
+  // Eq. (5) for a leaf child of n triangles: 1 - C_bv / (C_tri n) = 1 - 1 / (2 n).
+  EXPECT_DOUBLE_EQ(rs.skip_threshold(1), 0.5);
+  EXPECT_DOUBLE_EQ(rs.skip_threshold(4), 0.875);
+  EXPECT_DOUBLE_EQ(rs.skip_threshold(7), 1.0 - 1.0 / 14.0);
+  DacrtConfig c = rs;
+  c.c_bv = 3.0;
+  EXPECT_DOUBLE_EQ(c.skip_threshold(4), 1.0 - 3.0 / 8.0);
+  EXPECT_DOUBLE_EQ(c.skip_threshold(8), 0.5);
   EXPECT_EQ(rs.sample_count(5000), 100u);
   DacrtConfig f = rs;
   f.fraction = 0.001;

@@ -71,10 +71,9 @@ struct DacrtConfig {
   /// "1.5 in the current implementation"). Option midpoint_ratio=X.
   double midpoint_ratio = 1.5;
 
-  /// C_T of eqs. (1), (2): cost of a ray-BV test in the split cost. Option C_T=X.
-  double c_t = 1.0;
-  /// C_I of eqs. (1), (2): cost of a ray-triangle test in the split cost. Option C_I=X.
-  double c_i = 1.0;
+  // C_T and C_I of eqs. (1), (2) are not options: the split cost is only ever minimised over
+  // the bins, never compared with a leaf's, so a constant and a positive factor cannot change
+  // the chosen split.
   /// C_bv of eqs. (3)-(5): cost of one ray-box test when deciding to skip. Option C_bv=X.
   double c_bv = 1.0;
   /// C_child for a child that will be a leaf (one ray-triangle test) in eq. (5); an inner
@@ -100,6 +99,11 @@ struct DacrtConfig {
   bool samples_rays() const { return sampled_cost || sampled_order || skip_partitioning; }
   /// Sample count N_s for a node of n rays.
   size_t sample_count(size_t n) const;
+  /// Eq. (5): a child of `child_tris` triangles is entered without partitioning its rays when
+  /// its sampled alpha exceeds 1 - C_bv / (C_child n_child). A child that will be a leaf
+  /// (< delta_t triangles) has C_child = C_tri, n_child = child_tris; an inner child has
+  /// C_child = C_bv, n_child = 2, i.e. eq. (6): alpha > 0.5.
+  double skip_threshold(size_t child_tris) const;
   /// Reads the keys above from options over `defaults`; throws InputError on bad values.
   static DacrtConfig from_options(const AcceleratorOptions& options, DacrtConfig defaults);
   /// One line naming every setting, for benchmark logs.
