@@ -14,6 +14,7 @@
 #include <fmt/core.h>
 #include <tbb/global_control.h>
 
+#include "bench_support.h"
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/render/renderer.h"
@@ -22,6 +23,7 @@
 #include "rayscout/shafts/shafts_accelerator.h"
 
 using namespace rayscout;
+using bench::median;
 
 namespace {
 
@@ -70,11 +72,6 @@ double now_ms() {
     return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
   }
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 struct Measure {
@@ -141,125 +138,138 @@ int main(int argc, char** argv) {
   bool sweep = false;
   std::string csv;
   app.add_option("--scenes", scenes, "comma-separated scene files (relative to the scenes folder or absolute)");
-  app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path");
-  app.add_option("--base", bases, "binary,wide");
-  app.add_option("--accel-opt", opts, "shafts option key=value (docs/shafts.md)");
-  app.add_option("--width", width);
-  app.add_option("--height", height);
-  app.add_option("--reps", reps, "timed repetitions (median)");
-  app.add_option("--threads", threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine");
+  app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path")->capture_default_str();
+  app.add_option("--base", bases, "binary,wide")->capture_default_str();
+  app.add_option("--accel-opt", opts, "shafts or BVH build option key=value (docs/shafts.md)");
+  app.add_option("--width", width)->capture_default_str()->check(CLI::Range(1, 32768));
+  app.add_option("--height", height)->capture_default_str()->check(CLI::Range(1, 32768));
+  app.add_option("--reps", reps, "timed repetitions (median)")->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--threads", threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--sweep", sweep, "sweep budget_rel and dir_res (shadow, ao, diffuse) instead of the table");
   app.add_option("--csv", csv, "also write rows as CSV to this file");
   std::string profile_side;
   int build_reps = 1;
-  app.add_option("--build-reps", build_reps, "builds of BVH and accelerator, alternated (median build times)");
-  app.add_option("--profile-side", profile_side, "plain|lists: only trace that side reps times per ray set (for perf stat)");
+  app.add_option("--build-reps", build_reps, "builds of BVH and accelerator, alternated (median build times)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  app.add_option("--profile-side", profile_side, "plain|lists: only trace that side reps times per ray set (for perf stat)")
+      ->check(CLI::IsMember({"plain", "lists"}));
   CLI11_PARSE(app, argc, argv);
+  return bench::run_bench("shafts_bench", [&] {
+    bench::check_names("--base", split(bases), {"binary", "wide"});
+    bench::check_names("--workloads", split(workloads), {"primary", "shadow", "ao", "diffuse", "path"});
 
-  const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
-  g_cpu_clock = nthreads == 1;
-  fmt::print("# shafts_bench: {} thread(s), trace times = {}, {}x{} workloads, median of {} reps\n", nthreads,
-             g_cpu_clock ? "thread CPU time" : "wall clock", width, height, reps);
-  std::ofstream out;
-  if (!csv.empty()) {
-    out.open(csv);
-    out << "scene,base,budget_rel,dir_res,workload,rays,steps_bvh,steps_shafts,ms_bvh,ms_shafts,"
-           "bvh_build_ms,shaft_build_ms,bvh_mib,shaft_mib,mean_list,box_bvh,box_shafts,tri_bvh,tri_shafts\n";
-  }
-
-  for (const std::string& s : split(scenes)) {
-    std::filesystem::path path = s;
-    if (!std::filesystem::exists(path)) {
-      const auto found = find_scene_file(s);
-      if (!found) { fmt::print("skip {}: not found under {}\n", s, scenes_dir().string()); continue; }
-      path = *found;
+    const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
+    g_cpu_clock = nthreads == 1;
+    fmt::print("# shafts_bench: {} thread(s), trace times = {}, {}x{} workloads, median of {} reps\n", nthreads,
+               g_cpu_clock ? "thread CPU time" : "wall clock", width, height, reps);
+    std::ofstream out;
+    if (!csv.empty()) {
+      out.open(csv);
+      if (!out) throw InputError(csv + ": cannot open for writing");
+      out << "scene,base,budget_rel,dir_res,workload,rays,steps_bvh,steps_shafts,ms_bvh,ms_shafts,"
+             "bvh_build_ms,shaft_build_ms,bvh_mib,shaft_mib,mean_list,box_bvh,box_shafts,tri_bvh,tri_shafts\n";
     }
-    const Scene scene = load_scene(path);
-    const std::string sname = path.extension() == ".json" ? path.stem().string() : path.parent_path().filename().string();
-    fmt::print("\n## {} ({} triangles)\n", sname, scene.triangles.size());
 
-    struct Variant { std::string base; double budget_rel; int dir_res; };
-    std::vector<Variant> variants;
-    for (const auto& b : split(bases)) {
-      if (!sweep) { variants.push_back({b, -1, -1}); continue; }
-      for (double r : {0.25, 0.5, 1.0, 2.0, 4.0}) variants.push_back({b, r, -1});
-      for (int d : {2, 3, 6, 8}) variants.push_back({b, -1, d});
-    }
-    std::vector<RaySet> sets;
-    for (const Variant& v : variants) {
-      AcceleratorOptions o;
-      for (const auto& kv : opts) o.set(kv);
-      ShaftConfig cfg = ShaftConfig::from_options(o);
-      if (v.budget_rel > 0) cfg.budget_rel = v.budget_rel;
-      if (v.dir_res > 0) cfg.dir_res = v.dir_res;
-      const auto base = v.base == "wide" ? ShaftsAccelerator::Base::Wide : ShaftsAccelerator::Base::Binary;
-      // Build cost on the same clock as the traces: the BVH alone, then BVH + collection,
-      // alternated build_reps times (medians; the collection's = total - BVH of that rep).
-      // The wide BVH is built as the "bvh" accelerator builds it (wide_bvh_default_config).
-      const BvhBuildConfig bvh_cfg = base == ShaftsAccelerator::Base::Wide ? wide_bvh_default_config() : BvhBuildConfig{};
-      std::vector<double> bvh_times, col_times;
-      std::unique_ptr<ShaftsAccelerator> acc_ptr;
-      for (int r = 0; r < std::max(1, build_reps); ++r) {
-        double t = now_ms();
-        if (base == ShaftsAccelerator::Base::Wide) (void)WideBvh::build(scene.triangles, bvh_cfg);
-        else (void)Bvh2::build(scene.triangles, bvh_cfg);
-        const double bvh_ms = now_ms() - t;
-        acc_ptr.reset();
-        t = now_ms();
-        acc_ptr = std::make_unique<ShaftsAccelerator>(scene, base, cfg, bvh_cfg);
-        const double all_ms = now_ms() - t;
-        bvh_times.push_back(bvh_ms);
-        col_times.push_back(all_ms - bvh_ms);
+    for (const std::string& s : split(scenes)) {
+      std::filesystem::path path = s;
+      if (!std::filesystem::exists(path)) {
+        const auto found = find_scene_file(s);
+        if (!found) { fmt::print("skip {}: not found under {}\n", s, scenes_dir().string()); continue; }
+        path = *found;
       }
-      const ShaftsAccelerator& acc = *acc_ptr;
-      const double bvh_clock_ms = median(bvh_times), col_clock_ms = median(col_times);
-      const double all_clock_ms = bvh_clock_ms + col_clock_ms;
-      if (sets.empty())
-        sets = make_ray_sets(scene, acc, width, height, split(sweep ? std::string("shadow,ao,diffuse") : workloads));
-      const ShaftStats& st = acc.stats();
-      const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
-      fmt::print("\n### {} over {} (budget_rel {}, dir_res {})\n{}\n", acc.name(), v.base == "wide" ? "WideBvh" : "Bvh2",
-                 cfg.budget_mib > 0 ? -1.0 : cfg.budget_rel, cfg.dir_res, st.summary());
-      fmt::print("BVH build {:.1f} ms, {:.2f} MiB; collection build {:.1f} ms ({:.2f}x BVH), {:.2f} MiB ({:.2f}x BVH)\n",
-                 acc.bvh_build_ms(), bvh_mib, st.build_ms, st.build_ms / acc.bvh_build_ms(),
-                 st.memory_bytes() / 1048576.0, st.memory_bytes() / 1048576.0 / bvh_mib);
-      fmt::print("build on the trace clock (median of {}): BVH {:.1f} ms, collection {:.1f} ms = {:.2f}x the BVH\n\n",
-                 bvh_times.size(), bvh_clock_ms, col_clock_ms, col_clock_ms / bvh_clock_ms);
-      fmt::print("| workload | rays | steps/ray plain | steps/ray shafts | steps saved | box tests/ray plain / shafts "
-                 "| tri tests/ray plain / shafts | ms plain | ms shafts | speedup | lookup ns/ray |\n");
-      fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-      if (!profile_side.empty()) {
-        for (const RaySet& set : sets) {
-          HitBatch hits;
-          std::vector<uint8_t> occ;
-          const double t0 = now_ms();
-          for (int r = 0; r < reps; ++r) {
-            if (set.occlusion) acc.occluded(set.rays, occ, nullptr, profile_side == "lists");
-            else acc.intersect(set.rays, hits, nullptr, profile_side == "lists");
-          }
-          fmt::print("{} {}: {:.2f} ms per pass\n", set.name, profile_side, (now_ms() - t0) / reps);
+      const Scene scene = load_scene(path);
+      const std::string sname = path.extension() == ".json" ? path.stem().string() : path.parent_path().filename().string();
+      fmt::print("\n## {} ({} triangles)\n", sname, scene.triangles.size());
+
+      struct Variant { std::string base; double budget_rel; int dir_res; };
+      std::vector<Variant> variants;
+      for (const auto& b : split(bases)) {
+        if (!sweep) { variants.push_back({b, -1, -1}); continue; }
+        for (double r : {0.25, 0.5, 1.0, 2.0, 4.0}) variants.push_back({b, r, -1});
+        for (int d : {2, 3, 6, 8}) variants.push_back({b, -1, d});
+      }
+      std::vector<RaySet> sets;
+      for (const Variant& v : variants) {
+        const auto base = v.base == "wide" ? ShaftsAccelerator::Base::Wide : ShaftsAccelerator::Base::Binary;
+        // The options as the registry reads them for "shafts" / "shafts-wide": the wide BVH is
+        // built as the "bvh" accelerator builds it, and a key neither reads is an error.
+        AcceleratorOptions o;
+        for (const auto& kv : opts) o.set(kv);
+        ShaftConfig cfg = ShaftConfig::from_options(o, base == ShaftsAccelerator::Base::Wide ? kWideWidth : 2);
+        const BvhBuildConfig bvh_cfg =
+            base == ShaftsAccelerator::Base::Wide ? wide_bvh_config_from_options(o) : bvh_config_from_options(o);
+        o.check_all_used(base == ShaftsAccelerator::Base::Wide ? "shafts-wide" : "shafts");
+        if (v.budget_rel > 0) cfg.budget_rel = v.budget_rel;
+        if (v.dir_res > 0) cfg.dir_res = v.dir_res;
+        // Build cost on the same clock as the traces: the BVH alone, then BVH + collection,
+        // alternated build_reps times (medians; the collection's = total - BVH of that rep).
+        std::vector<double> bvh_times, col_times;
+        std::unique_ptr<ShaftsAccelerator> acc_ptr;
+        for (int r = 0; r < build_reps; ++r) {
+          double t = now_ms();
+          if (base == ShaftsAccelerator::Base::Wide) (void)WideBvh::build(scene.triangles, bvh_cfg);
+          else (void)Bvh2::build(scene.triangles, bvh_cfg);
+          const double bvh_ms = now_ms() - t;
+          acc_ptr.reset();
+          t = now_ms();
+          acc_ptr = std::make_unique<ShaftsAccelerator>(scene, base, cfg, bvh_cfg);
+          const double all_ms = now_ms() - t;
+          bvh_times.push_back(bvh_ms);
+          col_times.push_back(all_ms - bvh_ms);
         }
-        continue;
+        const ShaftsAccelerator& acc = *acc_ptr;
+        const double bvh_clock_ms = median(bvh_times), col_clock_ms = median(col_times);
+        const double all_clock_ms = bvh_clock_ms + col_clock_ms;
+        if (sets.empty())
+          sets = make_ray_sets(scene, acc, width, height, split(sweep ? std::string("shadow,ao,diffuse") : workloads));
+        const ShaftStats& st = acc.stats();
+        const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
+        fmt::print("\n### {} over {} (budget_rel {}, dir_res {})\n{}\n", acc.name(), v.base == "wide" ? "WideBvh" : "Bvh2",
+                   cfg.budget_mib > 0 ? -1.0 : cfg.budget_rel, cfg.dir_res, st.summary());
+        fmt::print("BVH build {:.1f} ms, {:.2f} MiB; collection build {:.1f} ms ({:.2f}x BVH), {:.2f} MiB ({:.2f}x BVH)\n",
+                   acc.bvh_build_ms(), bvh_mib, st.build_ms, st.build_ms / acc.bvh_build_ms(),
+                   st.memory_bytes() / 1048576.0, st.memory_bytes() / 1048576.0 / bvh_mib);
+        fmt::print("build on the trace clock (median of {}): BVH {:.1f} ms, collection {:.1f} ms = {:.2f}x the BVH\n\n",
+                   bvh_times.size(), bvh_clock_ms, col_clock_ms, col_clock_ms / bvh_clock_ms);
+        fmt::print("| workload | rays | steps/ray plain | steps/ray shafts | steps saved | box tests/ray plain / shafts "
+                   "| tri tests/ray plain / shafts | ms plain | ms shafts | speedup | lookup ns/ray |\n");
+        fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        if (!profile_side.empty()) {
+          for (const RaySet& set : sets) {
+            HitBatch hits;
+            std::vector<uint8_t> occ;
+            const double t0 = now_ms();
+            for (int r = 0; r < reps; ++r) {
+              if (set.occlusion) acc.occluded(set.rays, occ, nullptr, profile_side == "lists");
+              else acc.intersect(set.rays, hits, nullptr, profile_side == "lists");
+            }
+            fmt::print("{} {}: {:.2f} ms per pass\n", set.name, profile_side, (now_ms() - t0) / reps);
+          }
+          continue;
+        }
+        for (const RaySet& set : sets) {
+          const Measure m = measure(acc, set, reps);
+          const double n = double(std::max<size_t>(1, set.rays.size()));
+          fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.1f} / {:.1f} | {:.1f} / {:.1f} | {:.2f} | {:.2f} | {:.2f}x | {:.1f} |\n",
+                     set.name, set.rays.size(), m.without.traversal_steps / n, m.with.traversal_steps / n,
+                     100.0 * (1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps))),
+                     m.without.ray_box_tests / n, m.with.ray_box_tests / n, m.without.ray_tri_tests / n,
+                     m.with.ray_tri_tests / n, m.ms_without, m.ms_with, m.ms_without / m.ms_with, m.ms_lookup * 1e6 / n);
+          if (out.is_open())
+            out << sname << "," << v.base << "," << cfg.budget_rel << "," << cfg.dir_res << "," << set.name << ","
+                << set.rays.size() << "," << m.without.traversal_steps / n << "," << m.with.traversal_steps / n << ","
+                << m.ms_without << "," << m.ms_with << "," << bvh_clock_ms << "," << all_clock_ms - bvh_clock_ms << ","
+                << bvh_mib << "," << st.memory_bytes() / 1048576.0 << "," << st.mean_list << ","
+                << m.without.ray_box_tests / n << "," << m.with.ray_box_tests / n << "," << m.without.ray_tri_tests / n
+                << "," << m.with.ray_tri_tests / n << "\n";
+        }
+        std::fflush(stdout);
       }
-      for (const RaySet& set : sets) {
-        const Measure m = measure(acc, set, reps);
-        const double n = double(std::max<size_t>(1, set.rays.size()));
-        fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.1f} / {:.1f} | {:.1f} / {:.1f} | {:.2f} | {:.2f} | {:.2f}x | {:.1f} |\n",
-                   set.name, set.rays.size(), m.without.traversal_steps / n, m.with.traversal_steps / n,
-                   100.0 * (1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps))),
-                   m.without.ray_box_tests / n, m.with.ray_box_tests / n, m.without.ray_tri_tests / n,
-                   m.with.ray_tri_tests / n, m.ms_without, m.ms_with, m.ms_without / m.ms_with, m.ms_lookup * 1e6 / n);
-        if (out.is_open())
-          out << sname << "," << v.base << "," << cfg.budget_rel << "," << cfg.dir_res << "," << set.name << ","
-              << set.rays.size() << "," << m.without.traversal_steps / n << "," << m.with.traversal_steps / n << ","
-              << m.ms_without << "," << m.ms_with << "," << bvh_clock_ms << "," << all_clock_ms - bvh_clock_ms << ","
-              << bvh_mib << "," << st.memory_bytes() / 1048576.0 << "," << st.mean_list << ","
-              << m.without.ray_box_tests / n << "," << m.with.ray_box_tests / n << "," << m.without.ray_tri_tests / n
-              << "," << m.with.ray_tri_tests / n << "\n";
-      }
-      std::fflush(stdout);
     }
-  }
-  return 0;
+    return 0;
+  });
 }

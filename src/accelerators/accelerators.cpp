@@ -44,12 +44,12 @@ const std::vector<Entry>& registry() {
        }},
       {{"shafts", "ray classification, Hendrich et al. 2019: shaft candidate lists seed the binary BVH (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, ShaftConfig::from_options(o),
+         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, ShaftConfig::from_options(o, 2),
                                                     bvh_config_from_options(o));
        }},
       {{"shafts-wide", "ray classification over the 8-wide BVH, min hit probability 7/8 (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o),
+         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o, kWideWidth),
                                                     wide_bvh_config_from_options(o));
        }},
 #if RAYSCOUT_WITH_EMBREE

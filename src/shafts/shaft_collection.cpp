@@ -259,7 +259,7 @@ ShaftCollection::QBox ShaftCollection::quantize(const Bounds3& box) const {
 }
 
 void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& listed,
-                           const std::vector<detail::VoxelLists>& out) {
+                           const std::vector<detail::VoxelLists>& out, bool dedup) {
   const uint32_t cells = grid_.cells_per_voxel();
   const size_t nvox = grid_.voxel_count();
   ShaftStats& st = stats_;
@@ -325,7 +325,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
       size_t slot = h & (capacity - 1);
       uint32_t at = offset;
       bool twin = false;
-      for (; slots[slot].list != 0; slot = (slot + 1) & (capacity - 1)) {
+      for (; dedup && slots[slot].list != 0; slot = (slot + 1) & (capacity - 1)) {
         if (slots[slot].hash != h) continue;
         const uint32_t packed = slots[slot].list - 1, o = packed >> 5;
         if ((packed & 31u) == len &&
@@ -337,10 +337,10 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
       }
       if (twin) {
         lists_.resize(offset);
-        st.dedup_saved_bytes += len * bytes_per_entry();
+        st.dedup_saved_bytes += list_words(len) * sizeof(uint32_t);
       } else {
         if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
-        slots[slot] = {h, ((offset << 5) | len) + 1};
+        if (dedup) slots[slot] = {h, ((offset << 5) | len) + 1};
         ++unique;
         if (boxed_) {
           QBox q[31];
@@ -357,7 +357,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
           for (int row = 0; row < 6; ++row)
             for (uint32_t k = 0; k < len; ++k) rows[size_t(row) * len + k] = row < 3 ? q[k].lo[row] : q[k].hi[row - 3];
           const size_t at_rows = lists_.size();
-          lists_.resize(at_rows + (6 * len + 3) / 4, 0);
+          lists_.resize(offset + list_words(len), 0);
           std::memcpy(lists_.data() + at_rows, rows, 6 * size_t(len));
         }
       }
@@ -451,7 +451,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   const double lists_ms = ms_since(t_lists);
   if (chunked) col.stats_.samples_ms = double(chunk_trace_ns.load()) * 1e-6;
   const auto t_pack = std::chrono::steady_clock::now();
-  col.pack(tree, listed, out);
+  col.pack(tree, listed, out, config.dedup);
   ShaftStats& st = col.stats_;
   st.select_ms = select_ms;
   st.lists_ms = lists_ms;

@@ -5,7 +5,7 @@
 
 namespace rayscout {
 
-ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
+ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o, int arity) {
   ShaftConfig c;
   // "auto" (or leaving the key out) keeps -1: resolved() picks the value for the BVH's arity.
   auto is_auto = [&](const std::string& key) { return o.get_string(key, "") == "auto"; };
@@ -23,9 +23,12 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o) {
   c.coverage = o.get_double("coverage", c.coverage);
   c.prepass_width = int(o.get_int("prepass_width", c.prepass_width, 1, 1 << 14));
   c.seed = unsigned(o.get_int("seed", c.seed, 0, UINT_MAX));
-  // Not "collapse": that key is the wide BVH's collapse method (greedy or sah).
-  c.collapse = int(o.get_int("walk_levels", c.collapse, 1, 4));
-  c.wide_sampling = o.get_bool("wide_sampling", c.wide_sampling);
+  c.dedup = o.get_bool("dedup", c.dedup);
+  if (arity == 2) {
+    // Not "collapse": that key is the wide BVH's collapse method (greedy or sah).
+    c.collapse = int(o.get_int("walk_levels", c.collapse, 1, 4));
+    c.wide_sampling = o.get_bool("wide_sampling", c.wide_sampling);
+  }
   if (o.has("entry_boxes") && !is_auto("entry_boxes")) c.entry_boxes = o.get_bool("entry_boxes", false) ? 1 : 0;
   auto bad = [](const std::string& what) { throw InputError("shafts option " + what); };
   if (!(c.budget_rel > 0)) bad("budget_rel must be > 0");

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "generated_scenes.h"
+#include "rayscout/accelerators.h"
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/hit_compare.h"
 #include "rayscout/core/scenes_dir.h"
@@ -156,28 +157,37 @@ TEST_P(ShaftsBoth, ClassifiedRaysAreCoveredAndMatchBruteForce) {
   EXPECT_EQ(oref, ogot);
 }
 
-// The shared lists hold exactly what building each shaft's list alone gives: compare two
-// collections that differ only in how much deduplication they could do (a sub-grid view is not
-// possible, so compare lookups of the same shafts with a single-voxel-selected rebuild).
+// The shared lists hold exactly what each shaft's own list is: a collection built with
+// deduplication gives every shaft the same list as one that stores every list on its own
+// (dedup=off), and saves exactly the bytes of the lists it did not store.
 TEST_P(ShaftsBoth, DeduplicationKeepsListsEqual) {
   const Base base = GetParam();
   const Scene scene = testing::scene_from_triangles(testing::grid(small_scale() ? 12 : 24));
-  const ShaftsAccelerator acc(scene, base, fine_config(small_scale() ? 64 : 512, 3));
-  const auto& st = acc.stats();
+  ShaftConfig config = fine_config(small_scale() ? 64 : 512, 3);
+  const ShaftsAccelerator shared(scene, base, config);
+  config.dedup = false;
+  const ShaftsAccelerator own(scene, base, config);
+  const ShaftStats &st = shared.stats(), &st_own = own.stats();
   EXPECT_GT(st.dedup_saved_bytes, 0u) << "a flat grid scene has many identical lists";
   EXPECT_LT(st.unique_lists, st.listed_shafts);
-  // Rebuild every shaft list without any sharing (select=camera over one ray per shaft would
-  // still dedup), so recompute by tracing: same hits with lists as without lists proves
-  // nothing about equality; instead compare against a second build with a different seed
-  // order: lists are a pure function of the shaft, so equal builds give equal lookups.
-  const ShaftsAccelerator again(scene, base, fine_config(small_scale() ? 64 : 512, 3));
-  const ShaftGrid& g = acc.collection().grid();
+  EXPECT_EQ(st_own.dedup_saved_bytes, 0u);
+  EXPECT_EQ(st_own.list_bytes, st.list_bytes + st.dedup_saved_bytes);
+  const ShaftGrid& g = shared.collection().grid();
+  ASSERT_EQ(g.voxel_count(), own.collection().grid().voxel_count());
+  std::set<const uint32_t*> stored;
+  size_t nonempty = 0;
   for (uint32_t v = 0; v < g.voxel_count(); ++v)
     for (uint32_t c = 0; c < g.cells_per_voxel(); ++c) {
-      const Candidates a = acc.collection().lookup({v, c}), b = again.collection().lookup({v, c});
+      const Candidates a = shared.collection().lookup({v, c}), b = own.collection().lookup({v, c});
       ASSERT_EQ(a.nothing, b.nothing);
-      ASSERT_TRUE(std::equal(a.list.begin(), a.list.end(), b.list.begin(), b.list.end()));
+      ASSERT_TRUE(std::equal(a.list.begin(), a.list.end(), b.list.begin(), b.list.end())) << v << " " << c;
+      if (!a.list.empty()) {
+        stored.insert(a.list.data());
+        ++nonempty;
+      }
     }
+  EXPECT_EQ(stored.size(), st.unique_lists);
+  EXPECT_EQ(nonempty, st.listed_shafts - st.empty_lists);
 }
 
 TEST_P(ShaftsBoth, MemoryBudgetIsRespected) {
@@ -232,10 +242,18 @@ INSTANTIATE_TEST_SUITE_P(Shafts, ShaftsBoth, ::testing::Values(Base::Binary, Bas
 TEST(ShaftsOptions, BadValuesAreInputErrors) {
   AcceleratorOptions o;
   o.set("max_list=40");
-  EXPECT_THROW(ShaftConfig::from_options(o), InputError);
+  EXPECT_THROW(ShaftConfig::from_options(o, 2), InputError);
   AcceleratorOptions s;
   s.set("select=everything");
-  EXPECT_THROW(ShaftConfig::from_options(s), InputError);
+  EXPECT_THROW(ShaftConfig::from_options(s, 2), InputError);
+  // The Bvh2-only keys are not read for the wide BVH, so the registry reports them.
+  const Scene scene = testing::scene_from_triangles(testing::grid(2));
+  for (const char* key : {"walk_levels=2", "wide_sampling=0"}) {
+    AcceleratorOptions kv;
+    kv.set(key);
+    EXPECT_THROW(make_accelerator("shafts-wide", scene, kv), InputError) << key;
+    EXPECT_NO_THROW(make_accelerator("shafts", scene, kv)) << key;
+  }
 }
 
 // Sibenik: shadow and diffuse rays from surface points, shafts vs the plain binary BVH.

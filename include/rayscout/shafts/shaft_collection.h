@@ -123,10 +123,13 @@ class ShaftCollection {
   using QBox = rayscout::QBox;
   void init_quantization();
   QBox quantize(const Bounds3& box) const;
-  size_t bytes_per_entry() const { return sizeof(uint32_t) + (boxed_ ? 6 : 0); }
+  /// 4-byte words a stored list of len entries takes: its ids, then (boxed_) its entry-box
+  /// rows padded to a word.
+  size_t list_words(uint32_t len) const { return len + (boxed_ ? (6 * size_t(len) + 3) / 4 : 0); }
   /// Packs the lists of the listed voxels (serial, so offsets do not depend on the thread
   /// count): lookup tables, deduplicated list area, entry boxes, and the figures in stats_.
-  void pack(const TreeView& tree, const std::vector<uint32_t>& listed, const std::vector<detail::VoxelLists>& out);
+  void pack(const TreeView& tree, const std::vector<uint32_t>& listed, const std::vector<detail::VoxelLists>& out,
+            bool dedup);
 
   ShaftGrid grid_;
   bool boxed_ = false;

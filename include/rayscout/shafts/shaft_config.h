@@ -60,6 +60,9 @@ struct ShaftConfig {
   /// shafts (Bvh2): Algorithm 1 walks the Bvh2 collapsed by this many levels per step (1 =
   /// the binary tree itself; 2 = 4-ary, 3 = 8-ary view of the same nodes).
   int collapse = 1;
+  /// Store identical lists once (paper sec. 4.1); off = every list on its own, to measure what
+  /// deduplication saves.
+  bool dedup = true;
   /// Seed of the sample rays (the result is the same for any thread count).
   unsigned seed = 1;
 
@@ -77,8 +80,10 @@ struct ShaftConfig {
     if (c.entry_boxes < 0) c.entry_boxes = arity == 2 ? 0 : 1;
     return c;
   }
-  /// Reads the keys above from options (--accel-opt key=value); throws InputError on a bad value.
-  static ShaftConfig from_options(const AcceleratorOptions& options);
+  /// Reads the keys above from options (--accel-opt key=value) for a BVH of the given arity
+  /// (2 = Bvh2); the Bvh2-only keys walk_levels and wide_sampling are left unread otherwise,
+  /// so that check_all_used() reports them. Throws InputError on a bad value.
+  static ShaftConfig from_options(const AcceleratorOptions& options, int arity);
 };
 
 }  // namespace rayscout
