@@ -18,6 +18,7 @@
 #include <fmt/core.h>
 #include <tbb/global_control.h>
 
+#include "bench_support.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/scenes_dir.h"
@@ -27,16 +28,12 @@
 namespace rayscout {
 namespace {
 
+using bench::median;
+
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /// One accelerator column: registry name plus options ("embree" with robust=off is Embree's fastest mode).
@@ -234,11 +231,15 @@ int main(int argc, char** argv) {
   CLI::App app{"core_bench: bvh2, bvh and embree side by side"};
   app.add_option("--scene", opt.scenes, "Scene files (repeatable)")->capture_default_str();
   app.add_option("--workload", opt.workloads, "primary, shadow, ao, diffuse (repeatable)")->capture_default_str();
-  app.add_option("--threads", opt.threads, "Thread counts (repeatable)")->capture_default_str();
-  app.add_option("--width", opt.width)->capture_default_str();
-  app.add_option("--height", opt.height)->capture_default_str();
-  app.add_option("--repeat", opt.repeat, "Timed repetitions per row (median)")->capture_default_str();
-  app.add_option("--build-repeat", opt.build_repeat, "Builds per accelerator (median)")->capture_default_str();
+  app.add_option("--threads", opt.threads, "Thread counts (repeatable)")->capture_default_str()->check(CLI::Range(1, 4096));
+  app.add_option("--width", opt.width)->capture_default_str()->check(CLI::Range(1, 32768));
+  app.add_option("--height", opt.height)->capture_default_str()->check(CLI::Range(1, 32768));
+  app.add_option("--repeat", opt.repeat, "Timed repetitions per row (median)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  app.add_option("--build-repeat", opt.build_repeat, "Builds per accelerator (median)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
   bool no_variants = false;
   app.add_flag("--no-embree-variants", no_variants, "Leave out the embree robust=off and packet=16 columns");
   bool no_bvh2 = false;
@@ -249,10 +250,5 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   opt.embree_variants = !no_variants;
   opt.bvh2 = !no_bvh2;
-  try {
-    return rayscout::run(opt);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "core_bench: {}\n", e.what());
-    return 1;
-  }
+  return rayscout::bench::run_bench("core_bench", [&] { return rayscout::run(opt); });
 }

@@ -20,9 +20,11 @@
 #include <tbb/global_control.h>
 
 #include "rayscout/accelerators.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/dacrt/dacrt.h"
 #include "rayscout/scene/load_scene.h"
+#include "bench_support.h"
 #include "ray_sets.h"
 #include "views.h"
 
@@ -62,11 +64,6 @@ double now_ms() {
 }
 
 double ms_since(double t0) { return now_ms() - t0; }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 void trace(const Accelerator& a, const RaySet& s, TraceStats* st = nullptr) {
   if (s.occlusion) {
@@ -124,14 +121,18 @@ int main(int argc, char** argv) {
   CLI::App app{"Experiments of the ray-sampling DACRT paper"};
   for (const auto& v : paper_views()) o.views.push_back(v.name);
   app.add_option("--views", o.views, "views (default: all nine)")->delimiter(',');
-  app.add_option("--res", o.res, "square resolutions")->delimiter(',');
+  app.add_option("--res", o.res, "square resolutions")->delimiter(',')->check(CLI::Range(1, 16384))->capture_default_str();
   app.add_flag("--big", o.big, "also 4096^2");
-  app.add_option("--reps", o.reps, "repetitions per measurement (median)");
-  app.add_option("--threads", o.threads, "threads (1 = the paper's single thread; dacrt parallel=on when > 1)");
+  app.add_option("--reps", o.reps, "repetitions per measurement (median)")->check(CLI::Range(1, 1000000))->capture_default_str();
+  app.add_option("--threads", o.threads, "threads (1 = the paper's single thread; dacrt parallel=on when > 1)")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
   app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers,variants,memory")->delimiter(',');
-  app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers");
+  app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
   app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
-  app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)");
+  app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)")->capture_default_str();
   app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
       ->check(CLI::IsMember({"render", "own"}));
   app.add_option("--batches", o.batches, "only these batches (e.g. primary,shadow,mirror@1; default all)")->delimiter(',');
@@ -140,293 +141,300 @@ int main(int argc, char** argv) {
                  "with dacrt and dacrt-rs (e.g. 'cs=cost:sampled;skip:on')");
   app.add_flag("--variants-only", o.variants_only, "experiment 'variants' without the dacrt and dacrt-rs columns");
   CLI11_PARSE(app, argc, argv);
-  if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
-  g_cpu_time = o.threads == 1;
-  auto wants = [&](const std::string& e) { return contains(o.experiments, e); };
+  return run_bench("dacrt_bench", [&] {
+    std::vector<std::string> view_names;
+    for (const auto& v : paper_views()) view_names.push_back(v.name);
+    check_names("--views", o.views, view_names);
+    check_names("--study-views", o.study_views, view_names);
+    check_names("--experiments", o.experiments, {"resolution", "ablation", "sampling", "counts", "peers", "variants", "memory"});
+    if (!o.json.empty()) check_output_path(o.json, "--json");
+    if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+    g_cpu_time = o.threads == 1;
+    auto wants = [&](const std::string& e) { return contains(o.experiments, e); };
 
-  nlohmann::json out;
-  out["threads"] = o.threads;
-  out["reps"] = o.reps;
-  out["clock"] = g_cpu_time ? "process CPU time" : "wall";
-  fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
-             g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
+    nlohmann::json out;
+    out["threads"] = o.threads;
+    out["reps"] = o.reps;
+    out["clock"] = g_cpu_time ? "process CPU time" : "wall";
+    fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
+               g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
 
-  std::map<std::string, std::shared_ptr<Scene>> scenes;
-  const bool render = o.source == "render";
-  out["source"] = o.source;
-  auto scene_of = [&](const View& v) -> std::shared_ptr<Scene> {
-    if (render && v.scene_json.empty()) return nullptr;
-    const std::string key = render ? v.scene_json : v.file;
-    auto it = scenes.find(key);
-    if (it != scenes.end()) return it->second;
-    if (!find_scene_file(v.file)) return nullptr;
-    auto s = std::make_shared<Scene>(load_scene(render ? std::string(RAYSCOUT_BENCH_SCENES) + "/" + v.scene_json
-                                                       : find_scene_file(v.file)->string()));
-    scenes[key] = s;
-    return s;
-  };
-  auto ray_sets = [&](const View& v, const Scene& scene, int res) {
-    auto bvh = make_accelerator("bvh", scene);
-    auto sets = render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
-    if (!o.batches.empty())
-      std::erase_if(sets, [&](const RaySet& s) { return !contains(o.batches, set_label(s)); });
-    return sets;
-  };
+    std::map<std::string, std::shared_ptr<Scene>> scenes;
+    const bool render = o.source == "render";
+    out["source"] = o.source;
+    auto scene_of = [&](const View& v) -> std::shared_ptr<Scene> {
+      if (render && v.scene_json.empty()) return nullptr;
+      const std::string key = render ? v.scene_json : v.file;
+      auto it = scenes.find(key);
+      if (it != scenes.end()) return it->second;
+      if (!find_scene_file(v.file)) return nullptr;
+      auto s = std::make_shared<Scene>(load_scene(render ? std::string(RAYSCOUT_BENCH_SCENES) + "/" + v.scene_json
+                                                         : find_scene_file(v.file)->string()));
+      scenes[key] = s;
+      return s;
+    };
+    auto ray_sets = [&](const View& v, const Scene& scene, int res) {
+      auto bvh = make_accelerator("bvh", scene);
+      auto sets = render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
+      if (!o.batches.empty())
+        std::erase_if(sets, [&](const RaySet& s) { return !contains(o.batches, set_label(s)); });
+      return sets;
+    };
 
-  // 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
-  if (wants("resolution")) {
-    fmt::print("## Tracing time per resolution and batch (ms)\n\n");
-    fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | ratio | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
-    for (const auto& v : paper_views()) {
-      if (!contains(o.views, v.name)) continue;
-      auto scene = scene_of(v);
-      if (!scene) {
-        if (!render || !v.scene_json.empty()) fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file);
-        continue;
-      }
-      auto afra = make("dacrt", *scene, o), rs = make("dacrt-rs", *scene, o);
-      for (int res : o.res) {
-        const auto sets = ray_sets(v, *scene, res);
-        double fa = 0, fr = 0;
-        for (const auto& s : sets) {
-          const double ta = time_trace(*afra, s, o.reps), tr = time_trace(*rs, s, o.reps);
-          fa += ta; fr += tr;
-          fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, set_label(s), s.rays.size(), ta, tr, ta / tr);
-          out["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
-                                       {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
+    // 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
+    if (wants("resolution")) {
+      fmt::print("## Tracing time per resolution and batch (ms)\n\n");
+      fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | ratio | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
+      for (const auto& v : paper_views()) {
+        if (!contains(o.views, v.name)) continue;
+        auto scene = scene_of(v);
+        if (!scene) {
+          if (!render || !v.scene_json.empty()) fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file);
+          continue;
         }
-        const auto& pr = paper_ratios().at(v.name);
-        const double paper = pr.count(res) ? pr.at(res) : 0.0;
-        fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {:.2f} |\n", v.name, res, fa, fr, fa / fr, paper);
-        out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr}, {"paper_ratio", paper}});
-        std::fflush(stdout);
-      }
-    }
-    fmt::print("\n");
-  }
-
-  // Variants: dacrt, dacrt-rs and option sets on top of dacrt, repetitions interleaved so that
-  // every ratio is measured side by side; plus each one's counts.
-  if (wants("variants")) {
-    // Every variant is dacrt-rs plus its options (the first column is plain dacrt).
-    std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
-        {"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
-    if (o.variants_only) configs.clear();
-    for (const auto& v : o.variants) {
-      const auto eq = v.find('=');
-      std::vector<std::string> extra;
-      std::string rest = eq == std::string::npos ? "" : v.substr(eq + 1);
-      for (size_t a = 0; !rest.empty() && a != std::string::npos;) {
-        const size_t b = rest.find(';', a);
-        std::string kv = rest.substr(a, b == std::string::npos ? std::string::npos : b - a);
-        if (const auto c = kv.find(':'); c != std::string::npos) kv[c] = '=';
-        if (!kv.empty()) extra.push_back(kv);
-        a = b == std::string::npos ? b : b + 1;
-      }
-      configs.push_back({v.substr(0, eq), extra});
-    }
-    fmt::print("## Variants (ms, ratio = dacrt / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n");
-    fmt::print("| view | res | batch | rays |");
-    for (const auto& c : configs) fmt::print(" {} |", c.first);
-    fmt::print("\n|---|---|---|---|");
-    for (size_t k = 0; k < configs.size(); ++k) fmt::print("---|");
-    fmt::print("\n");
-    for (const auto& v : paper_views()) {
-      if (!contains(o.views, v.name)) continue;
-      auto scene = scene_of(v);
-      if (!scene) continue;
-      std::vector<std::unique_ptr<Accelerator>> accs;
-      for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, o, c.second));
-      for (int res : o.res) {
-        const auto sets = ray_sets(v, *scene, res);
-        std::vector<double> frame(configs.size(), 0.0);
-        for (const auto& s : sets) {
-          std::vector<std::vector<double>> t(configs.size());
-          for (int r = 0; r < o.reps; ++r)
-            for (size_t k = 0; k < accs.size(); ++k) {
-              const double t0 = now_ms();
-              trace(*accs[k], s);
-              t[k].push_back(ms_since(t0));
-            }
-          fmt::print("| {} | {} | {} | {} |", v.name, res, set_label(s), s.rays.size());
-          const double base = median(t[0]);
-          for (size_t k = 0; k < accs.size(); ++k) {
-            const double m = median(t[k]);
-            frame[k] += m;
-            TraceStats st;
-            trace(*accs[k], s, &st);
-            const auto d = dynamic_cast<const Dacrt*>(accs[k].get())->last_details();
-            fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
-                       double(d.partition_box_tests) / double(s.rays.size()),
-                       double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
-            out["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"config", configs[k].first},
-                                       {"ms", m}, {"partition_box", d.partition_box_tests},
-                                       {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
+        auto afra = make("dacrt", *scene, o), rs = make("dacrt-rs", *scene, o);
+        for (int res : o.res) {
+          const auto sets = ray_sets(v, *scene, res);
+          double fa = 0, fr = 0;
+          for (const auto& s : sets) {
+            const double ta = time_trace(*afra, s, o.reps), tr = time_trace(*rs, s, o.reps);
+            fa += ta; fr += tr;
+            fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, set_label(s), s.rays.size(), ta, tr, ta / tr);
+            out["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
+                                         {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
           }
-          fmt::print("\n");
+          const auto& pr = paper_ratios().at(v.name);
+          const double paper = pr.count(res) ? pr.at(res) : 0.0;
+          fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {:.2f} |\n", v.name, res, fa, fr, fa / fr, paper);
+          out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr}, {"paper_ratio", paper}});
           std::fflush(stdout);
         }
-        fmt::print("| {} | {} | **frame** | |", v.name, res);
-        for (size_t k = 0; k < accs.size(); ++k) fmt::print(" {:.1f} ({:.2f}x) |", frame[k], frame[0] / frame[k]);
+      }
+      fmt::print("\n");
+    }
+
+    // Variants: dacrt, dacrt-rs and option sets on top of dacrt, repetitions interleaved so that
+    // every ratio is measured side by side; plus each one's counts.
+    if (wants("variants")) {
+      // Every variant is dacrt-rs plus its options (the first column is plain dacrt).
+      std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
+          {"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
+      if (o.variants_only) configs.clear();
+      for (const auto& v : o.variants) {
+        const auto eq = v.find('=');
+        std::vector<std::string> extra;
+        std::string rest = eq == std::string::npos ? "" : v.substr(eq + 1);
+        for (size_t a = 0; !rest.empty() && a != std::string::npos;) {
+          const size_t b = rest.find(';', a);
+          std::string kv = rest.substr(a, b == std::string::npos ? std::string::npos : b - a);
+          if (const auto c = kv.find(':'); c != std::string::npos) kv[c] = '=';
+          if (!kv.empty()) extra.push_back(kv);
+          a = b == std::string::npos ? b : b + 1;
+        }
+        configs.push_back({v.substr(0, eq), extra});
+      }
+      fmt::print("## Variants (ms, ratio = dacrt / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n");
+      fmt::print("| view | res | batch | rays |");
+      for (const auto& c : configs) fmt::print(" {} |", c.first);
+      fmt::print("\n|---|---|---|---|");
+      for (size_t k = 0; k < configs.size(); ++k) fmt::print("---|");
+      fmt::print("\n");
+      for (const auto& v : paper_views()) {
+        if (!contains(o.views, v.name)) continue;
+        auto scene = scene_of(v);
+        if (!scene) continue;
+        std::vector<std::unique_ptr<Accelerator>> accs;
+        for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, o, c.second));
+        for (int res : o.res) {
+          const auto sets = ray_sets(v, *scene, res);
+          std::vector<double> frame(configs.size(), 0.0);
+          for (const auto& s : sets) {
+            std::vector<std::vector<double>> t(configs.size());
+            for (int r = 0; r < o.reps; ++r)
+              for (size_t k = 0; k < accs.size(); ++k) {
+                const double t0 = now_ms();
+                trace(*accs[k], s);
+                t[k].push_back(ms_since(t0));
+              }
+            fmt::print("| {} | {} | {} | {} |", v.name, res, set_label(s), s.rays.size());
+            const double base = median(t[0]);
+            for (size_t k = 0; k < accs.size(); ++k) {
+              const double m = median(t[k]);
+              frame[k] += m;
+              TraceStats st;
+              trace(*accs[k], s, &st);
+              const auto d = dynamic_cast<const Dacrt*>(accs[k].get())->last_details();
+              fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
+                         double(d.partition_box_tests) / double(s.rays.size()),
+                         double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
+              out["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"config", configs[k].first},
+                                         {"ms", m}, {"partition_box", d.partition_box_tests},
+                                         {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
+            }
+            fmt::print("\n");
+            std::fflush(stdout);
+          }
+          fmt::print("| {} | {} | **frame** | |", v.name, res);
+          for (size_t k = 0; k < accs.size(); ++k) fmt::print(" {:.1f} ({:.2f}x) |", frame[k], frame[0] / frame[k]);
+          fmt::print("\n");
+        }
+      }
+      fmt::print("\n");
+    }
+
+    // 2-5. Studies at one resolution on a few views.
+    const bool studies = wants("ablation") || wants("sampling") || wants("counts") || wants("peers") || wants("memory");
+    for (const auto& v : paper_views()) {
+      if (!studies || !contains(o.study_views, v.name)) continue;
+      auto scene = scene_of(v);
+      if (!scene) { fmt::print("{}: scene missing, skipped\n", v.name); continue; }
+      const auto sets = ray_sets(v, *scene, o.study_res);
+      auto frame_ms = [&](const Accelerator& a) {
+        double t = 0;
+        for (const auto& s : sets) t += time_trace(a, s, o.reps);
+        return t;
+      };
+      double afra_ms = 0;
+      if (wants("ablation") || wants("sampling")) afra_ms = frame_ms(*make("dacrt", *scene, o));
+
+      if (wants("ablation")) {
+        fmt::print("## Ablation, {} at {}^2 (frame ms; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n", v.name, o.study_res);
+        fmt::print("| configuration | frame ms | speed-up vs dacrt |\n|---|---|---|\n");
+        fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", afra_ms);
+        const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
+            {"cost only (eq. 2)", {"cost=sampled"}},
+            {"order only (sec. 4.3)", {"order=sampled"}},
+            {"skip only (eq. 5)", {"skip=on"}},
+            {"cost + order", {"cost=sampled", "order=sampled"}},
+            {"all three (paper)", {"cost=sampled", "order=sampled", "skip=on"}},
+            {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
+            {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
+            {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
+            {"all three, sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
+            {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
+        auto counted = [&](const Accelerator& a) {
+          TraceStats st;
+          for (const auto& s : sets) trace(a, s, &st);
+          return st;
+        };
+        const TraceStats base = counted(*make("dacrt", *scene, o));
+        fmt::print("| (counts of dacrt) | box {} | tri {} |\n", base.ray_box_tests, base.ray_tri_tests);
+        for (const auto& [label, extra] : configs) {
+          auto acc = make("dacrt", *scene, o, extra);
+          const double t = frame_ms(*acc);
+          const TraceStats st = counted(*acc);
+          fmt::print("| {} | {:.1f} | {:.2f} (box {:+.1f} %, tri {:+.1f} %) |\n", label, t, afra_ms / t,
+                     100.0 * (double(st.ray_box_tests) / double(base.ray_box_tests) - 1.0),
+                     100.0 * (double(st.ray_tri_tests) / double(base.ray_tri_tests) - 1.0));
+          out["ablation"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t},
+                                     {"box", st.ray_box_tests}, {"tri", st.ray_tri_tests}});
+        }
         fmt::print("\n");
       }
-    }
-    fmt::print("\n");
-  }
-
-  // 2-5. Studies at one resolution on a few views.
-  const bool studies = wants("ablation") || wants("sampling") || wants("counts") || wants("peers") || wants("memory");
-  for (const auto& v : paper_views()) {
-    if (!studies || !contains(o.study_views, v.name)) continue;
-    auto scene = scene_of(v);
-    if (!scene) { fmt::print("{}: scene missing, skipped\n", v.name); continue; }
-    const auto sets = ray_sets(v, *scene, o.study_res);
-    auto frame_ms = [&](const Accelerator& a) {
-      double t = 0;
-      for (const auto& s : sets) t += time_trace(a, s, o.reps);
-      return t;
-    };
-    double afra_ms = 0;
-    if (wants("ablation") || wants("sampling")) afra_ms = frame_ms(*make("dacrt", *scene, o));
-
-    if (wants("ablation")) {
-      fmt::print("## Ablation, {} at {}^2 (frame ms; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n", v.name, o.study_res);
-      fmt::print("| configuration | frame ms | speed-up vs dacrt |\n|---|---|---|\n");
-      fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", afra_ms);
-      const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
-          {"cost only (eq. 2)", {"cost=sampled"}},
-          {"order only (sec. 4.3)", {"order=sampled"}},
-          {"skip only (eq. 5)", {"skip=on"}},
-          {"cost + order", {"cost=sampled", "order=sampled"}},
-          {"all three (paper)", {"cost=sampled", "order=sampled", "skip=on"}},
-          {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
-          {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
-          {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
-          {"all three, sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
-          {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
-      auto counted = [&](const Accelerator& a) {
-        TraceStats st;
-        for (const auto& s : sets) trace(a, s, &st);
-        return st;
-      };
-      const TraceStats base = counted(*make("dacrt", *scene, o));
-      fmt::print("| (counts of dacrt) | box {} | tri {} |\n", base.ray_box_tests, base.ray_tri_tests);
-      for (const auto& [label, extra] : configs) {
-        auto acc = make("dacrt", *scene, o, extra);
-        const double t = frame_ms(*acc);
-        const TraceStats st = counted(*acc);
-        fmt::print("| {} | {:.1f} | {:.2f} (box {:+.1f} %, tri {:+.1f} %) |\n", label, t, afra_ms / t,
-                   100.0 * (double(st.ray_box_tests) / double(base.ray_box_tests) - 1.0),
-                   100.0 * (double(st.ray_tri_tests) / double(base.ray_tri_tests) - 1.0));
-        out["ablation"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t},
-                                   {"box", st.ray_box_tests}, {"tri", st.ray_tri_tests}});
+      if (wants("sampling")) {
+        fmt::print("## Sampling strategies, {} at {}^2 (speed-up of dacrt-rs vs dacrt; fig. 9)\n\n", v.name, o.study_res);
+        fmt::print("| sampling | frame ms | speed-up |\n|---|---|---|\n");
+        const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
+            {"stride 1 %", {"fraction=0.01"}}, {"random 1 %", {"fraction=0.01", "strategy=random"}},
+            {"stride 0.1 %", {"fraction=0.001"}}, {"random 0.1 %", {"fraction=0.001", "strategy=random"}},
+            {"stride 100", {}}, {"random 100", {"strategy=random"}}};
+        for (const auto& [label, extra] : configs) {
+          const double t = frame_ms(*make("dacrt-rs", *scene, o, extra));
+          fmt::print("| {} | {:.1f} | {:.2f} |\n", label, t, afra_ms / t);
+          out["sampling"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t}});
+        }
+        fmt::print("\n");
       }
-      fmt::print("\n");
-    }
-    if (wants("sampling")) {
-      fmt::print("## Sampling strategies, {} at {}^2 (speed-up of dacrt-rs vs dacrt; fig. 9)\n\n", v.name, o.study_res);
-      fmt::print("| sampling | frame ms | speed-up |\n|---|---|---|\n");
-      const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
-          {"stride 1 %", {"fraction=0.01"}}, {"random 1 %", {"fraction=0.01", "strategy=random"}},
-          {"stride 0.1 %", {"fraction=0.001"}}, {"random 0.1 %", {"fraction=0.001", "strategy=random"}},
-          {"stride 100", {}}, {"random 100", {"strategy=random"}}};
-      for (const auto& [label, extra] : configs) {
-        const double t = frame_ms(*make("dacrt-rs", *scene, o, extra));
-        fmt::print("| {} | {:.1f} | {:.2f} |\n", label, t, afra_ms / t);
-        out["sampling"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t}});
+      if (wants("counts")) {
+        fmt::print("## Ray-box tests per batch, {} at {}^2 (fig. 10; paper: -30..-50 % primary, -30..-40 % shadow, -50 % mirror, -20 % random)\n\n", v.name, o.study_res);
+        fmt::print("| batch | dacrt box tests | dacrt-rs partition | dacrt-rs sampling | change (partition) | change (all) | tri tests dacrt | tri tests dacrt-rs | skipped |\n|---|---|---|---|---|---|---|---|---|\n");
+        auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
+        const auto* ad = dynamic_cast<const Dacrt*>(a.get());
+        const auto* rd = dynamic_cast<const Dacrt*>(r.get());
+        for (const auto& s : sets) {
+          TraceStats sa, sr;
+          trace(*a, s, &sa);
+          trace(*r, s, &sr);
+          const DacrtDetails da = ad->last_details(), dr = rd->last_details();
+          const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
+          const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
+          fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", set_label(s), sa.ray_box_tests,
+                     dr.partition_box_tests, dr.sampling_box_tests, 100 * ch_p, 100 * ch_a, sa.ray_tri_tests,
+                     sr.ray_tri_tests, dr.skipped_partitions);
+          out["counts"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)},
+                                   {"dacrt_box", sa.ray_box_tests}, {"rs_partition_box", dr.partition_box_tests},
+                                   {"rs_sampling_box", dr.sampling_box_tests}, {"rs_box", sr.ray_box_tests},
+                                   {"dacrt_tri", sa.ray_tri_tests}, {"rs_tri", sr.ray_tri_tests}});
+        }
+        fmt::print("\n");
       }
-      fmt::print("\n");
-    }
-    if (wants("counts")) {
-      fmt::print("## Ray-box tests per batch, {} at {}^2 (fig. 10; paper: -30..-50 % primary, -30..-40 % shadow, -50 % mirror, -20 % random)\n\n", v.name, o.study_res);
-      fmt::print("| batch | dacrt box tests | dacrt-rs partition | dacrt-rs sampling | change (partition) | change (all) | tri tests dacrt | tri tests dacrt-rs | skipped |\n|---|---|---|---|---|---|---|---|---|\n");
-      auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
-      const auto* ad = dynamic_cast<const Dacrt*>(a.get());
-      const auto* rd = dynamic_cast<const Dacrt*>(r.get());
-      for (const auto& s : sets) {
-        TraceStats sa, sr;
-        trace(*a, s, &sa);
-        trace(*r, s, &sr);
-        const DacrtDetails da = ad->last_details(), dr = rd->last_details();
-        const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
-        const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
-        fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", set_label(s), sa.ray_box_tests,
-                   dr.partition_box_tests, dr.sampling_box_tests, 100 * ch_p, 100 * ch_a, sa.ray_tri_tests,
-                   sr.ray_tri_tests, dr.skipped_partitions);
-        out["counts"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)},
-                                 {"dacrt_box", sa.ray_box_tests}, {"rs_partition_box", dr.partition_box_tests},
-                                 {"rs_sampling_box", dr.sampling_box_tests}, {"rs_box", sr.ray_box_tests},
-                                 {"dacrt_tri", sa.ray_tri_tests}, {"rs_tri", sr.ray_tri_tests}});
-      }
-      fmt::print("\n");
-    }
-    if (wants("peers")) {
-      fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch)\n\n", v.name, o.study_res);
-      fmt::print("| batch | rays | dacrt | dacrt-rs | bvh build | bvh trace | bvh total | embree build | embree trace | embree total |\n|---|---|---|---|---|---|---|---|---|---|\n");
-      auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
-      const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
-      for (const auto& s : sets) {
-        const double ta = time_trace(*a, s, o.reps), tr = time_trace(*r, s, o.reps);
-        double peer[2][2] = {{0, 0}, {0, 0}};
-        const char* names[2] = {"bvh", "embree"};
-        for (int k = 0; k < 2; ++k) {
-          if (k == 1 && !have_embree) continue;
-          std::vector<double> b, t;
-          for (int rep = 0; rep < o.reps; ++rep) {
-            const double t0 = now_ms();
-            auto acc = make_accelerator(names[k], *scene);
-            b.push_back(ms_since(t0));
-            const double t1 = now_ms();
-            trace(*acc, s);
-            t.push_back(ms_since(t1));
+      if (wants("peers")) {
+        fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch)\n\n", v.name, o.study_res);
+        fmt::print("| batch | rays | dacrt | dacrt-rs | bvh build | bvh trace | bvh total | embree build | embree trace | embree total |\n|---|---|---|---|---|---|---|---|---|---|\n");
+        auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
+        const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
+        for (const auto& s : sets) {
+          const double ta = time_trace(*a, s, o.reps), tr = time_trace(*r, s, o.reps);
+          double peer[2][2] = {{0, 0}, {0, 0}};
+          const char* names[2] = {"bvh", "embree"};
+          for (int k = 0; k < 2; ++k) {
+            if (k == 1 && !have_embree) continue;
+            std::vector<double> b, t;
+            for (int rep = 0; rep < o.reps; ++rep) {
+              const double t0 = now_ms();
+              auto acc = make_accelerator(names[k], *scene);
+              b.push_back(ms_since(t0));
+              const double t1 = now_ms();
+              trace(*acc, s);
+              t.push_back(ms_since(t1));
+            }
+            peer[k][0] = median(b); peer[k][1] = median(t);
           }
-          peer[k][0] = median(b); peer[k][1] = median(t);
+          fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", set_label(s), s.rays.size(), ta, tr,
+                     peer[0][0], peer[0][1], peer[0][0] + peer[0][1], peer[1][0], peer[1][1], peer[1][0] + peer[1][1]);
+          out["peers"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
+                                  {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", peer[0][0]}, {"bvh_trace_ms", peer[0][1]},
+                                  {"embree_build_ms", peer[1][0]}, {"embree_trace_ms", peer[1][1]}});
         }
-        fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", set_label(s), s.rays.size(), ta, tr,
-                   peer[0][0], peer[0][1], peer[0][0] + peer[0][1], peer[1][0], peer[1][1], peer[1][0] + peer[1][1]);
-        out["peers"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
-                                {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", peer[0][0]}, {"bvh_trace_ms", peer[0][1]},
-                                {"embree_build_ms", peer[1][0]}, {"embree_trace_ms", peer[1][1]}});
+        fmt::print("\n");
       }
-      fmt::print("\n");
+      if (wants("memory")) {
+        // Sec. 3: DACRT's memory is known in advance from |R| and |T| alone. Each row traces the
+        // first |R| primary rays over the first |T| triangles with a fresh accelerator and
+        // compares the formula (last_trace_memory_bytes) with the peak resident memory it added.
+        fmt::print("## Memory, {} primary rays at {}^2 (fresh accelerator per row; peak = peak RSS over the call minus RSS before it)\n\n", v.name, o.study_res);
+        fmt::print("| accelerator | \\|R\\| | \\|T\\| | formula MiB | peak MiB | peak / formula |\n|---|---:|---:|---:|---:|---:|\n");
+        const RaySet* primary = nullptr;
+        for (const auto& s : sets) if (set_label(s) == "primary") primary = &s;
+        if (!primary) { fmt::print("(no primary batch)\n\n"); continue; }
+        const size_t nr = primary->rays.size(), nt = scene->triangles.size();
+        const std::vector<std::pair<size_t, size_t>> sizes = {{nr / 16, nt}, {nr / 4, nt}, {nr, nt}, {nr, nt / 4}, {nr, nt / 16}};
+        for (const char* name : {"dacrt", "dacrt-rs"})
+          for (const auto& [r, t] : sizes) {
+            Scene part = *scene;
+            part.triangles.resize(t);
+            part.emissive_triangles.clear();
+            RayBatch rays = primary->rays;
+            rays.resize(r);
+            auto acc = make(name, part, o);
+            HitBatch hits;
+            hits.reset(r);  // the output, written before the peak restarts: not the accelerator's
+            const double before = restart_peak();
+            acc->intersect(rays, hits);
+            const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
+            fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
+            out["memory"].push_back({{"view", v.name}, {"accel", name}, {"rays", r}, {"triangles", t},
+                                     {"formula_bytes", formula}, {"peak_bytes", grown}});
+          }
+        fmt::print("\n");
+      }
+      std::fflush(stdout);
     }
-    if (wants("memory")) {
-      // Sec. 3: DACRT's memory is known in advance from |R| and |T| alone. Each row traces the
-      // first |R| primary rays over the first |T| triangles with a fresh accelerator and
-      // compares the formula (last_trace_memory_bytes) with the peak resident memory it added.
-      fmt::print("## Memory, {} primary rays at {}^2 (fresh accelerator per row; peak = peak RSS over the call minus RSS before it)\n\n", v.name, o.study_res);
-      fmt::print("| accelerator | \\|R\\| | \\|T\\| | formula MiB | peak MiB | peak / formula |\n|---|---:|---:|---:|---:|---:|\n");
-      const RaySet* primary = nullptr;
-      for (const auto& s : sets) if (set_label(s) == "primary") primary = &s;
-      if (!primary) { fmt::print("(no primary batch)\n\n"); continue; }
-      const size_t nr = primary->rays.size(), nt = scene->triangles.size();
-      const std::vector<std::pair<size_t, size_t>> sizes = {{nr / 16, nt}, {nr / 4, nt}, {nr, nt}, {nr, nt / 4}, {nr, nt / 16}};
-      for (const char* name : {"dacrt", "dacrt-rs"})
-        for (const auto& [r, t] : sizes) {
-          Scene part = *scene;
-          part.triangles.resize(t);
-          part.emissive_triangles.clear();
-          RayBatch rays = primary->rays;
-          rays.resize(r);
-          auto acc = make(name, part, o);
-          HitBatch hits;
-          hits.reset(r);  // the output, written before the peak restarts: not the accelerator's
-          const double before = restart_peak();
-          acc->intersect(rays, hits);
-          const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
-          fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
-          out["memory"].push_back({{"view", v.name}, {"accel", name}, {"rays", r}, {"triangles", t},
-                                   {"formula_bytes", formula}, {"peak_bytes", grown}});
-        }
-      fmt::print("\n");
+    if (!o.json.empty()) {
+      write_file(o.json, out.dump(1) + "\n", "results file");
+      fmt::print("results: {}\n", o.json);
     }
-    std::fflush(stdout);
-  }
-  if (!o.json.empty()) {
-    std::ofstream f(o.json);
-    f << out.dump(1) << "\n";
-    fmt::print("results: {}\n", o.json);
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -17,6 +17,8 @@
 #include <tbb/global_control.h>
 
 #include "rayscout/accelerators.h"
+#include "bench_support.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 #include "rayscout/manylight/manylight_renderer.h"
 #include "rayscout/scene/load_scene.h"
@@ -69,156 +71,170 @@ Image skip_to_image(const std::vector<float>& s, int w, int h) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"manylight_bench: the experiments of Nabata & Iwasaki 2019"};
-  app.add_option("--scenes", o.scenes, "sponza, sibenik_glossy, conference_large");
-  app.add_option("--width", o.width)->capture_default_str();
-  app.add_option("--height", o.height)->capture_default_str();
-  app.add_option("--budget", o.budget, "CPU seconds of rendering per mode")->capture_default_str();
-  app.add_option("--ref-factor", o.ref_factor, "reference budget / budget")->capture_default_str();
-  app.add_option("--vpl-scale", o.vpl_scale, "multiplies the VPL counts (1 = the paper's)")->capture_default_str();
-  app.add_option("--threads", o.threads)->capture_default_str();
-  app.add_option("--reps", o.reps, "independent runs per mode")->capture_default_str();
+  app.add_option("--scenes", o.scenes, "sponza, sibenik_glossy, conference_large")->capture_default_str();
+  app.add_option("--width", o.width)->capture_default_str()->check(CLI::Range(1, 32768));
+  app.add_option("--height", o.height)->capture_default_str()->check(CLI::Range(1, 32768));
+  app.add_option("--budget", o.budget, "CPU seconds of rendering per mode")->capture_default_str()->check(CLI::Range(1e-3, 1e6));
+  app.add_option("--ref-factor", o.ref_factor, "reference budget / budget")->capture_default_str()->check(CLI::Range(1e-3, 1e6));
+  app.add_option("--vpl-scale", o.vpl_scale, "multiplies the VPL counts (1 = the paper's)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1e3));
+  app.add_option("--threads", o.threads)->capture_default_str()->check(CLI::Range(1, 4096));
+  app.add_option("--reps", o.reps, "independent runs per mode")->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--equal-passes", o.equal_passes,
-                 "render this many passes per mode instead of --budget (paired comparison)")->capture_default_str();
-  app.add_option("--clamp-fraction", o.clamp_fraction, "G clamp distance / scene diagonal (0 = off)")->capture_default_str();
+                 "render this many passes per mode instead of --budget (paired comparison; 0 = use --budget)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  app.add_option("--clamp-fraction", o.clamp_fraction, "G clamp distance / scene diagonal (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
   app.add_option("--accel", o.accel)->capture_default_str();
   app.add_option("--out-dir", o.out_dir)->capture_default_str();
   app.add_option("--json", o.json)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
-  std::filesystem::create_directories(o.out_dir);
+  return bench::run_bench("manylight_bench", [&] {
+    // Every name is checked before the output folder and files are touched: a misspelt scene
+    // must not truncate the committed results.
+    std::vector<std::string> scene_names;
+    for (const BenchScene& s : kScenes) scene_names.push_back(s.name);
+    bench::check_names("--scenes", o.scenes, scene_names);
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+    std::filesystem::create_directories(o.out_dir);
+    check_output_path(o.json, "--json");
 
-  const std::vector<VisibilityMode> modes = {VisibilityMode::Exact, VisibilityMode::Veach,
-                                             VisibilityMode::Conservative, VisibilityMode::Proposed};
-  nlohmann::json results = nlohmann::json::array();
-  std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
-  csv << "scene,mode,rep,seconds,passes,rmse_raw,rmse,skip_rate\n";
-  for (const std::string& name : o.scenes) {
-    auto it = std::find_if(kScenes.begin(), kScenes.end(), [&](const BenchScene& s) { return s.name == name; });
-    if (it == kScenes.end()) { fmt::print(stderr, "unknown scene {}\n", name); return 2; }
-    Scene scene;
-    try {
-      scene = load_scene(std::string(RAYSCOUT_BENCH_DIR) + "/scenes/" + it->file);
-    } catch (const std::exception& e) {
-      fmt::print("skipping {}: {}\n", name, e.what());
-      continue;
-    }
-    auto accel = make_accelerator(o.accel, scene);
-    ManylightConfig config;
-    config.width = o.width;
-    config.height = o.height;
-    config.vpl_count = size_t(double(it->vpls) * o.vpl_scale);
-    config.cpu_clock = true;
-    config.clamp_distance = float(o.clamp_fraction * length(scene.bounds().diagonal()));
-    ManylightRenderer r(scene, *accel, config);
-    const auto& tm = r.timings();
-    fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, {} threads, G clamp {})\n", name,
-               scene.triangles.size(), r.vpls().vpls.size(), r.vpls().light_paths, o.width, o.height,
-               accel->name(), o.threads, o.clamp_fraction > 0 ? fmt::format("{} x diagonal", o.clamp_fraction) : "off");
-    r.calibrate();
-    fmt::print("preprocess (CPU s): VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f} "
-               "({} rays, {} refined pairs), pmf {:.2f}; calibration {:.2f}; t_eval {:.3g} us, t_skip {:.3g} us, "
-               "t_skip/t_eval {:.3f}\n",
-               tm.vpl_ms * 1e-3, tm.shading_points_ms * 1e-3, tm.cluster_ms * 1e-3, tm.visibility_ms * 1e-3,
-               r.clusters().shadow_rays, r.clusters().refined_pairs, tm.pmf_ms * 1e-3, tm.calibration_ms * 1e-3,
-               tm.t_eval * 1e6, tm.t_skip * 1e6, tm.t_skip / tm.t_eval);
-    std::fflush(stdout);
-    // Reference: exact visibility, many passes, as two independent halves A and B (own seeds).
-    // Its own noise is MSE_ref = E[(A - B)^2] / 4 per pixel and channel; every measured MSE
-    // (against (A + B) / 2, independent of the run) is MSE_run + MSE_ref, so it is subtracted.
-    const double ref_seconds = o.budget * o.ref_factor;
-    std::vector<Vec3> half[2];
-    for (int h = 0; h < 2; ++h) {
-      r.reset(VisibilityMode::Exact);
-      r.set_seed(0xFEF0 + uint64_t(h));
-      r.render_for(ref_seconds / 2, {});
-      half[h] = r.image();
-    }
-    std::vector<Vec3> ref(half[0].size());
-    double mse_ref = 0;
-    for (size_t i = 0; i < ref.size(); ++i) {
-      ref[i] = (half[0][i] + half[1][i]) * 0.5f;
-      const Vec3 d = half[0][i] - half[1][i];
-      mse_ref += (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / (4.0 * 3.0 * double(ref.size()));
-    }
-    write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
-    write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
+    const std::vector<VisibilityMode> modes = {VisibilityMode::Exact, VisibilityMode::Veach,
+                                               VisibilityMode::Conservative, VisibilityMode::Proposed};
+    nlohmann::json results = nlohmann::json::array();
+    std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
+    if (!csv) throw InputError(o.out_dir + "/rmse_over_time.csv: cannot open for writing");
+    csv << "scene,mode,rep,seconds,passes,rmse_raw,rmse,skip_rate\n";
+    for (const std::string& name : o.scenes) {
+      auto it = std::find_if(kScenes.begin(), kScenes.end(), [&](const BenchScene& s) { return s.name == name; });
+      Scene scene;
+      try {
+        scene = load_scene(std::string(RAYSCOUT_BENCH_DIR) + "/scenes/" + it->file);
+      } catch (const std::exception& e) {
+        fmt::print("skipping {}: {}\n", name, e.what());
+        continue;
+      }
+      auto accel = make_accelerator(o.accel, scene);
+      ManylightConfig config;
+      config.width = o.width;
+      config.height = o.height;
+      config.vpl_count = size_t(double(it->vpls) * o.vpl_scale);
+      config.cpu_clock = true;
+      config.clamp_distance = float(o.clamp_fraction * length(scene.bounds().diagonal()));
+      ManylightRenderer r(scene, *accel, config);
+      const auto& tm = r.timings();
+      fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, {} threads, G clamp {})\n", name,
+                 scene.triangles.size(), r.vpls().vpls.size(), r.vpls().light_paths, o.width, o.height,
+                 accel->name(), o.threads, o.clamp_fraction > 0 ? fmt::format("{} x diagonal", o.clamp_fraction) : "off");
+      r.calibrate();
+      fmt::print("preprocess (CPU s): VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f} "
+                 "({} rays, {} refined pairs), pmf {:.2f}; calibration {:.2f}; t_eval {:.3g} us, t_skip {:.3g} us, "
+                 "t_skip/t_eval {:.3f}\n",
+                 tm.vpl_ms * 1e-3, tm.shading_points_ms * 1e-3, tm.cluster_ms * 1e-3, tm.visibility_ms * 1e-3,
+                 r.clusters().shadow_rays, r.clusters().refined_pairs, tm.pmf_ms * 1e-3, tm.calibration_ms * 1e-3,
+                 tm.t_eval * 1e6, tm.t_skip * 1e6, tm.t_skip / tm.t_eval);
+      std::fflush(stdout);
+      // Reference: exact visibility, many passes, as two independent halves A and B (own seeds).
+      // Its own noise is MSE_ref = E[(A - B)^2] / 4 per pixel and channel; every measured MSE
+      // (against (A + B) / 2, independent of the run) is MSE_run + MSE_ref, so it is subtracted.
+      const double ref_seconds = o.budget * o.ref_factor;
+      std::vector<Vec3> half[2];
+      for (int h = 0; h < 2; ++h) {
+        r.reset(VisibilityMode::Exact);
+        r.set_seed(0xFEF0 + uint64_t(h));
+        r.render_for(ref_seconds / 2, {});
+        half[h] = r.image();
+      }
+      std::vector<Vec3> ref(half[0].size());
+      double mse_ref = 0;
+      for (size_t i = 0; i < ref.size(); ++i) {
+        ref[i] = (half[0][i] + half[1][i]) * 0.5f;
+        const Vec3 d = half[0][i] - half[1][i];
+        mse_ref += (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / (4.0 * 3.0 * double(ref.size()));
+      }
+      write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
+      write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
 
-    // Modes interleaved within each repetition, so a change of machine load hits all of them.
-    std::map<VisibilityMode, std::vector<std::vector<ProgressRecord>>> runs;
-    for (int rep = 0; rep < o.reps; ++rep)
-      for (size_t m = 0; m < modes.size(); ++m) {
-        r.reset(modes[m]);
-        // Common random numbers: all modes of a repetition draw the same VPL samples pass by
-        // pass (the skip decisions use further numbers), so a rare huge sample (an unclamped
-        // VPL next to a surface) hits every mode that reaches that pass, not one at random.
-        r.set_seed(100 + 16 * uint64_t(rep));
-        runs[modes[m]].push_back(o.equal_passes > 0 ? r.render_for(1e300, ref, size_t(o.equal_passes))
-                                                    : r.render_for(o.budget, ref));
-        if (rep > 0) continue;
-        write_image(to_image(r.image(), o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
-        if (modes[m] != VisibilityMode::Exact)
-          write_image(skip_to_image(r.skip_image(), o.width, o.height),
-                      o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");
+      // Modes interleaved within each repetition, so a change of machine load hits all of them.
+      std::map<VisibilityMode, std::vector<std::vector<ProgressRecord>>> runs;
+      for (int rep = 0; rep < o.reps; ++rep)
+        for (size_t m = 0; m < modes.size(); ++m) {
+          r.reset(modes[m]);
+          // Common random numbers: all modes of a repetition draw the same VPL samples pass by
+          // pass (the skip decisions use further numbers), so a rare huge sample (an unclamped
+          // VPL next to a surface) hits every mode that reaches that pass, not one at random.
+          r.set_seed(100 + 16 * uint64_t(rep));
+          runs[modes[m]].push_back(o.equal_passes > 0 ? r.render_for(1e300, ref, size_t(o.equal_passes))
+                                                      : r.render_for(o.budget, ref));
+          if (rep > 0) continue;
+          write_image(to_image(r.image(), o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
+          if (modes[m] != VisibilityMode::Exact)
+            write_image(skip_to_image(r.skip_image(), o.width, o.height),
+                        o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");
+        }
+      auto corrected = [&](double rmse) { return std::max(1e-30, rmse * rmse - mse_ref); };
+      for (auto& [mode, reps] : runs)
+        for (size_t rep = 0; rep < reps.size(); ++rep)
+          for (const auto& p : reps[rep])
+            csv << name << "," << to_string(mode) << "," << rep << "," << p.seconds << "," << p.passes << "," << p.rmse
+                << "," << std::sqrt(corrected(p.rmse)) << "," << p.skip_rate << "\n";
+      // Unbiased progressive estimates have MSE ~ 1 / t, so MSE * t is a mode's inverse
+      // efficiency and the time to reach exact's equal-time MSE is T * (MSE t)_mode / (MSE t)_exact.
+      // This uses every sample of every run; the first crossing of a single, firefly-noisy curve
+      // would not.
+      std::map<VisibilityMode, double> mse_t, mse, skip, passes;
+      for (auto& [mode, reps] : runs)
+        for (const auto& rec : reps) {
+          mse_t[mode] += corrected(rec.back().rmse) * rec.back().seconds / o.reps;
+          mse[mode] += corrected(rec.back().rmse) / o.reps;
+          skip[mode] += rec.back().skip_rate / o.reps;
+          passes[mode] += double(rec.back().passes) / o.reps;
+        }
+      const double pre = tm.preprocess_ms() * 1e-3;
+      fmt::print("\n| mode | passes ({:.0f} s budget or equal passes) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", o.budget);
+      fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+      nlohmann::json js = {{"scene", name}, {"triangles", scene.triangles.size()}, {"vpls", r.vpls().vpls.size()},
+                           {"width", o.width}, {"height", o.height}, {"threads", o.threads}, {"accel", accel->name()},
+                           {"budget_cpu_s", o.budget}, {"reference_cpu_s", ref_seconds}, {"preprocess_cpu_s", pre},
+                           {"reps", o.reps}, {"clamp_fraction", o.clamp_fraction},
+                           {"vpl_s", tm.vpl_ms * 1e-3}, {"shading_points_s", tm.shading_points_ms * 1e-3},
+                           {"cluster_s", tm.cluster_ms * 1e-3}, {"visibility_s", tm.visibility_ms * 1e-3},
+                           {"pmf_s", tm.pmf_ms * 1e-3}, {"calibration_s", tm.calibration_ms * 1e-3},
+                           {"t_eval_us", tm.t_eval * 1e6}, {"t_skip_us", tm.t_skip * 1e6},
+                           {"t_skip_over_t_eval", tm.t_skip / tm.t_eval}, {"rmse_ref_noise", std::sqrt(mse_ref)},
+                           {"shadow_rays_visibility_cluster", r.clusters().shadow_rays},
+                           {"refined_pairs", r.clusters().refined_pairs}};
+      // Exact's mean render time: the budget (slightly exceeded by the last pass), or the time of
+      // its equal passes.
+      double t_exact = 0;
+      for (const auto& rec : runs[VisibilityMode::Exact]) t_exact += rec.back().seconds / o.reps;
+      for (VisibilityMode mode : modes) {
+        const double t_reach = t_exact * mse_t[mode] / mse_t[VisibilityMode::Exact];
+        // With the preprocess: every mode pays VisibilityCluster (exact samples with its pdf
+        // too); the probabilistic modes also pay the calibration renders.
+        const double extra = mode == VisibilityMode::Exact ? 0.0 : tm.calibration_ms * 1e-3;
+        const double with = (t_exact + pre) / (t_reach + pre + extra);
+        const double speed = t_exact / t_reach;
+        std::string per_run;
+        std::vector<double> per;
+        for (const auto& rec : runs[mode]) {
+          per.push_back(corrected(rec.back().rmse) * rec.back().seconds);
+          per_run += fmt::format("{}{:.3g}", per_run.empty() ? "" : " ", per.back());
+        }
+        fmt::print("| {} | {:.1f} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x | {} |\n", to_string(mode),
+                   passes[mode], std::sqrt(mse[mode]), 100 * skip[mode], t_reach, speed, with, per_run);
+        js["modes"][to_string(mode)] = {{"passes", passes[mode]}, {"rmse", std::sqrt(mse[mode])},
+                                        {"skip_rate", skip[mode]}, {"time_to_exact_rmse_s", t_reach},
+                                        {"speedup", speed}, {"speedup_with_preprocess", with}, {"mse_times_t", per}};
       }
-    auto corrected = [&](double rmse) { return std::max(1e-30, rmse * rmse - mse_ref); };
-    for (auto& [mode, reps] : runs)
-      for (size_t rep = 0; rep < reps.size(); ++rep)
-        for (const auto& p : reps[rep])
-          csv << name << "," << to_string(mode) << "," << rep << "," << p.seconds << "," << p.passes << "," << p.rmse
-              << "," << std::sqrt(corrected(p.rmse)) << "," << p.skip_rate << "\n";
-    // Unbiased progressive estimates have MSE ~ 1 / t, so MSE * t is a mode's inverse
-    // efficiency and the time to reach exact's equal-time MSE is T * (MSE t)_mode / (MSE t)_exact.
-    // This uses every sample of every run; the first crossing of a single, firefly-noisy curve
-    // would not.
-    std::map<VisibilityMode, double> mse_t, mse, skip, passes;
-    for (auto& [mode, reps] : runs)
-      for (const auto& rec : reps) {
-        mse_t[mode] += corrected(rec.back().rmse) * rec.back().seconds / o.reps;
-        mse[mode] += corrected(rec.back().rmse) / o.reps;
-        skip[mode] += rec.back().skip_rate / o.reps;
-        passes[mode] += double(rec.back().passes) / o.reps;
-      }
-    const double pre = tm.preprocess_ms() * 1e-3;
-    fmt::print("\n| mode | passes ({:.0f} s budget or equal passes) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", o.budget);
-    fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
-    nlohmann::json js = {{"scene", name}, {"triangles", scene.triangles.size()}, {"vpls", r.vpls().vpls.size()},
-                         {"width", o.width}, {"height", o.height}, {"threads", o.threads}, {"accel", accel->name()},
-                         {"budget_cpu_s", o.budget}, {"reference_cpu_s", ref_seconds}, {"preprocess_cpu_s", pre},
-                         {"reps", o.reps}, {"clamp_fraction", o.clamp_fraction},
-                         {"vpl_s", tm.vpl_ms * 1e-3}, {"shading_points_s", tm.shading_points_ms * 1e-3},
-                         {"cluster_s", tm.cluster_ms * 1e-3}, {"visibility_s", tm.visibility_ms * 1e-3},
-                         {"pmf_s", tm.pmf_ms * 1e-3}, {"calibration_s", tm.calibration_ms * 1e-3},
-                         {"t_eval_us", tm.t_eval * 1e6}, {"t_skip_us", tm.t_skip * 1e6},
-                         {"t_skip_over_t_eval", tm.t_skip / tm.t_eval}, {"rmse_ref_noise", std::sqrt(mse_ref)},
-                         {"shadow_rays_visibility_cluster", r.clusters().shadow_rays},
-                         {"refined_pairs", r.clusters().refined_pairs}};
-    // Exact's mean render time: the budget (slightly exceeded by the last pass), or the time of
-    // its equal passes.
-    double t_exact = 0;
-    for (const auto& rec : runs[VisibilityMode::Exact]) t_exact += rec.back().seconds / o.reps;
-    for (VisibilityMode mode : modes) {
-      const double t_reach = t_exact * mse_t[mode] / mse_t[VisibilityMode::Exact];
-      // With the preprocess: every mode pays VisibilityCluster (exact samples with its pdf
-      // too); the probabilistic modes also pay the calibration renders.
-      const double extra = mode == VisibilityMode::Exact ? 0.0 : tm.calibration_ms * 1e-3;
-      const double with = (t_exact + pre) / (t_reach + pre + extra);
-      const double speed = t_exact / t_reach;
-      std::string per_run;
-      std::vector<double> per;
-      for (const auto& rec : runs[mode]) {
-        per.push_back(corrected(rec.back().rmse) * rec.back().seconds);
-        per_run += fmt::format("{}{:.3g}", per_run.empty() ? "" : " ", per.back());
-      }
-      fmt::print("| {} | {:.1f} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x | {} |\n", to_string(mode),
-                 passes[mode], std::sqrt(mse[mode]), 100 * skip[mode], t_reach, speed, with, per_run);
-      js["modes"][to_string(mode)] = {{"passes", passes[mode]}, {"rmse", std::sqrt(mse[mode])},
-                                      {"skip_rate", skip[mode]}, {"time_to_exact_rmse_s", t_reach},
-                                      {"speedup", speed}, {"speedup_with_preprocess", with}, {"mse_times_t", per}};
+      std::fflush(stdout);
+      results.push_back(js);
+      write_file(o.json, results.dump(2) + "\n", "--json");
     }
-    std::fflush(stdout);
-    results.push_back(js);
-    std::ofstream(o.json) << results.dump(2) << "\n";
-  }
-  fmt::print("\nwrote {} and {}/rmse_over_time.csv\n", o.json, o.out_dir);
-  return 0;
+    fmt::print("\nwrote {} and {}/rmse_over_time.csv\n", o.json, o.out_dir);
+    return 0;
+  });
 }
