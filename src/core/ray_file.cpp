@@ -1,13 +1,14 @@
 // Ray files (RAYS, HITS, OCCL v1): little-endian binary I/O with errors naming the file.
 #include "rayscout/core/ray_file.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <algorithm>
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/core/output_path.h"
