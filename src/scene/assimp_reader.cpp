@@ -4,8 +4,11 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <array>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rayscout/scene/mesh.h"
 #include "text_parse.h"
@@ -26,9 +29,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path, ec))
     throw InputError(detail::display_name(path) + ": cannot open: No such file or directory");
   Assimp::Importer importer;
-  // PreTransformVertices bakes node transforms into world-space vertices, in node order.
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                                                              aiProcess_SortByPType);
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
   if (!scene) throw InputError(detail::display_name(path) + ": " + importer.GetErrorString());
   Mesh mesh;
   for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
@@ -43,28 +44,45 @@ Mesh read_assimp(const std::filesystem::path& path) {
     mesh.materials.push_back(material_from_mtl(n, kd, ks, ns, 2, ke));
   }
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});
-  for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
-    const aiMesh* am = scene->mMeshes[mi];
-    if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    const uint32_t base = uint32_t(mesh.positions.size());
-    for (unsigned v = 0; v < am->mNumVertices; ++v) {
-      Vec3 p(am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z);
-      if (!is_finite(p))
-        throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " vertex " + std::to_string(v) +
-                         ": coordinate is not finite");
-      mesh.positions.push_back(p);
-    }
-    const uint32_t mat = am->mMaterialIndex < mesh.materials.size() ? am->mMaterialIndex : 0;
-    for (unsigned f = 0; f < am->mNumFaces; ++f) {
-      const aiFace& face = am->mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      for (int k = 0; k < 3; ++k)
-        if (face.mIndices[k] >= am->mNumVertices)
-          throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " face " + std::to_string(f) +
-                           ": index " + std::to_string(face.mIndices[k]) + " out of range (" +
-                           std::to_string(am->mNumVertices) + " vertices)");
-      mesh.faces.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
-      mesh.face_materials.push_back(mat);
+  // Every instance of a mesh in the node tree, in world space. The node transforms are applied
+  // here, not by aiProcess_PreTransformVertices, which keeps the corner order of a mirrored
+  // node: glTF 2.0 (sec. 3.7.4, instantiation) reverses the winding of a node whose global
+  // transform has a negative determinant, so that its faces' fronts stay outside.
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> nodes;
+  if (scene->mRootNode) nodes.push_back({scene->mRootNode, scene->mRootNode->mTransformation});
+  while (!nodes.empty()) {
+    const auto [node, global] = nodes.back();
+    nodes.pop_back();
+    for (unsigned c = node->mNumChildren; c-- > 0;)
+      nodes.push_back({node->mChildren[c], global * node->mChildren[c]->mTransformation});
+    const bool mirrored = global.Determinant() < 0;
+    for (unsigned n = 0; n < node->mNumMeshes; ++n) {
+      const unsigned mi = node->mMeshes[n];
+      if (mi >= scene->mNumMeshes) continue;
+      const aiMesh* am = scene->mMeshes[mi];
+      if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      const uint32_t base = uint32_t(mesh.positions.size());
+      for (unsigned v = 0; v < am->mNumVertices; ++v) {
+        const aiVector3D w = global * am->mVertices[v];
+        const Vec3 p(w.x, w.y, w.z);
+        if (!is_finite(p))
+          throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " vertex " + std::to_string(v) +
+                           ": coordinate is not finite");
+        mesh.positions.push_back(p);
+      }
+      const uint32_t mat = am->mMaterialIndex < mesh.materials.size() ? am->mMaterialIndex : 0;
+      for (unsigned f = 0; f < am->mNumFaces; ++f) {
+        const aiFace& face = am->mFaces[f];
+        if (face.mNumIndices != 3) continue;
+        for (int k = 0; k < 3; ++k)
+          if (face.mIndices[k] >= am->mNumVertices)
+            throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " face " + std::to_string(f) +
+                             ": index " + std::to_string(face.mIndices[k]) + " out of range (" +
+                             std::to_string(am->mNumVertices) + " vertices)");
+        const uint32_t a = base + face.mIndices[0], b = base + face.mIndices[1], c = base + face.mIndices[2];
+        mesh.faces.push_back(mirrored ? std::array<uint32_t, 3>{a, c, b} : std::array<uint32_t, 3>{a, b, c});
+        mesh.face_materials.push_back(mat);
+      }
     }
   }
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no triangles (empty mesh)");

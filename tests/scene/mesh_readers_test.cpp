@@ -234,6 +234,32 @@ TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
   EXPECT_NE(msg.find("bad.gltf"), std::string::npos) << msg;
 }
 
+// Node transforms compose down the hierarchy, an instanced mesh appears once per node, and a
+// node whose global transform mirrors (determinant < 0) reverses the winding, as glTF 2.0
+// specifies, so the face still points +z: corners 0, 2, 1 after the mirror.
+TEST(GltfReader, MirroredNodeKeepsItsFrontAndTransformsCompose) {
+  TempDir dir;
+  std::string buf;
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(buf, f, false);
+  for (uint16_t i : {0, 1, 2}) put<uint16_t>(buf, i, false);
+  buf.append(2, '\0');
+  const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 2]}],
+    "nodes": [{"translation": [0, 0, 5], "children": [1]}, {"mesh": 0, "scale": [-1, 1, 1]}, {"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" + base64(buf) + R"("}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+                  {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+  const Scene s = load_scene(dir.write("m.gltf", gltf));
+  ASSERT_EQ(s.triangles.size(), 2u);
+  const bool first_mirrored = s.triangles[0].v0.z == 5.0f;
+  const Triangle& mirrored = s.triangles[first_mirrored ? 0 : 1];
+  const Triangle& plain = s.triangles[first_mirrored ? 1 : 0];
+  expect_triangle(mirrored, {0, 0, 5}, {0, 1, 5}, {-1, 0, 5});
+  expect_triangle(plain, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  for (const Triangle* t : {&mirrored, &plain}) EXPECT_GT(t->normal().z, 0.0f);
+}
+
 TEST(GltfReader, BinaryGlb) {
   TempDir dir;
   std::string bin;
