@@ -209,20 +209,26 @@ std::string base64(const std::string& in) {
   return out;
 }
 
-TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
-  TempDir dir;
+// A glTF whose mesh 0 is the embedded triangle (0,0,0), (1,0,0), (0,1,0); `members` adds the
+// "scenes" and "nodes" (and any "materials"), `primitive` extra fields of its primitive.
+std::string triangle_gltf(const std::string& members, const std::string& primitive = "") {
   std::string buf;
   for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(buf, f, false);
   for (uint16_t i : {0, 1, 2}) put<uint16_t>(buf, i, false);
   buf.append(2, '\0');
-  const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-    "nodes": [{"mesh": 0, "translation": [0, 0, 5]}],
-    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
-    "materials": [{"name": "glow", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]}, "emissiveFactor": [1, 2, 3]}],
+  return R"({"asset": {"version": "2.0"}, "scene": 0, )" + members + R"(,
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1)" + primitive + R"(}]}],
     "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" + base64(buf) + R"("}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
                   {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+}
+
+TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
+  TempDir dir;
+  const std::string gltf = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "translation": [0, 0, 5]}],
+    "materials": [{"name": "glow", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]}, "emissiveFactor": [1, 2, 3]}])",
+                                         R"(, "material": 0)");
   const Scene s = load_scene(dir.write("t.gltf", gltf));
   ASSERT_EQ(s.triangles.size(), 1u);
   expect_triangle(s.triangles[0], {0, 0, 5}, {1, 0, 5}, {0, 1, 5});
@@ -239,17 +245,8 @@ TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
 // specifies, so the face still points +z: corners 0, 2, 1 after the mirror.
 TEST(GltfReader, MirroredNodeKeepsItsFrontAndTransformsCompose) {
   TempDir dir;
-  std::string buf;
-  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(buf, f, false);
-  for (uint16_t i : {0, 1, 2}) put<uint16_t>(buf, i, false);
-  buf.append(2, '\0');
-  const std::string gltf = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 2]}],
-    "nodes": [{"translation": [0, 0, 5], "children": [1]}, {"mesh": 0, "scale": [-1, 1, 1]}, {"mesh": 0}],
-    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-    "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)" + base64(buf) + R"("}],
-    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
-    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
-                  {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+  const std::string gltf = triangle_gltf(R"("scenes": [{"nodes": [0, 2]}],
+    "nodes": [{"translation": [0, 0, 5], "children": [1]}, {"mesh": 0, "scale": [-1, 1, 1]}, {"mesh": 0}])");
   const Scene s = load_scene(dir.write("m.gltf", gltf));
   ASSERT_EQ(s.triangles.size(), 2u);
   const bool first_mirrored = s.triangles[0].v0.z == 5.0f;
