@@ -4,13 +4,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "rayscout/scene/mesh.h"
+#include "scene_builder.h"
 #include "text_parse.h"
 
 namespace rayscout {
@@ -46,8 +46,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});
   // Every instance of a mesh in the node tree, in world space. The node transforms are applied
   // here, not by aiProcess_PreTransformVertices, which keeps the corner order of a mirrored
-  // node: glTF 2.0 (sec. 3.7.4, instantiation) reverses the winding of a node whose global
-  // transform has a negative determinant, so that its faces' fronts stay outside.
+  // node (corners_after).
   std::vector<std::pair<const aiNode*, aiMatrix4x4>> nodes;
   if (scene->mRootNode) nodes.push_back({scene->mRootNode, scene->mRootNode->mTransformation});
   while (!nodes.empty()) {
@@ -79,8 +78,8 @@ Mesh read_assimp(const std::filesystem::path& path) {
             throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " face " + std::to_string(f) +
                              ": index " + std::to_string(face.mIndices[k]) + " out of range (" +
                              std::to_string(am->mNumVertices) + " vertices)");
-        const uint32_t a = base + face.mIndices[0], b = base + face.mIndices[1], c = base + face.mIndices[2];
-        mesh.faces.push_back(mirrored ? std::array<uint32_t, 3>{a, c, b} : std::array<uint32_t, 3>{a, b, c});
+        mesh.faces.push_back(
+            detail::corners_after({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]}, mirrored));
         mesh.face_materials.push_back(mat);
       }
     }

@@ -87,14 +87,11 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     scene_.triangles.reserve(std::max(need, 2 * scene_.triangles.capacity()));
     scene_.material_ids.reserve(std::max(need, 2 * scene_.material_ids.capacity()));
   }
-  // A mirroring transform turns every face inside out; swapping two corners keeps each
-  // face's front (one-sided area lights emit from it) where the author put it, as glTF asks
-  // for nodes with a negative determinant.
   const bool mirrored = !identity && xf.determinant() < 0.0;
   size_t dropped = 0;
   for (size_t f = 0; f < mesh.faces.size(); ++f) {
-    const auto& face = mesh.faces[f];
-    Triangle t{pos[face[0]], pos[face[mirrored ? 2 : 1]], pos[face[mirrored ? 1 : 2]]};
+    const auto c = corners_after(mesh.faces[f], mirrored);
+    Triangle t{pos[c[0]], pos[c[1]], pos[c[2]]};
     const Vec3 n = t.normal();
     if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) {
       ++dropped;

@@ -1,6 +1,8 @@
 // SceneBuilder: assembles meshes into a Scene (material table, transforms, degenerate drops).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -13,6 +15,13 @@ namespace rayscout::detail {
 
 /// Largest |coordinate| of a vertex: squared distances (falloff, diagonals) stay finite in float.
 inline constexpr float kMaxCoordinate = 1e18f;
+
+/// A face's corners after a transform: a mirroring one (negative determinant) turns the face
+/// inside out, so two corners swap to keep its front (one-sided area lights emit from it)
+/// where the author put it, as glTF 2.0 (sec. 3.7.4) asks of nodes with a negative determinant.
+inline std::array<uint32_t, 3> corners_after(const std::array<uint32_t, 3>& face, bool mirrored) {
+  return mirrored ? std::array<uint32_t, 3>{face[0], face[2], face[1]} : face;
+}
 
 /// Appends meshes to a scene in call order, so triangle ids are the load order.
 class SceneBuilder {
