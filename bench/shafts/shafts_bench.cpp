@@ -15,7 +15,6 @@
 #include <tbb/global_control.h>
 
 #include "bench_support.h"
-#include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/render/workloads.h"
@@ -195,13 +194,10 @@ int main(int argc, char** argv) {
       std::vector<RaySet> sets;
       for (const Variant& v : variants) {
         const auto base = v.base == "wide" ? ShaftsAccelerator::Base::Wide : ShaftsAccelerator::Base::Binary;
-        // The options as the registry reads them for "shafts" / "shafts-wide": the wide BVH is
-        // built as the "bvh" accelerator builds it, and a key neither reads is an error.
+        // The options as the registry reads them; a key the accelerator does not read is an error.
         AcceleratorOptions o;
         for (const auto& kv : opts) o.set(kv);
-        ShaftConfig cfg = ShaftConfig::from_options(o, base == ShaftsAccelerator::Base::Wide ? kWideWidth : 2);
-        const BvhBuildConfig bvh_cfg =
-            base == ShaftsAccelerator::Base::Wide ? wide_bvh_config_from_options(o) : bvh_config_from_options(o);
+        auto [cfg, bvh_cfg] = ShaftsAccelerator::settings_from_options(o, base);
         o.check_all_used(base == ShaftsAccelerator::Base::Wide ? "shafts-wide" : "shafts");
         if (v.budget_rel > 0) cfg.budget_rel = v.budget_rel;
         if (v.dir_res > 0) cfg.dir_res = v.dir_res;

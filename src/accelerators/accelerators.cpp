@@ -44,13 +44,13 @@ const std::vector<Entry>& registry() {
        }},
       {{"shafts", "ray classification, Hendrich et al. 2019: shaft candidate lists seed the binary BVH (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, ShaftConfig::from_options(o, 2),
-                                                    bvh_config_from_options(o));
+         const auto set = ShaftsAccelerator::settings_from_options(o, ShaftsAccelerator::Base::Binary);
+         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, set.shafts, set.bvh);
        }},
       {{"shafts-wide", "ray classification over the 8-wide BVH, min hit probability 7/8 (options in docs/shafts.md)"},
        [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, ShaftConfig::from_options(o, kWideWidth),
-                                                    wide_bvh_config_from_options(o));
+         const auto set = ShaftsAccelerator::settings_from_options(o, ShaftsAccelerator::Base::Wide);
+         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, set.shafts, set.bvh);
        }},
 #if RAYSCOUT_WITH_EMBREE
       {{"embree", "Intel Embree 3, high-quality build, robust mode (peer; options robust, quality, packet)"},

@@ -10,9 +10,15 @@
 
 #include "../bvh/cull_interval.h"
 #include "entry_filter.h"
+#include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/shafts/ray_sampling.h"
 
 namespace rayscout {
+
+ShaftsAccelerator::Settings ShaftsAccelerator::settings_from_options(const AcceleratorOptions& options, Base base) {
+  if (base == Base::Binary) return {ShaftConfig::from_options(options, 2), bvh_config_from_options(options)};
+  return {ShaftConfig::from_options(options, kWideWidth), wide_bvh_config_from_options(options)};
+}
 
 ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config_in,
                                      const BvhBuildConfig& bvh_config)

@@ -26,6 +26,15 @@ class ShaftsAccelerator final : public Accelerator {
   ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config = {},
                     const BvhBuildConfig& bvh_config = {});
 
+  /// The shaft and BVH build settings `shafts` (Binary) or `shafts-wide` (Wide) read from
+  /// --accel-opt keys: the wide BVH is built as the "bvh" accelerator builds it. Keys neither
+  /// reads stay unread, for AcceleratorOptions::check_all_used().
+  struct Settings {
+    ShaftConfig shafts;
+    BvhBuildConfig bvh;
+  };
+  static Settings settings_from_options(const AcceleratorOptions& options, Base base);
+
   std::string name() const override { return base_ == Base::Binary ? "shafts" : "shafts-wide"; }
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
