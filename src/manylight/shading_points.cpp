@@ -12,11 +12,7 @@ std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Acce
   if (config.width <= 0 || config.height <= 0 || config.spp <= 0)
     throw InputError("manylight: width, height and spp must be positive");
   const Camera& cam = scene.camera;
-  const Vec3 forward = normalize(cam.look_at - cam.eye);
-  const Vec3 right = normalize(cross(forward, cam.up));
-  const Vec3 up = cross(right, forward);
-  const float tan_half = std::tan(0.5f * cam.fov_deg * kPi / 180.0f);
-  const float aspect = float(config.width) / float(config.height);
+  const CameraFrame frame = camera_frame(cam, float(config.width) / float(config.height));
   const size_t n = size_t(config.width) * config.height * config.spp;
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
@@ -35,10 +31,9 @@ std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Acce
       jx = rng.uniform();
       jy = rng.uniform();
     }
-    const float px = (2.0f * (float(x) + jx) / float(config.width) - 1.0f) * tan_half * aspect;
-    const float py = (1.0f - 2.0f * (float(y) + jy) / float(config.height)) * tan_half;
     points[i].pixel = pixel;
-    rays.set(i, {cam.eye, 0.0f, normalize(forward + right * px + up * py), kInfinity});
+    const Vec3 dir = frame.direction((float(x) + jx) / float(config.width), (float(y) + jy) / float(config.height));
+    rays.set(i, {cam.eye, 0.0f, dir, kInfinity});
     active[i] = uint32_t(i);
   }
   HitBatch hits;

@@ -1,35 +1,30 @@
 // Camera rays: pinhole and thin-lens models, stratified pixel samples.
 #include "rayscout/render/camera_rays.h"
 
+#include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace rayscout {
 
 CameraRays::CameraRays(const Camera& camera, int width, int height)
-    : eye_(camera.eye), lens_radius_(camera.lens_radius), focus_distance_(camera.focus_distance),
-      width_(width), height_(height) {
-  forward_ = normalize(camera.look_at - camera.eye);
-  Vec3 right = cross(forward_, camera.up);
-  if (length(right) < 1e-6f)  // up parallel to the view axis: any perpendicular will do
-    right = cross(forward_, std::fabs(forward_.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0});
-  right_ = normalize(right);
-  up_ = cross(right_, forward_);
-  half_h_ = std::tan(0.5f * camera.fov_deg * std::numbers::pi_v<float> / 180.0f);
-  half_w_ = half_h_ * float(width) / float(height);
-}
+    : frame_(camera_frame(camera, float(width) / float(height))), eye_(camera.eye),
+      lens_radius_(camera.lens_radius), focus_distance_(camera.focus_distance), width_(width), height_(height) {}
 
 Ray CameraRays::generate(float film_x, float film_y, float lens_u, float lens_v) const {
-  const float sx = (2.0f * film_x / float(width_) - 1.0f) * half_w_;
-  const float sy = (1.0f - 2.0f * film_y / float(height_)) * half_h_;
-  Vec3 dir = normalize(forward_ + right_ * sx + up_ * sy);
+  Vec3 dir = frame_.direction(film_x / float(width_), film_y / float(height_));
   Vec3 org = eye_;
   if (lens_radius_ > 0) {
-    const Vec3 focus = eye_ + dir * (focus_distance_ / dot(dir, forward_));
+    // The ray runs from the lens point eye + offset to the point in focus eye + dir * k, i.e.
+    // along dir * k - offset. Divided by s = max(k, |offset|) first, that vector has a length
+    // between min(cos, 1 - sin) of dir's angle to the view axis and 2, so neither a far focus
+    // plane nor a wide lens overflows or underflows the normalisation.
+    const float k = focus_distance_ / dot(dir, frame_.forward);
     float dx, dy;
     concentric_disk(lens_u, lens_v, dx, dy);
-    org = eye_ + (right_ * dx + up_ * dy) * lens_radius_;
-    dir = normalize(focus - org);
+    const Vec3 offset = (frame_.right * dx + frame_.up * dy) * lens_radius_;
+    const float s = std::max(k, std::hypot(dx, dy) * lens_radius_);
+    org = eye_ + offset;
+    dir = normalize(dir * (k / s) - offset / s);
   }
   return {org, 0.0f, dir, kInfinity};
 }

@@ -75,6 +75,16 @@ class Fields {
     if (!j.is_array() || j.size() != 3) fail(field, "expected an array of 3 numbers [x, y, z]");
     return {number(j[0], field + "[0]"), number(j[1], field + "[1]"), number(j[2], field + "[2]")};
   }
+  // Points and lengths the renderer squares (distances, falloff): bounded like vertices.
+  float bounded(float v, const std::string& field) const {
+    if (std::fabs(v) > kMaxCoordinate) fail(field, "is beyond +-1e18, where squared distances overflow float; scale the scene down");
+    return v;
+  }
+  Vec3 position(const Json& j, const std::string& field) const {
+    const Vec3 p = vec3(j, field);
+    bounded(max_component(abs(p)), field);
+    return p;
+  }
   Vec3 direction(const Json& j, const std::string& field) const {
     const Vec3 v = vec3(j, field);
     if (v.x == 0 && v.y == 0 && v.z == 0) fail(field, "direction must not be zero");
@@ -435,7 +445,7 @@ class JsonSceneLoader {
       f_.check_keys(j, field, {"type", "position", "intensity"});
       if (!j.contains("position")) f_.fail(Fields::join(field, "position"), "missing");
       PointLight l;
-      l.position = f_.vec3(j["position"], Fields::join(field, "position"));
+      l.position = f_.position(j["position"], Fields::join(field, "position"));
       if (j.contains("intensity")) l.intensity = f_.color(j["intensity"], Fields::join(field, "intensity"));
       scene.point_lights.push_back(l);
       return;
@@ -471,15 +481,17 @@ class JsonSceneLoader {
   CameraFields parse_camera(const Json& j) {
     f_.check_keys(j, "camera", {"eye", "look_at", "up", "fov_deg", "lens_radius", "focus_distance"});
     CameraFields c;
-    if (j.contains("eye")) c.eye = f_.vec3(j["eye"], "camera.eye");
-    if (j.contains("look_at")) c.look_at = f_.vec3(j["look_at"], "camera.look_at");
+    if (j.contains("eye")) c.eye = f_.position(j["eye"], "camera.eye");
+    if (j.contains("look_at")) c.look_at = f_.position(j["look_at"], "camera.look_at");
     if (j.contains("up")) c.up = f_.direction(j["up"], "camera.up");
     if (j.contains("fov_deg")) {
       c.fov_deg = f_.number(j["fov_deg"], "camera.fov_deg");
       if (!(*c.fov_deg > 0 && *c.fov_deg < 180)) f_.fail("camera.fov_deg", "expected a number in (0, 180)");
     }
-    if (j.contains("lens_radius")) c.lens_radius = f_.non_negative(j["lens_radius"], "camera.lens_radius");
-    if (j.contains("focus_distance")) c.focus_distance = f_.positive(j["focus_distance"], "camera.focus_distance");
+    if (j.contains("lens_radius"))
+      c.lens_radius = f_.bounded(f_.non_negative(j["lens_radius"], "camera.lens_radius"), "camera.lens_radius");
+    if (j.contains("focus_distance"))
+      c.focus_distance = f_.bounded(f_.positive(j["focus_distance"], "camera.focus_distance"), "camera.focus_distance");
     return c;
   }
 
@@ -490,12 +502,11 @@ class JsonSceneLoader {
     if (f.fov_deg) c.fov_deg = *f.fov_deg;
     if (f.lens_radius) c.lens_radius = *f.lens_radius;
     c.focus_distance = f.focus_distance ? *f.focus_distance : length(c.look_at - c.eye);
-    const Vec3 view = c.look_at - c.eye;
-    if (view.x == 0 && view.y == 0 && view.z == 0) f_.fail("camera.look_at", "must differ from camera.eye");
-    if (!std::isfinite(length(view)))
-      f_.fail("camera", "eye and look_at are too far apart (their distance overflows float)");
-    const Vec3 side = cross(view, c.up);
-    if (length(side) <= 1e-6f * length(view) * length(c.up)) f_.fail("camera.up", "is parallel to the view direction");
+    try {
+      camera_frame(c, 1.0f);  // the frame every camera ray will use: "camera.up: is parallel ..."
+    } catch (const InputError& e) {
+      throw InputError(f_.file() + ": " + e.what());
+    }
   }
 
   std::filesystem::path path_;

@@ -31,12 +31,7 @@ RayBatch camera_prepass_rays(const Scene& scene, const std::function<Hit(const R
   if (scene.triangles.empty() || width < 1) return out;
   const int height = std::max(1, width * 3 / 4);
   const Camera& cam = scene.camera;
-  const Vec3 fwd = normalize(cam.look_at - cam.eye);
-  Vec3 right = cross(fwd, cam.up);
-  right = length(right) > 0.0f ? normalize(right) : Vec3{1, 0, 0};
-  const Vec3 up = cross(right, fwd);
-  const float th = std::tan(0.5f * cam.fov_deg * std::numbers::pi_v<float> / 180.0f);
-  const float tw = th * float(width) / float(height);
+  const CameraFrame frame = camera_frame(cam, float(width) / float(height));
   const float eps = 1e-4f * length(scene.bounds().diagonal());
   Rng rng{{uint64_t(seed) * kGolden64 + 7}};
   auto spawn_at = [&](const Ray& ray, const Hit& h) {
@@ -51,9 +46,8 @@ RayBatch camera_prepass_rays(const Scene& scene, const std::function<Hit(const R
   };
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tw;
-      const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * th;
-      const Ray primary{cam.eye, 0.0f, normalize(fwd + right * sx + up * sy), kInfinity};
+      const Vec3 dir = frame.direction((float(x) + 0.5f) / float(width), (float(y) + 0.5f) / float(height));
+      const Ray primary{cam.eye, 0.0f, dir, kInfinity};
       out.push_back(primary);
       const Hit h = trace(primary);
       if (!h.hit()) continue;

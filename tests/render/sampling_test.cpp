@@ -6,6 +6,7 @@
 #include <numbers>
 #include <set>
 
+#include "rayscout/core/accelerator_options.h"
 #include "rayscout/render/bsdf.h"
 #include "rayscout/render/camera_rays.h"
 #include "rayscout/render/light_sampler.h"
@@ -84,6 +85,50 @@ TEST(CameraRays, ThinLensFocusesOnThePlaneInFocus) {
   const Ray centre = CameraRays(cam, 64, 48).generate(32, 24, 0, 0);
   EXPECT_NEAR(centre.dir.z, -1.0f, 1e-6f);
   EXPECT_GT(CameraRays(cam, 64, 48).generate(32, 0, 0, 0).dir.y, 0.0f);
+}
+
+// A focus plane far away or a lens far wider than the focus distance: every ray is still a
+// unit direction through its lens point (the lens-to-focus vector once overflowed to inf).
+TEST(CameraRays, ExtremeThinLensesStayFinite) {
+  Camera cam;
+  cam.eye = {0, 0, 5};
+  cam.look_at = {0, 0, 0};
+  for (auto [radius, focus] : {std::pair{0.1f, 1e30f}, std::pair{1e18f, 1.0f}, std::pair{1.0f, 1e-30f}}) {
+    cam.lens_radius = radius;
+    cam.focus_distance = focus;
+    const CameraRays rays(cam, 8, 8);
+    const Ray pinhole = CameraRays(Camera{.eye = cam.eye, .look_at = cam.look_at}, 8, 8).generate(1.5f, 6.5f, 0, 0);
+    for (float u : {0.1f, 0.5f, 0.9f}) {
+      const Ray r = rays.generate(1.5f, 6.5f, u, 1 - u);
+      ASSERT_TRUE(is_finite(r.dir) && is_finite(r.org)) << radius << " " << focus;
+      EXPECT_NEAR(length(r.dir), 1.0f, 1e-6f);
+      // A far focus plane: parallel to the pinhole ray. A near one: through eye + dir * k.
+      if (focus > 1e20f) {
+        EXPECT_GT(dot(r.dir, pinhole.dir), 1.0f - 1e-6f);
+      }
+    }
+  }
+}
+
+// The camera's frame depends on the directions of look_at - eye and up, not their lengths.
+TEST(CameraFrame, LengthsDoNotMatter) {
+  const Camera unit{.eye = {0, 0, 0}, .look_at = {0.6f, 0, -0.8f}, .up = {0, 1, 0}};
+  const CameraFrame ref = camera_frame(unit, 2.0f);
+  for (float s : {1e-30f, 1e-7f, 1e17f}) {
+    const Camera scaled{.eye = {0, 0, 0}, .look_at = unit.look_at * s, .up = {0, s, 0}};
+    const CameraFrame f = camera_frame(scaled, 2.0f);
+    EXPECT_NEAR(dot(f.forward, ref.forward), 1.0f, 1e-6f) << s;
+    EXPECT_NEAR(dot(f.right, ref.right), 1.0f, 1e-6f) << s;
+    EXPECT_NEAR(dot(f.up, ref.up), 1.0f, 1e-6f) << s;
+  }
+  EXPECT_NEAR(ref.half_w, 2.0f * ref.half_h, 1e-6f);
+  EXPECT_NEAR(ref.half_h, std::tan(0.5f * 60.0f * 3.14159265f / 180.0f), 1e-6f);
+  // A short up that is not parallel is the user's up, not a substitute.
+  const CameraFrame sideways = camera_frame({.eye = {0, 0, 1}, .look_at = {0, 0, 0}, .up = {1e-7f, 0, 0}}, 1.0f);
+  EXPECT_NEAR(sideways.up.x, 1.0f, 1e-6f);
+  EXPECT_THROW(camera_frame({.eye = {0, 0, 1}, .look_at = {0, 0, 0}, .up = {1e-7f, 0, 1}}, 1.0f), InputError);
+  EXPECT_THROW(camera_frame({.eye = {1, 2, 3}, .look_at = {1, 2, 3}}, 1.0f), InputError);
+  EXPECT_THROW(CameraRays(Camera{.eye = {0, 1, 0}, .look_at = {0, 0, 0}}, 4, 4), InputError);
 }
 
 // Triangles are chosen in proportion to area x emission; pdf_area integrates to 1.

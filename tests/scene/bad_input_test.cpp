@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <utility>
 
 #include "rayscout/scene/load_scene.h"
 #include "rayscout/scene/mesh.h"
@@ -264,8 +265,35 @@ TEST(SceneBadInput, JsonShapeAndCameraOverflow) {
                   {"scene.json: meshes[0] (shape box): vertex 1 (transformed) at (0, 0, 1e+20) is beyond +-1e18"});
   expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 2e18]}]})"),
                   {"scene.json: meshes[0] (shape box): vertex 1 at (0, 0, 2e+18) is beyond +-1e18"});
-  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [-1e20, 0, 0], "look_at": [1e20, 0, 0]}})"),
-                  {"scene.json: camera: eye and look_at are too far apart (their distance overflows float)"});
+  // Camera and light positions and the lens lengths are squared like vertices.
+  const std::string tri = R"({"meshes": [{"file": "tri.obj"}], )";
+  expect_contains(json_error(dir, tri + R"("camera": {"eye": [-1e20, 0, 0], "look_at": [1e20, 0, 0]}})"),
+                  {"scene.json: camera.eye: is beyond +-1e18"});
+  expect_contains(json_error(dir, tri + R"("camera": {"look_at": [0, 0, -2e18]}})"), {"scene.json: camera.look_at: is beyond"});
+  expect_contains(json_error(dir, tri + R"("camera": {"lens_radius": 0.1, "focus_distance": 2e19}})"),
+                  {"scene.json: camera.focus_distance: is beyond +-1e18"});
+  expect_contains(json_error(dir, tri + R"("camera": {"lens_radius": 1e19}})"), {"scene.json: camera.lens_radius: is beyond"});
+  expect_contains(json_error(dir, tri + R"("lights": [{"type": "point", "position": [0, 1e19, 0]}]})"),
+                  {"scene.json: lights[0].position: is beyond +-1e18"});
+}
+
+// The parallel-up check is about directions: lengths far from 1 neither hide nor fake it.
+TEST(SceneBadInput, JsonCameraUpOfAnyLength) {
+  TempDir dir;
+  const std::string tri = R"({"meshes": [{"file": "tri.obj"}], )";
+  for (const char* up : {"[0, 0, 1e-30]", "[0, 0, 1e20]", "[1e-7, 0, 1]"})
+    expect_contains(json_error(dir, tri + R"("camera": {"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": )" + up + "}}"),
+                    {"scene.json: camera.up: is parallel to the view direction"});
+  // A long up, a short one, a look_at 1e-30 from the eye: valid, and the frame follows them.
+  const std::pair<const char*, Vec3> valid[] = {
+      {R"({"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": [0, 1e20, 0]})", {0, 1, 0}},
+      {R"({"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": [1e-30, 0, 0]})", {1, 0, 0}},
+      {R"({"eye": [0, 0, 0], "look_at": [1e-30, 0, 0], "up": [0, 0, 1]})", {0, 0, 1}}};
+  for (const auto& [camera, up] : valid) {
+    const Scene s = load_scene(dir.write("ok.json", tri + R"("camera": )" + camera + "}"));
+    const CameraFrame f = camera_frame(s.camera, 1.0f);
+    EXPECT_NEAR(dot(f.up, up), 1.0f, 1e-6f) << camera;
+  }
 }
 
 TEST(SceneBadInput, JsonMeshFileErrorsNameBothFiles) {

@@ -16,13 +16,15 @@ namespace rayscout {
 class CameraRays {
  public:
   /// A film of width x height pixels; the horizontal field of view follows the aspect ratio.
+  /// Throws InputError for a camera without a frame (see camera_frame).
   CameraRays(const Camera& camera, int width, int height);
   /// film_x, film_y in [0, width) x [0, height); lens_u, lens_v in [0, 1).
   Ray generate(float film_x, float film_y, float lens_u, float lens_v) const;
 
  private:
-  Vec3 eye_, forward_, right_, up_;
-  float half_w_ = 1, half_h_ = 1, lens_radius_ = 0, focus_distance_ = 1;
+  CameraFrame frame_;
+  Vec3 eye_;
+  float lens_radius_ = 0, focus_distance_ = 1;
   int width_ = 1, height_ = 1;
 };
 

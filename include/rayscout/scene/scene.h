@@ -35,6 +35,23 @@ struct Camera {
   float focus_distance = 1;   ///< distance of the plane in focus along the view axis
 };
 
+/// A camera's orthonormal basis and film; every producer of camera rays (renderer,
+/// many-light shading points, the shafts' pre-pass) aims its pinhole rays with it.
+struct CameraFrame {
+  Vec3 forward, right, up;        ///< up lies in the plane of forward and Camera::up
+  float half_w = 1, half_h = 1;   ///< half extents of the film at distance 1 along forward
+  /// Unit direction through the film point (u, v) in [0, 1]^2, (0, 0) = top-left corner.
+  Vec3 direction(float u, float v) const {
+    return normalize(forward + right * ((2.0f * u - 1.0f) * half_w) + up * ((1.0f - 2.0f * v) * half_h));
+  }
+};
+
+/// The frame of `camera` for a film of the given width / height. Any finite eye, look_at and
+/// up give the frame of their normalised directions, however long or short they are.
+/// Throws InputError (naming the key) when eye == look_at, when up is parallel to the view
+/// direction (sine of the angle below 1e-6), or when a vector is not finite.
+CameraFrame camera_frame(const Camera& camera, float aspect);
+
 /// An isotropic point light; intensity in W/sr per colour channel.
 struct PointLight {
   Vec3 position;
