@@ -1,11 +1,16 @@
-// glTF 2.0 (and other assimp formats) through the Debian assimp package.
+// glTF 2.0 (.gltf, .glb) through the Debian assimp package.
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <nlohmann/json.hpp>
+
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -22,25 +27,105 @@ Vec3 color(const aiMaterial* m, const char* key, unsigned type, unsigned idx, Ve
   return fallback;
 }
 
+uint32_t le32(const std::string& s, size_t at) {
+  return uint32_t(uint8_t(s[at])) | uint32_t(uint8_t(s[at + 1])) << 8 | uint32_t(uint8_t(s[at + 2])) << 16 |
+         uint32_t(uint8_t(s[at + 3])) << 24;
+}
+
+// The glTF JSON document: the text of a .gltf, or the JSON chunk of a .glb (glTF 2.0 sec. 4.4),
+// checked before assimp sees the file: assimp answers a syntax error or a truncated file with
+// "No suitable reader found for the file format". Null for a glTF 1.0 binary (another layout,
+// which assimp's own reader checks).
+nlohmann::json gltf_document(const std::filesystem::path& path, bool binary) {
+  const std::string name = detail::display_name(path), data = detail::read_file(path);
+  std::string_view json = data;
+  if (binary) {
+    if (data.size() < 12 || data.compare(0, 4, "glTF") != 0)
+      throw InputError(name + ": not a binary glTF file (no \"glTF\" header)");
+    if (le32(data, 4) != 2) return nullptr;
+    if (le32(data, 8) > data.size() || data.size() < 20)
+      throw InputError(name + ": truncated: the header declares " + std::to_string(le32(data, 8)) + " bytes, the file has " +
+                       std::to_string(data.size()));
+    const uint32_t length = le32(data, 12);
+    if (le32(data, 16) != 0x4E4F534Au || length > data.size() - 20)
+      throw InputError(name + ": the first chunk is not a complete JSON chunk");
+    json = json.substr(20, length);
+  }
+  try {
+    return nlohmann::json::parse(json);
+  } catch (const nlohmann::json::exception& e) {
+    std::string what = e.what();
+    if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    throw InputError(name + ": invalid JSON: " + what);
+  }
+}
+
+// KHR_materials_emissive_strength (emission = emissiveFactor * emissiveStrength) of the
+// file's materials, by name: assimp 5.2 ignores the extension and imports materials in the
+// order meshes first use them, not in file order, so the name is the only link. A strength on
+// an unnamed material, or on a name two materials share, cannot be placed: a warning.
+std::map<std::string, float> emissive_strengths(const nlohmann::json& doc, const std::string& file,
+                                                std::vector<std::string>& warnings) {
+  std::map<std::string, float> strength;
+  std::map<std::string, int> uses;
+  if (!doc.is_object() || !doc.contains("materials") || !doc["materials"].is_array()) return strength;
+  const nlohmann::json::json_pointer key("/extensions/KHR_materials_emissive_strength/emissiveStrength");
+  const nlohmann::json& materials = doc["materials"];
+  for (const auto& m : materials)
+    if (m.is_object() && m.contains("name") && m["name"].is_string()) ++uses[m["name"].get<std::string>()];
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const nlohmann::json& m = materials[i];
+    if (!m.is_object() || !m.contains(key)) continue;
+    if (!m[key].is_number() || m[key].get<double>() < 0)
+      throw InputError(file + ": materials[" + std::to_string(i) + "]: emissiveStrength must be a number >= 0");
+    const std::string name = m.contains("name") && m["name"].is_string() ? m["name"].get<std::string>() : "";
+    if (name.empty() || uses[name] > 1)
+      warnings.push_back(file + ": materials[" + std::to_string(i) + "]: KHR_materials_emissive_strength ignored (" +
+                         (name.empty() ? "no name" : "name \"" + name + "\" not unique") +
+                         " to find it by after assimp's import)");
+    else
+      strength[name] = m[key].get<float>();
+  }
+  return strength;
+}
+
+// Keeps only the materials some face uses: assimp appends a default material (for primitives
+// without one) to every glTF, which would otherwise be listed with 0 triangles.
+void drop_unused_materials(Mesh& mesh) {
+  std::vector<uint32_t> remap(mesh.materials.size(), UINT32_MAX);
+  std::vector<Material> used;
+  for (uint32_t& m : mesh.face_materials) {
+    if (remap[m] == UINT32_MAX) {
+      remap[m] = uint32_t(used.size());
+      used.push_back(mesh.materials[m]);
+    }
+    m = remap[m];
+  }
+  mesh.materials = std::move(used);
+}
+
 }  // namespace
 
 Mesh read_assimp(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw InputError(detail::display_name(path) + ": cannot open: No such file or directory");
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const nlohmann::json doc = gltf_document(path, ext == ".glb");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
-  if (!scene) throw InputError(detail::display_name(path) + ": " + importer.GetErrorString());
+  if (!scene) throw InputError(detail::display_name(path) + ": assimp cannot read it: " + importer.GetErrorString());
   Mesh mesh;
+  const std::map<std::string, float> strengths = emissive_strengths(doc, detail::display_name(path), mesh.warnings);
   for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
     const aiMaterial* m = scene->mMaterials[i];
     aiString name;
-    std::string n = m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length ? name.C_Str() : "material" + std::to_string(i);
+    const bool named = m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length;
+    const std::string n = named ? name.C_Str() : "material" + std::to_string(i);
     float ns = 0;
     m->Get(AI_MATKEY_SHININESS, ns);
     Vec3 kd = color(m, AI_MATKEY_COLOR_DIFFUSE, Vec3(0.8f));
     Vec3 ks = color(m, AI_MATKEY_COLOR_SPECULAR, Vec3(0.0f));
     Vec3 ke = color(m, AI_MATKEY_COLOR_EMISSIVE, Vec3(0.0f));
+    if (auto it = strengths.find(n); named && it != strengths.end()) ke *= it->second;
     mesh.materials.push_back(material_from_mtl(n, kd, ks, ns, 2, ke));
   }
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});
@@ -85,6 +170,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
     }
   }
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no triangles (empty mesh)");
+  drop_unused_materials(mesh);
   return mesh;
 }
 

@@ -235,9 +235,46 @@ TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
   EXPECT_EQ(s.material_of(0).name, "glow");
   expect_vec(s.material_of(0).emission, {1, 2, 3});
   EXPECT_EQ(s.emissive_triangles.size(), 1u);
-  // A broken glTF names the file.
-  const std::string msg = testing::input_error_of([&] { load_scene(dir.write("bad.gltf", "{\"asset\": 3")); });
-  EXPECT_NE(msg.find("bad.gltf"), std::string::npos) << msg;
+  // assimp's default material (for primitives without one) is not listed: "glow" is all.
+  EXPECT_EQ(s.materials.size(), 1u);
+}
+
+// KHR_materials_emissive_strength scales emissiveFactor, per material, in file order.
+TEST(GltfReader, EmissiveStrength) {
+  TempDir dir;
+  const std::string gltf = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "materials": [{"name": "dim", "emissiveFactor": [1, 1, 1]},
+                  {"name": "bright", "emissiveFactor": [1, 0.5, 0.25],
+                   "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}},
+                  {"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}])",
+                                         R"(, "material": 1)");
+  const Scene s = load_scene(dir.write("e.gltf", gltf));
+  EXPECT_EQ(s.material_of(0).name, "bright");
+  expect_vec(s.material_of(0).emission, {4, 2, 1});
+  // An unnamed material cannot be found again after assimp's import: said, not silently lost.
+  ASSERT_EQ(s.warnings.size(), 1u);
+  testing::expect_contains(s.warnings[0], {"e.gltf: materials[2]: KHR_materials_emissive_strength ignored (no name"});
+}
+
+// A broken container is named as such, with the JSON parser's line and column, not assimp's
+// "No suitable reader found".
+TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
+  TempDir dir;
+  using testing::expect_contains;
+  using testing::input_error_of;
+  expect_contains(input_error_of([&] { load_scene(dir.write("bad.gltf", "{\"asset\":\n  {\"version\": \"2.0\"},")); }),
+                  {"bad.gltf: invalid JSON: parse error at line 2"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("a.glb", "GLTF\x02\0\0\0")); }),
+                  {"a.glb: not a binary glTF file"});
+  std::string glb("glTF\x02\0\0\0\xff\0\0\0", 12);
+  expect_contains(input_error_of([&] { load_scene(dir.write("b.glb", glb)); }),
+                  {"b.glb: truncated: the header declares 255 bytes, the file has 12"});
+  glb = std::string("glTF\x02\0\0\0\x1c\0\0\0\x10\0\0\0JSON{}      ", 28);
+  expect_contains(input_error_of([&] { load_scene(dir.write("c.glb", glb)); }), {"c.glb: the first chunk is not a complete JSON chunk"});
+  // A well-formed file assimp rejects: its message, marked as assimp's.
+  const std::string no_faces = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {}}]}]})";
+  expect_contains(input_error_of([&] { load_scene(dir.write("d.gltf", no_faces)); }), {"d.gltf: assimp cannot read it: "});
 }
 
 // Node transforms compose down the hierarchy, an instanced mesh appears once per node, and a

@@ -30,7 +30,8 @@ Mesh read_mesh(const std::filesystem::path& path);
 Mesh read_obj(const std::filesystem::path& path);
 /// PLY, ascii or binary little/big endian: vertex x y z and face vertex_indices lists.
 Mesh read_ply(const std::filesystem::path& path);
-/// glTF 2.0 (.gltf/.glb) through assimp; triangles of every mesh node, node transforms applied.
+/// glTF 2.0 (.gltf/.glb) through assimp; triangles of every mesh node, node transforms applied,
+/// emission scaled by KHR_materials_emissive_strength, only materials some triangle uses.
 Mesh read_assimp(const std::filesystem::path& path);
 
 /// Parses an MTL file into materials (appended to out, replacing same-named ones).
