@@ -49,8 +49,9 @@ void draw_progress(const RenderProgress& p) {
   const double done = (double(p.pass) + double(p.bounce + 1) / double(p.max_depth + 1)) / double(p.passes);
   const int width = 24, filled = int(done * width + 0.5);
   const double left = done > 0 ? p.elapsed_s * (1.0 - done) / done : 0.0;
-  fmt::print(stderr, "\r[{}{}] pass {}/{} bounce {}/{}  {:.2f} Mrays traced  {:.1f} s  ~{:.1f} s left   ",
-             std::string(filled, '#'), std::string(width - filled, '.'), p.pass + 1, p.passes, p.bounce, p.max_depth,
+  const std::string bounce = p.max_depth > 0 ? fmt::format(" bounce {}/{}", p.bounce, p.max_depth) : "";
+  fmt::print(stderr, "\r[{}{}] pass {}/{}{}  {:.2f} Mrays traced  {:.1f} s  ~{:.1f} s left   ",
+             std::string(filled, '#'), std::string(width - filled, '.'), p.pass + 1, p.passes, bounce,
              double(p.rays_traced) * 1e-6, p.elapsed_s, left);
   std::fflush(stderr);
 }

@@ -2,6 +2,7 @@
 #include "rayscout/manylight/manylight_integrator.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -41,8 +42,20 @@ class ManylightIntegrator final : public Integrator {
     ManylightRenderer r(scene, accel, config);
     if (config.mode != VisibilityMode::Exact) r.calibrate();
     const auto& tm = r.timings();
-    const auto records = o_.time_budget > 0 ? r.render_for(o_.time_budget, reference)
-                                            : r.render_for(1e300, reference, std::max<size_t>(1, o_.passes));
+    // Progress per pass; with a time budget the pass count is the one the time so far predicts.
+    const size_t max_passes = o_.time_budget > 0 ? SIZE_MAX : std::max<size_t>(1, o_.passes);
+    auto on_pass = [&](const ProgressRecord& rec) {
+      RenderProgress p;
+      p.pass = int(rec.passes) - 1;
+      p.passes = o_.time_budget > 0
+          ? std::max(int(rec.passes), int(std::ceil(o_.time_budget * double(rec.passes) / std::max(rec.seconds, 1e-9))))
+          : int(max_passes);
+      p.rays_traced = r.shadow_rays_traced();
+      p.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
+      rc.on_progress(p);
+    };
+    const auto records = r.render_for(o_.time_budget > 0 ? o_.time_budget : 1e300, reference, max_passes,
+                                      rc.on_progress ? std::function<void(const ProgressRecord&)>(on_pass) : nullptr);
     Image image(rc.width, rc.height);
     image.pixels = r.image();
     if (!o_.skip_image.empty()) {
@@ -53,6 +66,7 @@ class ManylightIntegrator final : public Integrator {
     }
     if (!o_.rmse_log.empty()) write_log(r, records);
     if (o_.verbose) {
+      if (rc.on_progress) fmt::print(stderr, "\n");  // ends the progress line
       fmt::print(stderr,
                  "manylight: {} VPLs ({} light paths), {} shading clusters x {} VPL clusters; preprocess {:.2f} s "
                  "(VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f}, pmf {:.2f}); "

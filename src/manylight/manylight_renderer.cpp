@@ -229,7 +229,8 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
   return nonzero;
 }
 
-std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, std::span<const Vec3> reference, size_t max_passes) {
+std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, std::span<const Vec3> reference, size_t max_passes,
+                                                         const std::function<void(const ProgressRecord&)>& on_pass) {
   std::vector<ProgressRecord> records;
   double elapsed = 0;
   while (passes_ < max_passes && (records.empty() || elapsed < seconds)) {
@@ -242,6 +243,7 @@ std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, std::s
     rec.skip_rate = skip_rate();
     if (!reference.empty()) rec.rmse = rmse(image(), reference);
     records.push_back(rec);
+    if (on_pass) on_pass(rec);
   }
   return records;
 }

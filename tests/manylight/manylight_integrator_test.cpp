@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -43,7 +44,16 @@ TEST(ManylightIntegrator, WritesImageLogAndSkipImage) {
   o.rmse_log = (dir / "log.json").string();
   o.skip_image = (dir / "skip.pfm").string();
   RenderStats stats;
+  std::vector<RenderProgress> progress;  // one report per pass, as the CLI's progress bar needs
+  rc.on_progress = [&](const RenderProgress& p) { progress.push_back(p); };
   const Image img = make_manylight_integrator(o)->render(scene, *accel, rc, &stats);
+  ASSERT_EQ(progress.size(), 8u);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_EQ(progress[i].pass, i);
+    EXPECT_EQ(progress[i].passes, 8);
+  }
+  EXPECT_GT(progress.back().rays_traced, 0u);
+  rc.on_progress = nullptr;
   EXPECT_EQ(img.width, 16);
   EXPECT_GT(stats.total_ms, 0.0);
   nlohmann::json log = nlohmann::json::parse(std::ifstream(dir / "log.json"));

@@ -55,9 +55,11 @@ class ManylightRenderer {
   /// One pass over every shading point.
   void render_pass();
   /// Passes until `seconds` of rendering have elapsed (at least one, at most max_passes),
-  /// recording RMSE against `reference` (width * height, may be empty) after each pass.
+  /// recording RMSE against `reference` (width * height, may be empty) after each pass, and
+  /// handing each record to `on_pass` (if set) as it is made.
   std::vector<ProgressRecord> render_for(double seconds, std::span<const Vec3> reference,
-                                         size_t max_passes = SIZE_MAX);
+                                         size_t max_passes = SIZE_MAX,
+                                         const std::function<void(const ProgressRecord&)>& on_pass = {});
 
   /// Current estimate, width * height RGB (negative values possible, sec. 4.3).
   std::vector<Vec3> image() const;
