@@ -32,7 +32,8 @@ struct RenderProgress {
 };
 
 /// Everything that controls a render. Same config and seed -> the same image, bit for bit,
-/// on every accelerator and thread count.
+/// for any thread count and on every accelerator whose hits are bit-identical to brute force
+/// (all of rayscout's; embree's distances differ in the last bits, and so may its images).
 struct RenderConfig {
   int width = 512, height = 512;
   int spp = 4;             ///< camera samples per pixel, stratified
