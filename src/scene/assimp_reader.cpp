@@ -54,9 +54,7 @@ nlohmann::json gltf_document(const std::filesystem::path& path, bool binary) {
   try {
     return nlohmann::json::parse(json);
   } catch (const nlohmann::json::exception& e) {
-    std::string what = e.what();
-    if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-    throw InputError(name + ": invalid JSON: " + what);
+    detail::fail_invalid_json(name, e.what());
   }
 }
 

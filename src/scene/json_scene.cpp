@@ -251,9 +251,7 @@ class JsonSceneLoader {
     try {
       root = Json::parse(text, no_duplicate_keys);
     } catch (const Json::exception& e) {  // parse_error, or out_of_range for a number like 1e400
-      std::string what = e.what();
-      if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-      throw InputError(f_.file() + ": invalid JSON: " + what);
+      fail_invalid_json(f_.file(), e.what());
     }
     f_.check_keys(root, "", {"meshes", "camera", "lights", "materials"});
     std::optional<CameraFields> camera;

@@ -23,6 +23,13 @@ inline const char* skip_bom(const std::string& data) {
 /// Throws InputError "file:line: message".
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 
+/// Throws InputError "file: invalid JSON: what", what = nlohmann's message without its
+/// "[json.exception.parse_error.101] " id (the message names line and column itself).
+[[noreturn]] inline void fail_invalid_json(const std::string& file, std::string what) {
+  if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+  throw InputError(file + ": invalid JSON: " + what);
+}
+
 inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
 /// Next whitespace-separated token of [p, end), advancing p; empty at the end.
