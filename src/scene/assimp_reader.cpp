@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <map>
 #include <string>
@@ -32,55 +33,83 @@ uint32_t le32(const std::string& s, size_t at) {
          uint32_t(uint8_t(s[at + 3])) << 24;
 }
 
-// The glTF JSON document: the text of a .gltf, or the JSON chunk of a .glb (glTF 2.0 sec. 4.4),
-// checked before assimp sees the file: assimp answers a syntax error or a truncated file with
-// "No suitable reader found for the file format". Null for a glTF 1.0 binary (another layout,
-// which assimp's own reader checks).
-nlohmann::json gltf_document(const std::filesystem::path& path, bool binary) {
-  const std::string name = detail::display_name(path), data = detail::read_file(path);
-  std::string_view json = data;
+constexpr uint32_t kJsonChunk = 0x4E4F534Au;  // "JSON"
+
+// The JSON text of a glTF file: all of a .gltf, the first chunk of a glTF 2.0 .glb when it is a
+// complete JSON chunk (sec. 4.4); empty when there is none.
+std::string_view json_text(const std::string& data, bool binary) {
+  if (!binary) return data;
+  if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || le32(data, 4) != 2 || le32(data, 16) != kJsonChunk ||
+      le32(data, 12) > data.size() - 20)
+    return {};
+  return std::string_view(data).substr(20, le32(data, 12));
+}
+
+// What is wrong with a glTF file assimp could not read, where assimp only says "No suitable
+// reader found for the file format": the container, the JSON, or its top level. Empty when
+// none of these is wrong (then assimp's own message is the best there is).
+std::string container_defect(const std::string& data, bool binary) {
   if (binary) {
-    if (data.size() < 12 || data.compare(0, 4, "glTF") != 0)
-      throw InputError(name + ": not a binary glTF file (no \"glTF\" header)");
-    if (le32(data, 4) != 2) return nullptr;
-    if (le32(data, 8) > data.size() || data.size() < 20)
-      throw InputError(name + ": truncated: the header declares " + std::to_string(le32(data, 8)) + " bytes, the file has " +
-                       std::to_string(data.size()));
-    const uint32_t length = le32(data, 12);
-    if (le32(data, 16) != 0x4E4F534Au || length > data.size() - 20)
-      throw InputError(name + ": the first chunk is not a complete JSON chunk");
-    json = json.substr(20, length);
+    if (data.size() < 4 || data.compare(0, 4, "glTF") != 0) return "not a binary glTF file (it does not start with \"glTF\")";
+    if (data.size() < 12) return "truncated: " + std::to_string(data.size()) + " bytes, shorter than the 12-byte header";
+    if (le32(data, 4) != 2) return "";  // glTF 1.0 (another layout) or unknown: assimp's message
+    if (le32(data, 8) > data.size())
+      return "truncated: the header declares " + std::to_string(le32(data, 8)) + " bytes, the file has " +
+             std::to_string(data.size());
+    if (json_text(data, true).empty()) return "the first chunk is not a complete JSON chunk";
+  } else if (data.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+    return "starts with a byte order mark, which glTF JSON must not (glTF 2.0 sec. 3.1)";
   }
+  nlohmann::json doc;
   try {
-    return nlohmann::json::parse(json);
+    doc = nlohmann::json::parse(json_text(data, binary));
   } catch (const nlohmann::json::exception& e) {
-    detail::fail_invalid_json(name, e.what());
+    return detail::invalid_json(e.what());
   }
+  if (!doc.is_object()) return std::string("the JSON is ") + doc.type_name() + ", not an object";
+  if (!doc.contains("asset")) return "no \"asset\" (glTF requires asset.version)";
+  return "";
 }
 
 // KHR_materials_emissive_strength (emission = emissiveFactor * emissiveStrength) of the
 // file's materials, by name: assimp 5.2 ignores the extension and imports materials in the
-// order meshes first use them, not in file order, so the name is the only link. A strength on
-// an unnamed material, or on a name two materials share, cannot be placed: a warning.
-std::map<std::string, float> emissive_strengths(const nlohmann::json& doc, const std::string& file,
+// order meshes first use them, not in file order, so the name is the only link. A strength
+// that cannot be placed (no name, a name two materials share, a name assimp cuts or cannot
+// hold) is ignored with a warning; so are all of them when the JSON is not strict UTF-8 JSON
+// (assimp reads some files nlohmann rejects, e.g. Latin-1 names).
+std::map<std::string, float> emissive_strengths(std::string_view text, const std::string& file,
                                                 std::vector<std::string>& warnings) {
+  constexpr std::string_view kExtension = "KHR_materials_emissive_strength";
   std::map<std::string, float> strength;
-  std::map<std::string, int> uses;
+  if (text.find(kExtension) == std::string_view::npos) return strength;
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    warnings.push_back(file + ": " + std::string(kExtension) + " ignored: " + detail::invalid_json(e.what()));
+    return strength;
+  }
   if (!doc.is_object() || !doc.contains("materials") || !doc["materials"].is_array()) return strength;
   const nlohmann::json::json_pointer key("/extensions/KHR_materials_emissive_strength/emissiveStrength");
   const nlohmann::json& materials = doc["materials"];
+  std::map<std::string, int> uses;
   for (const auto& m : materials)
     if (m.is_object() && m.contains("name") && m["name"].is_string()) ++uses[m["name"].get<std::string>()];
   for (size_t i = 0; i < materials.size(); ++i) {
     const nlohmann::json& m = materials[i];
     if (!m.is_object() || !m.contains(key)) continue;
-    if (!m[key].is_number() || m[key].get<double>() < 0)
-      throw InputError(file + ": materials[" + std::to_string(i) + "]: emissiveStrength must be a number >= 0");
+    const std::string at = file + ": materials[" + std::to_string(i) + "]";
+    if (!m[key].is_number() || !(m[key].get<double>() >= 0 && m[key].get<double>() <= FLT_MAX))
+      throw InputError(at + ": emissiveStrength must be a number in [0, 3.4e38] (float)");
     const std::string name = m.contains("name") && m["name"].is_string() ? m["name"].get<std::string>() : "";
-    if (name.empty() || uses[name] > 1)
-      warnings.push_back(file + ": materials[" + std::to_string(i) + "]: KHR_materials_emissive_strength ignored (" +
-                         (name.empty() ? "no name" : "name \"" + name + "\" not unique") +
-                         " to find it by after assimp's import)");
+    const char* unplaced = name.empty()                    ? "it has no name"
+                           : uses[name] > 1                ? "its name is not unique"
+                           : name.size() >= MAXLEN         ? "assimp cuts its name"
+                           : name.find('\0') != name.npos ? "its name holds a NUL"
+                                                           : nullptr;
+    if (unplaced)
+      warnings.push_back(at + ": " + std::string(kExtension) + " ignored (" + unplaced +
+                         ", and the name is how rayscout finds it after assimp's import)");
     else
       strength[name] = m[key].get<float>();
   }
@@ -107,12 +136,18 @@ void drop_unused_materials(Mesh& mesh) {
 Mesh read_assimp(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  const nlohmann::json doc = gltf_document(path, ext == ".glb");
+  const bool binary = ext == ".glb";
+  const std::string file = detail::display_name(path), data = detail::read_file(path);
+  detail::check_json_nesting(json_text(data, binary), file);
   Assimp::Importer importer;
+  // From the path, not from `data`: buffers and images may be files beside it.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
-  if (!scene) throw InputError(detail::display_name(path) + ": assimp cannot read it: " + importer.GetErrorString());
+  if (!scene) {
+    const std::string defect = container_defect(data, binary);
+    throw InputError(file + ": " + (defect.empty() ? "assimp cannot read it: " + std::string(importer.GetErrorString()) : defect));
+  }
   Mesh mesh;
-  const std::map<std::string, float> strengths = emissive_strengths(doc, detail::display_name(path), mesh.warnings);
+  const std::map<std::string, float> strengths = emissive_strengths(json_text(data, binary), file, mesh.warnings);
   for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
     const aiMaterial* m = scene->mMaterials[i];
     aiString name;
@@ -124,6 +159,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
     Vec3 ks = color(m, AI_MATKEY_COLOR_SPECULAR, Vec3(0.0f));
     Vec3 ke = color(m, AI_MATKEY_COLOR_EMISSIVE, Vec3(0.0f));
     if (auto it = strengths.find(n); named && it != strengths.end()) ke *= it->second;
+    if (!is_finite(ke)) throw InputError(file + ": material \"" + n + "\": emission beyond float range");
     mesh.materials.push_back(material_from_mtl(n, kd, ks, ns, 2, ke));
   }
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});
@@ -148,7 +184,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
         const aiVector3D w = global * am->mVertices[v];
         const Vec3 p(w.x, w.y, w.z);
         if (!is_finite(p))
-          throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " vertex " + std::to_string(v) +
+          throw InputError(file + ": mesh " + std::to_string(mi) + " vertex " + std::to_string(v) +
                            ": coordinate is not finite");
         mesh.positions.push_back(p);
       }
@@ -158,7 +194,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
         if (face.mNumIndices != 3) continue;
         for (int k = 0; k < 3; ++k)
           if (face.mIndices[k] >= am->mNumVertices)
-            throw InputError(detail::display_name(path) + ": mesh " + std::to_string(mi) + " face " + std::to_string(f) +
+            throw InputError(file + ": mesh " + std::to_string(mi) + " face " + std::to_string(f) +
                              ": index " + std::to_string(face.mIndices[k]) + " out of range (" +
                              std::to_string(am->mNumVertices) + " vertices)");
         mesh.faces.push_back(
@@ -167,7 +203,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
       }
     }
   }
-  if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no triangles (empty mesh)");
+  if (mesh.faces.empty()) throw InputError(file + ": no triangles (empty mesh)");
   drop_unused_materials(mesh);
   return mesh;
 }

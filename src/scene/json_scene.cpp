@@ -105,38 +105,6 @@ class Fields {
   std::string file_;
 };
 
-// Scene files nest a few levels. Copying a JSON value recurses once per level, and
-// ordered_json copies an object's values whenever the object grows, during parsing too: a
-// file nested 20000 deep overflowed the stack. Checked on the text, before parsing.
-constexpr int kMaxJsonDepth = 256;
-
-void check_nesting(const std::string& text, const std::string& file) {
-  int depth = 0;
-  size_t line = 1, column = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    ++column;
-    if (c == '\n') {
-      ++line;
-      column = 0;
-    } else if (in_string) {
-      if (c == '\\') {  // skip the escaped character, e.g. \"
-        ++i;
-        ++column;
-      } else if (c == '"') {
-        in_string = false;
-      }
-    } else if (c == '"') {
-      in_string = true;
-    } else if ((c == '[' || c == '{') && ++depth > kMaxJsonDepth) {
-      throw InputError(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
-                       " arrays and objects at line " + std::to_string(line) + ", column " + std::to_string(column));
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-}
 
 // Applies the fields of a material object to m (omitted fields keep their value).
 void apply_material(const Fields& f, const Json& j, const std::string& field, Material& m, bool allow_name) {
@@ -236,7 +204,7 @@ class JsonSceneLoader {
 
   Scene load() {
     const std::string text = read_file(path_);
-    check_nesting(text, f_.file());
+    check_json_nesting(text, f_.file());
     Json root;
     // nlohmann keeps the last of two equal keys; a duplicate is a typo or a merge left over,
     // and unknown keys are errors here for the same reason.
@@ -251,7 +219,7 @@ class JsonSceneLoader {
     try {
       root = Json::parse(text, no_duplicate_keys);
     } catch (const Json::exception& e) {  // parse_error, or out_of_range for a number like 1e400
-      fail_invalid_json(f_.file(), e.what());
+      throw InputError(f_.file() + ": " + invalid_json(e.what()));
     }
     f_.check_keys(root, "", {"meshes", "camera", "lights", "materials"});
     std::optional<CameraFields> camera;

@@ -31,4 +31,32 @@ void fail_at(const std::filesystem::path& file, size_t line, const std::string& 
   throw InputError(display_name(file) + ":" + std::to_string(line) + ": " + message);
 }
 
+void check_json_nesting(std::string_view text, const std::string& file) {
+  int depth = 0;
+  size_t line = 1, column = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    ++column;
+    if (c == '\n') {
+      ++line;
+      column = 0;
+    } else if (in_string) {
+      if (c == '\\') {  // skip the escaped character, e.g. \"
+        ++i;
+        ++column;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if ((c == '[' || c == '{') && ++depth > kMaxJsonDepth) {
+      throw InputError(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                       " arrays and objects at line " + std::to_string(line) + ", column " + std::to_string(column));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 }  // namespace rayscout::detail

@@ -23,11 +23,20 @@ inline const char* skip_bom(const std::string& data) {
 /// Throws InputError "file:line: message".
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 
-/// Throws InputError "file: invalid JSON: what", what = nlohmann's message without its
-/// "[json.exception.parse_error.101] " id (the message names line and column itself).
-[[noreturn]] inline void fail_invalid_json(const std::string& file, std::string what) {
+/// Deepest nesting of arrays and objects accepted in JSON text (scene files, glTF).
+inline constexpr int kMaxJsonDepth = 256;
+
+/// Throws InputError naming line and column where `text` nests arrays and objects deeper
+/// than kMaxJsonDepth. Checked on the text, before any parser sees it: nlohmann's copies
+/// recurse once per level (a scene file nested 20000 deep overflowed the stack), and so
+/// does assimp's glTF reader (a glTF with 200000 nested arrays in its "extras" crashed it).
+void check_json_nesting(std::string_view text, const std::string& file);
+
+/// "invalid JSON: what", what = nlohmann's message without its "[json.exception.parse_error.101] "
+/// id (the message names line and column itself).
+inline std::string invalid_json(std::string what) {
   if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-  throw InputError(file + ": invalid JSON: " + what);
+  return "invalid JSON: " + what;
 }
 
 inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }

@@ -246,14 +246,36 @@ TEST(GltfReader, EmissiveStrength) {
     "materials": [{"name": "dim", "emissiveFactor": [1, 1, 1]},
                   {"name": "bright", "emissiveFactor": [1, 0.5, 0.25],
                    "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}},
-                  {"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}])",
+                  {"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}},
+                  {"name": "twin", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}},
+                  {"name": "twin"}])",
                                          R"(, "material": 1)");
   const Scene s = load_scene(dir.write("e.gltf", gltf));
   EXPECT_EQ(s.material_of(0).name, "bright");
   expect_vec(s.material_of(0).emission, {4, 2, 1});
-  // An unnamed material cannot be found again after assimp's import: said, not silently lost.
+  // Materials that cannot be found again by name after assimp's import: said, not silently lost.
+  ASSERT_EQ(s.warnings.size(), 2u);
+  testing::expect_contains(s.warnings[0], {"e.gltf: materials[2]: KHR_materials_emissive_strength ignored (it has no name"});
+  testing::expect_contains(s.warnings[1], {"e.gltf: materials[3]: KHR_materials_emissive_strength ignored (its name is not unique"});
+  // A strength beyond float range is an error, not an infinite light.
+  const std::string huge = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "materials": [{"name": "a", "emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e39}}}])",
+                                         R"(, "material": 0)");
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("h.gltf", huge)); }),
+                           {"h.gltf: materials[0]: emissiveStrength must be a number in [0, 3.4e38]"});
+}
+
+// A file assimp reads though it is not strict glTF loads as before: a Latin-1 name is not
+// UTF-8, so nlohmann cannot read the strengths (a warning), but assimp reads the rest.
+TEST(GltfReader, WhatAssimpReadsStillLoads) {
+  TempDir dir;
+  std::string latin1 = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "materials": [{"name": "caf)" + std::string("\xE9") + R"(", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}])",
+                                     R"(, "material": 0)");
+  const Scene s = load_scene(dir.write("l.gltf", latin1));
+  EXPECT_EQ(s.triangles.size(), 1u);
   ASSERT_EQ(s.warnings.size(), 1u);
-  testing::expect_contains(s.warnings[0], {"e.gltf: materials[2]: KHR_materials_emissive_strength ignored (no name"});
+  testing::expect_contains(s.warnings[0], {"l.gltf: KHR_materials_emissive_strength ignored: invalid JSON"});
 }
 
 // A broken container is named as such, with the JSON parser's line and column, not assimp's
@@ -266,11 +288,24 @@ TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
                   {"bad.gltf: invalid JSON: parse error at line 2"});
   expect_contains(input_error_of([&] { load_scene(dir.write("a.glb", "GLTF\x02\0\0\0")); }),
                   {"a.glb: not a binary glTF file"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("s.glb", "glTF\x02")); }),
+                  {"s.glb: truncated: 5 bytes, shorter than the 12-byte header"});
   std::string glb("glTF\x02\0\0\0\xff\0\0\0", 12);
   expect_contains(input_error_of([&] { load_scene(dir.write("b.glb", glb)); }),
                   {"b.glb: truncated: the header declares 255 bytes, the file has 12"});
+  glb = std::string("glTF\x02\0\0\0\x0c\0\0\0", 12);
+  expect_contains(input_error_of([&] { load_scene(dir.write("e.glb", glb)); }), {"e.glb: the first chunk is not a complete JSON chunk"});
   glb = std::string("glTF\x02\0\0\0\x1c\0\0\0\x10\0\0\0JSON{}      ", 28);
   expect_contains(input_error_of([&] { load_scene(dir.write("c.glb", glb)); }), {"c.glb: the first chunk is not a complete JSON chunk"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("bom.gltf", "\xEF\xBB\xBF" + triangle_gltf(R"("scenes": [])"))); }),
+                  {"bom.gltf: starts with a byte order mark"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("arr.gltf", "[1, 2]")); }), {"arr.gltf: the JSON is array, not an object"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("obj.gltf", "{}")); }), {"obj.gltf: no \"asset\""});
+  // Nesting that would overflow assimp's recursive parser (it crashed on 200000 levels).
+  const std::string deep = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "extras": )" +
+                                         std::string(300, '[') + std::string(300, ']'));
+  expect_contains(input_error_of([&] { load_scene(dir.write("deep.gltf", deep)); }),
+                  {"deep.gltf: JSON nested deeper than 256 arrays and objects at line 1"});
   // A well-formed file assimp rejects: its message, marked as assimp's.
   const std::string no_faces = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
     "meshes": [{"primitives": [{"attributes": {}}]}]})";
