@@ -32,8 +32,8 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    fmt::print(stderr, "rayscout: error: out of memory (lower --width/--height, --spp, --light-samples or --ao-samples, "
-                       "bound the camera batch with --max-batch, or load a smaller scene)\n");
+    fmt::print(stderr, "rayscout: error: out of memory (lower --width/--height, --spp, --light-samples, --ao-samples "
+                       "or --vpls, bound the camera batch with --max-batch (not manylight), or load a smaller scene)\n");
     return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());

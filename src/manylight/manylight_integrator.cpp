@@ -1,6 +1,7 @@
 // ManylightIntegrator: ManylightRenderer as an Integrator, with time budget, RMSE log and skip image.
 #include "rayscout/manylight/manylight_integrator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -42,16 +43,16 @@ class ManylightIntegrator final : public Integrator {
     ManylightRenderer r(scene, accel, config);
     if (config.mode != VisibilityMode::Exact) r.calibrate();
     const auto& tm = r.timings();
-    // Progress per pass; with a time budget the pass count is the one the time so far predicts.
+    // Progress per pass, timed from the first pass (the preprocess is done); with a time
+    // budget the pass count is the one the time so far predicts.
     const size_t max_passes = o_.time_budget > 0 ? SIZE_MAX : std::max<size_t>(1, o_.passes);
     auto on_pass = [&](const ProgressRecord& rec) {
       RenderProgress p;
       p.pass = int(rec.passes) - 1;
-      p.passes = o_.time_budget > 0
-          ? std::max(int(rec.passes), int(std::ceil(o_.time_budget * double(rec.passes) / std::max(rec.seconds, 1e-9))))
-          : int(max_passes);
+      const double predicted = std::ceil(o_.time_budget * double(rec.passes) / std::max(rec.seconds, 1e-9));
+      p.passes = o_.time_budget > 0 ? int(std::clamp(predicted, double(rec.passes), 1e9)) : int(max_passes);
       p.rays_traced = r.shadow_rays_traced();
-      p.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
+      p.elapsed_s = rec.seconds;
       rc.on_progress(p);
     };
     const auto records = r.render_for(o_.time_budget > 0 ? o_.time_budget : 1e300, reference, max_passes,

@@ -4,11 +4,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rayscout/core/accelerator_options.h"
+
 namespace rayscout {
 
 CameraRays::CameraRays(const Camera& camera, int width, int height)
     : frame_(camera_frame(camera, float(width) / float(height))), eye_(camera.eye),
-      lens_radius_(camera.lens_radius), focus_distance_(camera.focus_distance), width_(width), height_(height) {}
+      lens_radius_(camera.lens_radius), focus_distance_(camera.focus_distance), width_(width), height_(height) {
+  if (!(lens_radius_ >= 0 && std::isfinite(lens_radius_)))
+    throw InputError("camera.lens_radius: must be finite and >= 0");
+  if (lens_radius_ > 0 && !(focus_distance_ > 0 && std::isfinite(focus_distance_)))
+    throw InputError("camera.focus_distance: a thin lens needs a finite focus distance > 0");
+}
 
 Ray CameraRays::generate(float film_x, float film_y, float lens_u, float lens_v) const {
   Vec3 dir = frame_.direction(film_x / float(width_), film_y / float(height_));

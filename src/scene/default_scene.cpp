@@ -26,8 +26,8 @@ Camera framing_camera(const Bounds3& b, float fov_deg) {
 PointLight framing_light(const Bounds3& b, const Camera& camera) {
   const float radius = std::max(0.5f * length(b.diagonal()), 1e-6f);
   PointLight l;
-  const Vec3 back = normalize(camera.eye - camera.look_at);
-  l.position = camera.eye + normalize(camera.up) * (0.25f * radius) + back * (0.25f * radius);
+  const CameraFrame frame = camera_frame(camera, 1.0f);  // up and back of any length
+  l.position = camera.eye + (frame.up - frame.forward) * (0.25f * radius);
   const Vec3 d = l.position - b.center();
   l.intensity = Vec3(dot(d, d));
   return l;

@@ -302,7 +302,7 @@ class JsonSceneLoader {
 
     const Bounds3 bounds = scene.bounds();
     scene.camera = framing_camera(bounds, camera && camera->fov_deg ? *camera->fov_deg : 60.0f);
-    if (camera) apply_camera(*camera, scene.camera);
+    apply_camera(camera.value_or(CameraFields{}), scene.camera);
     if (scene.point_lights.empty() && scene.emissive_triangles.empty()) {
       scene.point_lights.push_back(framing_light(bounds, scene.camera));
       scene.warnings.push_back(f_.file() + ": no lights; added a point light near the camera");
@@ -467,7 +467,13 @@ class JsonSceneLoader {
     if (f.up) c.up = *f.up;
     if (f.fov_deg) c.fov_deg = *f.fov_deg;
     if (f.lens_radius) c.lens_radius = *f.lens_radius;
-    c.focus_distance = f.focus_distance ? *f.focus_distance : length(c.look_at - c.eye);
+    // The framing camera backs off by radius / sin(fov / 2): a tiny fov_deg puts it out of reach.
+    if (!f.eye) f_.bounded(max_component(abs(c.eye)), "camera.eye (the framing camera's, for this fov_deg; give an eye)");
+    // Default: |look_at - eye|, in double so that neither a tiny nor a huge distance rounds to 0 or inf.
+    const double dx = double(c.look_at.x) - c.eye.x, dy = double(c.look_at.y) - c.eye.y, dz = double(c.look_at.z) - c.eye.z;
+    c.focus_distance = f.focus_distance ? *f.focus_distance : float(std::sqrt(dx * dx + dy * dy + dz * dz));
+    if (!(c.focus_distance > 0))
+      f_.fail("camera.focus_distance", "|look_at - eye| rounds to 0 in float; give a focus_distance");
     try {
       camera_frame(c, 1.0f);  // the frame every camera ray will use: "camera.up: is parallel ..."
     } catch (const InputError& e) {

@@ -87,8 +87,9 @@ TEST(CameraRays, ThinLensFocusesOnThePlaneInFocus) {
   EXPECT_GT(CameraRays(cam, 64, 48).generate(32, 0, 0, 0).dir.y, 0.0f);
 }
 
-// A focus plane far away or a lens far wider than the focus distance: every ray is still a
-// unit direction through its lens point (the lens-to-focus vector once overflowed to inf).
+// A focus plane far away, a lens far wider than the focus distance, a focus distance of
+// 1e-30: every ray is still a unit direction from its lens point through the point in focus
+// (the lens-to-focus vector once overflowed to inf and gave a black image).
 TEST(CameraRays, ExtremeThinLensesStayFinite) {
   Camera cam;
   cam.eye = {0, 0, 5};
@@ -98,16 +99,22 @@ TEST(CameraRays, ExtremeThinLensesStayFinite) {
     cam.focus_distance = focus;
     const CameraRays rays(cam, 8, 8);
     const Ray pinhole = CameraRays(Camera{.eye = cam.eye, .look_at = cam.look_at}, 8, 8).generate(1.5f, 6.5f, 0, 0);
+    // The point in focus is eye + pinhole.dir * k, k = focus / cos (view axis -z); its offset
+    // from a ray's origin is (eye - org) + pinhole.dir * k, in double.
+    const double k = double(focus) / -double(pinhole.dir.z);
     for (float u : {0.1f, 0.5f, 0.9f}) {
       const Ray r = rays.generate(1.5f, 6.5f, u, 1 - u);
       ASSERT_TRUE(is_finite(r.dir) && is_finite(r.org)) << radius << " " << focus;
       EXPECT_NEAR(length(r.dir), 1.0f, 1e-6f);
-      // A far focus plane: parallel to the pinhole ray. A near one: through eye + dir * k.
-      if (focus > 1e20f) {
-        EXPECT_GT(dot(r.dir, pinhole.dir), 1.0f - 1e-6f);
-      }
+      const double tx = (0.0 - r.org.x) + k * pinhole.dir.x, ty = (0.0 - r.org.y) + k * pinhole.dir.y,
+                   tz = (5.0 - r.org.z) + k * pinhole.dir.z;
+      const double len = std::sqrt(tx * tx + ty * ty + tz * tz);
+      const double cosine = (tx * r.dir.x + ty * r.dir.y + tz * r.dir.z) / len;
+      EXPECT_GT(cosine, 1.0 - 1e-6) << "lens " << radius << " focus " << focus << " u " << u;
     }
   }
+  cam.focus_distance = 0;
+  EXPECT_THROW(CameraRays(cam, 8, 8), InputError);
 }
 
 // The camera's frame depends on the directions of look_at - eye and up, not their lengths.

@@ -285,15 +285,25 @@ TEST(SceneBadInput, JsonCameraUpOfAnyLength) {
     expect_contains(json_error(dir, tri + R"("camera": {"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": )" + up + "}}"),
                     {"scene.json: camera.up: is parallel to the view direction"});
   // A long up, a short one, a look_at 1e-30 from the eye: valid, and the frame follows them.
+  // The light added for a scene without lights and the default focus distance follow too.
   const std::pair<const char*, Vec3> valid[] = {
       {R"({"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": [0, 1e20, 0]})", {0, 1, 0}},
       {R"({"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": [1e-30, 0, 0]})", {1, 0, 0}},
-      {R"({"eye": [0, 0, 0], "look_at": [1e-30, 0, 0], "up": [0, 0, 1]})", {0, 0, 1}}};
+      {R"({"eye": [0, 0, 1], "look_at": [0, 0, 0], "up": [0, 1e-38, 0]})", {0, 1, 0}},
+      {R"({"eye": [0, 0, 0], "look_at": [1e-30, 0, 0], "up": [0, 0, 1]})", {0, 0, 1}},
+      {R"({"eye": [0.2, 0.2, 2e-23], "look_at": [0.2, 0.2, 1e-23], "lens_radius": 0.001})", {0, 1, 0}}};
   for (const auto& [camera, up] : valid) {
     const Scene s = load_scene(dir.write("ok.json", tri + R"("camera": )" + camera + "}"));
     const CameraFrame f = camera_frame(s.camera, 1.0f);
     EXPECT_NEAR(dot(f.up, up), 1.0f, 1e-6f) << camera;
+    ASSERT_EQ(s.point_lights.size(), 1u);
+    EXPECT_TRUE(is_finite(s.point_lights[0].position)) << camera;
+    EXPECT_GT(dot(s.point_lights[0].position - s.camera.eye, up), 0.0f) << camera;  // above the camera
+    EXPECT_GT(s.camera.focus_distance, 0.0f) << camera;
   }
+  // The framing camera of a tiny field of view stands beyond float's reach: said, not a black image.
+  expect_contains(json_error(dir, tri + R"("camera": {"fov_deg": 1e-30}})"),
+                  {"scene.json: camera.eye (the framing camera's, for this fov_deg; give an eye): is beyond +-1e18"});
 }
 
 TEST(SceneBadInput, JsonMeshFileErrorsNameBothFiles) {
