@@ -58,7 +58,7 @@ std::string container_defect(const std::string& data, bool binary) {
              std::to_string(data.size());
     if (json_text(data, true).empty()) return "the first chunk is not a complete JSON chunk";
   } else if (data.compare(0, 3, "\xEF\xBB\xBF") == 0) {
-    return "starts with a byte order mark, which glTF JSON must not (glTF 2.0 sec. 3.1)";
+    return "starts with a byte order mark, which glTF JSON must not have";
   }
   nlohmann::json doc;
   try {
