@@ -6,7 +6,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <map>
@@ -15,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "rayscout/core/little_endian.h"
 #include "rayscout/scene/mesh.h"
 #include "scene_builder.h"
 #include "text_parse.h"
@@ -28,10 +28,8 @@ Vec3 color(const aiMaterial* m, const char* key, unsigned type, unsigned idx, Ve
   return fallback;
 }
 
-uint32_t le32(const std::string& s, size_t at) {
-  return uint32_t(uint8_t(s[at])) | uint32_t(uint8_t(s[at + 1])) << 8 | uint32_t(uint8_t(s[at + 2])) << 16 |
-         uint32_t(uint8_t(s[at + 3])) << 24;
-}
+// Word `at` bytes into the file, little-endian (the caller checked the size).
+uint32_t le32(const std::string& s, size_t at) { return get_u32(s.data() + at); }
 
 constexpr uint32_t kJsonChunk = 0x4E4F534Au;  // "JSON"
 
@@ -57,7 +55,7 @@ std::string container_defect(const std::string& data, bool binary) {
       return "truncated: the header declares " + std::to_string(le32(data, 8)) + " bytes, the file has " +
              std::to_string(data.size());
     if (json_text(data, true).empty()) return "the first chunk is not a complete JSON chunk";
-  } else if (data.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+  } else if (detail::skip_bom(data) != data.data()) {
     return "starts with a byte order mark, which glTF JSON must not have";
   }
   nlohmann::json doc;
@@ -134,11 +132,10 @@ void drop_unused_materials(Mesh& mesh) {
 }  // namespace
 
 Mesh read_assimp(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  const bool binary = ext == ".glb";
+  const bool binary = detail::lower_extension(path) == ".glb";
   const std::string file = detail::display_name(path), data = detail::read_file(path);
-  detail::check_json_nesting(json_text(data, binary), file);
+  const std::string_view json = json_text(data, binary);
+  detail::check_json_nesting(json, file);
   Assimp::Importer importer;
   // From the path, not from `data`: buffers and images may be files beside it.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
@@ -147,7 +144,7 @@ Mesh read_assimp(const std::filesystem::path& path) {
     throw InputError(file + ": " + (defect.empty() ? "assimp cannot read it: " + std::string(importer.GetErrorString()) : defect));
   }
   Mesh mesh;
-  const std::map<std::string, float> strengths = emissive_strengths(json_text(data, binary), file, mesh.warnings);
+  const std::map<std::string, float> strengths = emissive_strengths(json, file, mesh.warnings);
   for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
     const aiMaterial* m = scene->mMaterials[i];
     aiString name;

@@ -105,7 +105,6 @@ class Fields {
   std::string file_;
 };
 
-
 // Applies the fields of a material object to m (omitted fields keep their value).
 void apply_material(const Fields& f, const Json& j, const std::string& field, Material& m, bool allow_name) {
   if (allow_name) f.check_keys(j, field, {"name", "type", "diffuse", "specular", "exponent", "emission"});

@@ -1,9 +1,6 @@
 // load_scene / resolve_scene: dispatch between JSON scene files, bare meshes and the built-in scene.
 #include "rayscout/scene/load_scene.h"
 
-#include <algorithm>
-#include <cctype>
-
 #include "json_scene.h"
 #include "rayscout/scene/mesh.h"
 #include "scene_builder.h"
@@ -15,8 +12,7 @@ Scene load_scene(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(detail::display_name(path) + ": is a directory, not a scene or mesh file");
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = detail::lower_extension(path);
   if (ext == ".json") return detail::load_json_scene(path);
 
   Mesh mesh = read_mesh(path);

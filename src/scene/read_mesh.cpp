@@ -1,6 +1,4 @@
 // read_mesh: picks the reader by file extension.
-#include <algorithm>
-#include <cctype>
 #include <string>
 
 #include "rayscout/scene/mesh.h"
@@ -9,8 +7,7 @@
 namespace rayscout {
 
 Mesh read_mesh(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = detail::lower_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".ply") return read_ply(path);
   if (ext == ".gltf" || ext == ".glb") return read_assimp(path);
