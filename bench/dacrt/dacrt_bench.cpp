@@ -304,14 +304,16 @@ int main(int argc, char** argv) {
         fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", afra_ms);
         const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
             {"cost only (eq. 2)", {"cost=sampled"}},
-            {"order only (sec. 4.3)", {"order=sampled"}},
+            {"order only (Algorithm 2 as printed)", {"order=literal-votes"}},
+            {"order only (entry votes)", {"order=sampled"}},
             {"skip only (eq. 5)", {"skip=on"}},
-            {"cost + order", {"cost=sampled", "order=sampled"}},
-            {"all three (paper)", {"cost=sampled", "order=sampled", "skip=on"}},
+            {"cost + order (entry votes)", {"cost=sampled", "order=sampled"}},
+            {"all three, as printed (paper)", {"cost=sampled", "order=literal-votes", "skip=on"}},
+            {"all three, entry votes", {"cost=sampled", "order=sampled", "skip=on"}},
             {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
             {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
             {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
-            {"all three, sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
+            {"all three, entry votes + sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
             {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
         auto counted = [&](const Accelerator& a) {
           TraceStats st;

@@ -70,7 +70,7 @@ def main(path, out):
         x = range(len(rows))
         part = [100 * (c["rs_partition_box"] / c["dacrt_box"] - 1) for c in rows]
         allb = [100 * (c["rs_box"] / c["dacrt_box"] - 1) for c in rows]
-        ax.bar([i - 0.2 for i in x], part, 0.4, label="partitioning tests (fig. 10's count)")
+        ax.bar([i - 0.2 for i in x], part, 0.4, label="partitioning tests only")
         ax.bar([i + 0.2 for i in x], allb, 0.4, label="including the sample rays' tests")
         ax.axhline(0, color="gray", lw=0.8)
         ax.set_xticks(list(x))

@@ -69,10 +69,12 @@ inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear, f
   return tnear <= tfar;
 }
 
-/// Which child a sample ray that hits both votes for: 0 (left), 1 (right) or -1 (none),
-/// from the entry (d) and exit (f) distances of both boxes and the ray's direction along
-/// the split axis (goes_up: left first). See DacrtConfig::votes.
-inline int vote(DacrtVotes rule, float dl, float fl, float dr, float fr, bool goes_up) {
+/// Which child a sample ray votes for: 0 (left), 1 (right) or -1 (none), from whether it
+/// hits each box (hl, hr), the entry (d) and exit (f) distances of the boxes it hits, and
+/// its direction along the split axis (goes_up: left first). See DacrtConfig::votes.
+inline int vote(DacrtVotes rule, bool hl, bool hr, float dl, float fl, float dr, float fr, bool goes_up) {
+  if (rule == DacrtVotes::Literal) return (hl ? dl : kInfinity) < (hr ? dr : kInfinity) ? 0 : 1;
+  if (!hl || !hr) return -1;
   switch (rule) {
     case DacrtVotes::Sign: return goes_up ? 0 : 1;
     case DacrtVotes::Interval: return fl < dr ? 0 : (fr < dl ? 1 : -1);
@@ -226,10 +228,8 @@ struct BoxSoa {
 };
 
 /// Algorithm 2 for one sample ray against the candidate pairs (lb[j], rb[j]): c_L, c_R count
-/// the boxes hit; of rays hitting both, the nearer entry gets the vote (n_L, n_R), an equal
-/// entry (a ray starting inside both) goes by the ray's direction along the split axis
-/// (goes_up: left first); with sign_votes the direction alone decides. Padding lanes hold
-/// empty boxes and count nothing.
+/// the boxes hit, n_L, n_R the votes by `rule` (see vote()). Padding lanes hold empty boxes;
+/// they count no hits (a literal vote of theirs goes to n_R, unread).
 inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, DacrtVotes rule,
                          uint32_t* hits_l, uint32_t* hits_r, uint32_t* votes_l, uint32_t* votes_r) {
 #if defined(__AVX512F__)
@@ -260,7 +260,10 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     const __mmask16 hl = test(lb, i, nl, fl), hr = test(rb, i, nr, fr);
     const __mmask16 both = hl & hr;
     __mmask16 left, right;
-    if (rule == DacrtVotes::Sign) {
+    if (rule == DacrtVotes::Literal) {  // d = inf on a miss: hitting only L, or both with L nearer
+      left = static_cast<__mmask16>((hl & ~hr) | _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ));
+      right = static_cast<__mmask16>(~left);
+    } else if (rule == DacrtVotes::Sign) {
       left = goes_up ? both : __mmask16(0);
       right = static_cast<__mmask16>(both & ~left);
     } else if (rule == DacrtVotes::Interval) {
@@ -300,7 +303,10 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     const __m256 hl = test(lb, i, nl, fl), hr = test(rb, i, nr, fr);
     const __m256 both = _mm256_and_ps(hl, hr);
     __m256 left, right;
-    if (rule == DacrtVotes::Sign) {
+    if (rule == DacrtVotes::Literal) {
+      left = _mm256_or_ps(_mm256_andnot_ps(hr, hl), _mm256_and_ps(both, _mm256_cmp_ps(nl, nr, _CMP_LT_OQ)));
+      right = _mm256_andnot_ps(left, _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
+    } else if (rule == DacrtVotes::Sign) {
       left = _mm256_and_ps(both, up);
       right = _mm256_andnot_ps(left, both);
     } else if (rule == DacrtVotes::Interval) {
@@ -329,10 +335,8 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     const bool hl = ray_hits_box(r, bl, dl, fl), hr = ray_hits_box(r, br, dr, fr);
     hits_l[j] += hl;
     hits_r[j] += hr;
-    if (hl && hr) {
-      const int v = vote(rule, dl, fl, dr, fr, goes_up);
-      if (v == 0) ++votes_l[j]; else if (v == 1) ++votes_r[j];
-    }
+    const int v = vote(rule, hl, hr, dl, fl, dr, fr, goes_up);
+    if (v == 0) ++votes_l[j]; else if (v == 1) ++votes_r[j];
   }
 #endif
 }

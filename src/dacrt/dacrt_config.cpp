@@ -5,9 +5,16 @@
 #include <climits>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace rayscout {
 namespace {
+
+/// Values of option `order` that switch the sampled child order on, with their vote rule.
+constexpr std::pair<const char*, DacrtVotes> kVoteNames[] = {{"sampled", DacrtVotes::Entry},
+                                                             {"literal-votes", DacrtVotes::Literal},
+                                                             {"sign-votes", DacrtVotes::Sign},
+                                                             {"interval-votes", DacrtVotes::Interval}};
 
 bool pick(const AcceleratorOptions& o, const std::string& key, const std::string& on, const std::string& off,
           bool fallback) {
@@ -38,12 +45,15 @@ double DacrtConfig::skip_threshold(size_t child_tris) const {
 DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c) {
   c.sampled_cost = pick(o, "cost", "sampled", "sah", c.sampled_cost);
   {
-    const char* names[] = {"sampled", "sign-votes", "interval-votes"};
-    const std::string order = o.get_string("order", c.sampled_order ? names[int(c.votes)] : "one-ray");
-    if (order != "sampled" && order != "one-ray" && order != "sign-votes" && order != "interval-votes")
-      throw InputError("option 'order': '" + order + "' is not sampled, one-ray, sign-votes or interval-votes");
+    const std::string order = o.get_string("order", c.order_name());
     c.sampled_order = order != "one-ray";
-    c.votes = order == "sign-votes" ? DacrtVotes::Sign : order == "interval-votes" ? DacrtVotes::Interval : DacrtVotes::Entry;
+    if (c.sampled_order) {
+      const auto* named = std::find_if(std::begin(kVoteNames), std::end(kVoteNames),
+                                       [&](const auto& n) { return order == n.first; });
+      if (named == std::end(kVoteNames))
+        throw InputError("option 'order': '" + order + "' is not one-ray, sampled, literal-votes, sign-votes or interval-votes");
+      c.votes = named->second;
+    }
   }
   c.skip_partitioning = o.get_bool("skip", c.skip_partitioning);
   c.resample_second = o.get_bool("resample", c.resample_second);
@@ -67,9 +77,16 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   return c;
 }
 
+std::string DacrtConfig::order_name() const {
+  if (!sampled_order) return "one-ray";
+  for (const auto& [name, rule] : kVoteNames)
+    if (rule == votes) return name;
+  return "sampled";
+}
+
 std::string DacrtConfig::describe() const {
   std::ostringstream s;
-  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << (sampled_order ? (votes == DacrtVotes::Sign ? "sign-votes" : votes == DacrtVotes::Interval ? "interval-votes" : "sampled") : "one-ray")
+  s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << order_name()
     << " skip=" << (skip_partitioning ? "on" : "off")
     << " resample=" << (resample_second ? "on" : "off")
     << " strategy=" << (strategy == DacrtSampling::Stride ? "stride" : "random");

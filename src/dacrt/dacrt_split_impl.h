@@ -190,10 +190,8 @@ void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, 
       hits[c] += h[c];
     }
     const bool ray_goes_up = (s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz)) >= 0.0f;
-    if (h[0] && h[1]) {
-      const int v = vote(cfg_.votes, d[0], f[0], d[1], f[1], ray_goes_up);
-      if (v >= 0) ++s.votes[v];
-    }
+    const int v = vote(cfg_.votes, h[0], h[1], d[0], f[0], d[1], f[1], ray_goes_up);
+    if (v >= 0) ++s.votes[v];
   }
   s.alpha[0] = double(hits[0]) / double(ns);
   s.alpha[1] = double(hits[1]) / double(ns);

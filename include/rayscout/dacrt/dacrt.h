@@ -17,7 +17,7 @@ namespace rayscout {
 
 /// Work of the last trace call beyond TraceStats, filled only when stats were requested.
 struct DacrtDetails {
-  uint64_t partition_box_tests = 0;  ///< ray-box tests of ray-set partitioning (fig. 10's count)
+  uint64_t partition_box_tests = 0;  ///< ray-box tests of ray-set partitioning (without the sample rays')
   uint64_t sampling_box_tests = 0;   ///< ray-box tests of the sample rays (Algorithm 2)
   uint64_t skipped_partitions = 0;   ///< children entered with the unfiltered ray set (eq. 5)
   uint64_t sampled_nodes = 0;        ///< nodes that drew sample rays

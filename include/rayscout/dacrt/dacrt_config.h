@@ -14,7 +14,7 @@ namespace rayscout {
 enum class DacrtSampling { Stride, Random };
 
 /// Vote rule of the sampled child order (sec. 4.3), see DacrtConfig::votes.
-enum class DacrtVotes { Entry, Sign, Interval };
+enum class DacrtVotes { Entry, Sign, Interval, Literal };
 
 /// Tunables of Dacrt. The defaults give Afra's DACRT; ray_sampled() switches on the three
 /// contributions of the ray-sampling paper. Cost constants are relative (one ray-box test = 1).
@@ -25,11 +25,14 @@ struct DacrtConfig {
   /// Child order by the sample rays' n_L/n_R votes (true, sec. 4.3) or by the direction of
   /// one ray along the split axis (false, Afra). Option order=sampled|one-ray.
   bool sampled_order = false;
-  /// With sampled_order, how a sample ray that hits both children votes (docs/dacrt.md):
-  /// Entry = the nearer box entry (Algorithm 2, lines 10-14; equal entries by the ray's
-  /// direction), Sign = the ray's direction along the split axis, Interval = only when one
-  /// box's [entry, exit] interval ends before the other begins (the ray surely meets that
-  /// child's triangles first). Option order=sampled|sign-votes|interval-votes.
+  /// With sampled_order, how the sample rays vote (docs/dacrt.md). Literal = Algorithm 2,
+  /// lines 10-14 as printed: every sample ray votes, n_L when d_L < d_R with d = inf on a
+  /// miss, else n_R (so rays missing both, or entering both at once, vote R). The others
+  /// count only rays that hit both children: Entry = the nearer box entry (equal entries by
+  /// the ray's direction), Sign = the ray's direction along the split axis, Interval = only
+  /// when one box's [entry, exit] interval ends before the other begins (the ray surely
+  /// meets that child's triangles first).
+  /// Option order=sampled|literal-votes|sign-votes|interval-votes.
   DacrtVotes votes = DacrtVotes::Entry;
   /// With skip_partitioning: alpha of the child visited second is measured again with the
   /// sample rays' hit distances after the first child (what its partitioning would see), not
@@ -108,6 +111,8 @@ struct DacrtConfig {
   static DacrtConfig from_options(const AcceleratorOptions& options, DacrtConfig defaults);
   /// One line naming every setting, for benchmark logs.
   std::string describe() const;
+  /// The value of option `order` that selects this child-order rule.
+  std::string order_name() const;
 };
 
 }  // namespace rayscout

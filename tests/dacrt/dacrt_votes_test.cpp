@@ -1,0 +1,77 @@
+// The sample-ray votes of Algorithm 2: the SIMD kernel over candidate pairs counts exactly
+// what the scalar rule vote() gives, for every rule, and the literal rule is the paper's.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "../../src/dacrt/box_kernels.h"
+
+namespace rayscout::dacrt {
+namespace {
+
+RayRecord record(Vec3 o, Vec3 d, float t = kInfinity) {
+  return {o.x, o.y, o.z, 0.0f, 1.0f / d.x, 1.0f / d.y, 1.0f / d.z, t};
+}
+
+TEST(DacrtVotes, LiteralRuleIsAlgorithm2AsPrinted) {
+  const float inf = kInfinity;
+  // Lines 10-14: n_L when d_L < d_R, d = inf on a miss; everything else votes R.
+  EXPECT_EQ(vote(DacrtVotes::Literal, true, true, 1.0f, 2.0f, 3.0f, 4.0f, false), 0);
+  EXPECT_EQ(vote(DacrtVotes::Literal, true, true, 3.0f, 4.0f, 1.0f, 2.0f, true), 1);
+  EXPECT_EQ(vote(DacrtVotes::Literal, true, false, 5.0f, 6.0f, inf, inf, false), 0);   // only L hit
+  EXPECT_EQ(vote(DacrtVotes::Literal, false, true, inf, inf, 5.0f, 6.0f, true), 1);    // only R hit
+  EXPECT_EQ(vote(DacrtVotes::Literal, false, false, inf, inf, inf, inf, true), 1);     // neither: R
+  EXPECT_EQ(vote(DacrtVotes::Literal, true, true, 0.0f, 1.0f, 0.0f, 2.0f, true), 1);   // inside both: R
+  // The other rules count only rays that hit both boxes.
+  for (DacrtVotes r : {DacrtVotes::Entry, DacrtVotes::Sign, DacrtVotes::Interval}) {
+    EXPECT_EQ(vote(r, true, false, 1.0f, 2.0f, inf, inf, true), -1);
+    EXPECT_EQ(vote(r, false, false, inf, inf, inf, inf, true), -1);
+  }
+  EXPECT_EQ(vote(DacrtVotes::Entry, true, true, 0.0f, 1.0f, 0.0f, 2.0f, true), 0);     // tie: direction
+  EXPECT_EQ(vote(DacrtVotes::Interval, true, true, 0.0f, 3.0f, 1.0f, 2.0f, true), -1); // overlapping
+  EXPECT_EQ(vote(DacrtVotes::Interval, true, true, 2.5f, 3.0f, 1.0f, 2.0f, true), 1);
+}
+
+TEST(DacrtVotes, KernelCountsWhatTheScalarRuleGives) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-4.0f, 4.0f), s(0.1f, 3.0f);
+  for (DacrtVotes rule : {DacrtVotes::Entry, DacrtVotes::Sign, DacrtVotes::Interval, DacrtVotes::Literal}) {
+    BoxSoa lb, rb;
+    const int n = 45;  // not a multiple of 16: padding lanes too
+    lb.resize(n);
+    rb.resize(n);
+    std::vector<Bounds3> l(n), r(n);
+    for (int j = 0; j < n; ++j) {
+      const Vec3 cl{u(rng), u(rng), u(rng)}, cr{u(rng), u(rng), u(rng)};
+      const Vec3 hl{s(rng), s(rng), s(rng)}, hr{s(rng), s(rng), s(rng)};
+      l[j] = {cl - hl, cl + hl};
+      r[j] = j % 7 == 0 ? l[j] : Bounds3{cr - hr, cr + hr};  // identical boxes: equal entries
+      lb.set(j, l[j]);
+      rb.set(j, r[j]);
+    }
+    alignas(64) uint32_t c[4][256] = {};
+    std::vector<uint32_t> want[4];
+    for (auto& w : want) w.assign(size_t(n), 0);
+    uint64_t votes = 0;
+    for (int q = 0; q < 300; ++q) {
+      const RayRecord ray = record({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, q % 3 ? kInfinity : s(rng));
+      const bool up = q % 2 == 0;
+      sample_pairs(ray, lb, rb, up, rule, c[0], c[1], c[2], c[3]);
+      for (int j = 0; j < n; ++j) {
+        float dl, fl, dr, fr;
+        const bool hl = ray_hits_box(ray, l[size_t(j)], dl, fl), hr = ray_hits_box(ray, r[size_t(j)], dr, fr);
+        want[0][size_t(j)] += hl;
+        want[1][size_t(j)] += hr;
+        const int v = vote(rule, hl, hr, dl, fl, dr, fr, up);
+        if (v >= 0) ++want[2 + v][size_t(j)], ++votes;
+      }
+    }
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < n; ++j) EXPECT_EQ(c[k][j], want[k][size_t(j)]) << "rule " << int(rule) << " counter " << k << " pair " << j;
+    if (rule == DacrtVotes::Literal) EXPECT_EQ(votes, 300u * n);  // every ray votes for every pair
+    else EXPECT_GT(votes, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace rayscout::dacrt
