@@ -2,6 +2,7 @@
 // BVH, per scene and workload, side by side in one run; plus a memory/direction sweep (CSV).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <filesystem>
@@ -247,9 +248,12 @@ int main(int argc, char** argv) {
           }
           continue;
         }
+        double saved_sum = 0.0, log_speedup_sum = 0.0;
         for (const RaySet& set : sets) {
           const Measure m = measure(acc, set, reps);
           const double n = double(std::max<size_t>(1, set.rays.size()));
+          saved_sum += 1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps));
+          log_speedup_sum += std::log(m.ms_without / m.ms_with);
           fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.1f} / {:.1f} | {:.1f} / {:.1f} | {:.2f} | {:.2f} | {:.2f}x | {:.1f} |\n",
                      set.name, set.rays.size(), m.without.traversal_steps / n, m.with.traversal_steps / n,
                      100.0 * (1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps))),
@@ -263,6 +267,10 @@ int main(int argc, char** argv) {
                 << m.without.ray_box_tests / n << "," << m.with.ray_box_tests / n << "," << m.without.ray_tri_tests / n
                 << "," << m.with.ray_tri_tests / n << "\n";
         }
+        if (!sets.empty())
+          fmt::print("| mean of these workloads | | | | {:.1f} % | | | | | {:.2f}x (geometric) | |\n"
+                     "paper (EGSR 2019, mean over its scenes and ray types): 42 % fewer steps, about 15 % less time (1.18x)\n",
+                     100.0 * saved_sum / double(sets.size()), std::exp(log_speedup_sum / double(sets.size())));
         std::fflush(stdout);
       }
     }
