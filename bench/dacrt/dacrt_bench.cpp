@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{"Experiments of the ray-sampling DACRT paper"};
   for (const auto& v : paper_views()) o.views.push_back(v.name);
-  app.add_option("--views", o.views, "views (default: all nine)")->delimiter(',');
+  app.add_option("--views", o.views, "views (default: all ten)")->delimiter(',');
   app.add_option("--res", o.res, "square resolutions")->delimiter(',')->check(CLI::Range(1, 16384))->capture_default_str();
   app.add_flag("--big", o.big, "also 4096^2");
   app.add_option("--reps", o.reps, "repetitions per measurement (median)")->check(CLI::Range(1, 1000000))->capture_default_str();

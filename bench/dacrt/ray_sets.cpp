@@ -64,7 +64,7 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const View& view, int widt
   const float diag = length(scene.bounds().diagonal()), eps = 1e-4f * diag;
   std::mt19937 rng(7);
   sets.push_back(std::move(primary));
-  sets.push_back({"shadow", 0, true, shadow_rays(view, pts, eps, rng)});
+  if (RayBatch shadow = shadow_rays(view, pts, eps, rng); !shadow.empty()) sets.push_back({"shadow", 0, true, std::move(shadow)});
 
   if (view.ao) {
     RaySet ao{"ao", 0, true, {}};
@@ -99,6 +99,7 @@ std::vector<RaySet> render_ray_sets(const Scene& scene, const View& view, int wi
   if (view.integrator == "direct") integrator = make_direct_integrator();
   else if (view.integrator == "area") integrator = make_area_integrator();
   else if (view.integrator == "path") integrator = make_path_integrator();
+  else if (view.integrator == "ao") integrator = make_ao_integrator();
   else throw std::runtime_error("unknown integrator " + view.integrator);
   RenderConfig config;
   config.width = width;

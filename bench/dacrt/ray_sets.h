@@ -31,7 +31,7 @@ struct View {
   float mirror_below_y = 0;
   bool ao = false;             ///< add short random rays (10 % of the diagonal) from primary hits
   std::string scene_json;      ///< bench/scenes file for the renderer source ("" = none)
-  std::string integrator;      ///< "direct", "area" or "path" for the renderer source
+  std::string integrator;      ///< "direct", "area", "ao" or "path" for the renderer source
   int max_depth = 1;           ///< renderer: mirror reflections (direct/area) or path bounces
 };
 

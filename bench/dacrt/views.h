@@ -10,7 +10,8 @@
 namespace rayscout::bench {
 
 /// Every view: Sibenik (a) point light, (b) other point lights, (c) area light, all with the
-/// mirror floor of fig. 4; Sponza (a), (b) point lights, (c) path tracing; Conference likewise.
+/// mirror floor of fig. 4, and Sibenik ambient occlusion (fig. 5(b); our camera (a), the
+/// paper's is not given); Sponza (a), (b) point lights, (c) path tracing; Conference likewise.
 /// The renderer source (default) renders bench/scenes/<scene_json> with `integrator` (the (b)
 /// views have two point lights); the own generator (--source own) uses the camera and lights
 /// here instead (AO rays stand in for path tracing).
@@ -29,6 +30,8 @@ inline std::vector<View> paper_views() {
   s.name = "sibenik-c"; s.scene_json = "sibenik-c.json"; s.integrator = "area"; s.point_lights = {}; s.area_light = true;
   s.area_corner = {-3.0f, 2.0f, -3.0f}; s.area_u = {6.0f, 0.0f, 0.0f}; s.area_v = {0.0f, 0.0f, 6.0f};
   v.push_back(s);
+  s.name = "sibenik-ao"; s.scene_json = "sibenik-a.json"; s.integrator = "ao"; s.area_light = false; s.ao = true;
+  s.mirror_floor = false; v.push_back(s);
 
   View p;
   p.file = "crytek-sponza/sponza.obj";
@@ -54,12 +57,13 @@ inline std::vector<View> paper_views() {
   return v;
 }
 
-/// Afra time / proposed time per view and resolution, figs. 4, 6, 7 (the whole frame).
+/// Afra time / proposed time per view and resolution, figs. 4, 5(b), 6, 7 (the whole frame).
 inline const std::map<std::string, std::map<int, double>>& paper_ratios() {
   static const std::map<std::string, std::map<int, double>> r = {
       {"sibenik-a", {{512, 1.41}, {1024, 1.52}, {2048, 1.59}, {4096, 1.86}}},
       {"sibenik-b", {{512, 1.54}, {1024, 1.61}, {2048, 1.76}, {4096, 1.75}}},
       {"sibenik-c", {{512, 1.47}, {1024, 1.66}, {2048, 1.81}, {4096, 1.94}}},
+      {"sibenik-ao", {{512, 1.22}, {1024, 1.41}, {2048, 1.59}, {4096, 1.53}}},  // fig. 5(b)
       {"sponza-a", {{512, 1.38}, {1024, 1.61}, {2048, 1.74}, {4096, 1.80}}},
       {"sponza-b", {{512, 1.52}, {1024, 1.50}, {2048, 1.64}, {4096, 1.73}}},
       {"sponza-c", {{512, 1.22}, {1024, 1.17}, {2048, 1.34}, {4096, 1.39}}},
