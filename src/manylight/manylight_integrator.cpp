@@ -2,6 +2,7 @@
 #include "rayscout/manylight/manylight_integrator.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -60,10 +61,7 @@ class ManylightIntegrator final : public Integrator {
     Image image(rc.width, rc.height);
     image.pixels = r.image();
     if (!o_.skip_image.empty()) {
-      Image skip(rc.width, rc.height);
-      const auto s = r.skip_image();
-      for (size_t i = 0; i < s.size(); ++i) skip.pixels[i] = Vec3(srgb_to_linear(s[i]));
-      write_image(skip, o_.skip_image);
+      write_image(skip_rate_image(r.skip_image(), rc.width, rc.height, o_.skip_image), o_.skip_image);
     }
     if (!o_.rmse_log.empty()) write_log(r, records);
     if (o_.verbose) {
@@ -116,6 +114,16 @@ class ManylightIntegrator final : public Integrator {
 };
 
 }  // namespace
+
+Image skip_rate_image(std::span<const float> rates, int width, int height, const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const bool srgb = ext == ".png";  // the only format write_image encodes
+  Image image(width, height);
+  for (size_t i = 0; i < rates.size() && i < image.pixels.size(); ++i)
+    image.pixels[i] = Vec3(srgb ? srgb_to_linear(rates[i]) : rates[i]);
+  return image;
+}
 
 std::unique_ptr<Integrator> make_manylight_integrator(const ManylightRunOptions& options) {
   return std::make_unique<ManylightIntegrator>(options);

@@ -11,6 +11,7 @@
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/image/image.h"
 #include "rayscout/manylight/manylight_integrator.h"
+#include "rayscout/manylight/manylight_renderer.h"
 #include "rayscout/scene/load_scene.h"
 
 namespace rayscout {
@@ -67,9 +68,44 @@ TEST(ManylightIntegrator, WritesImageLogAndSkipImage) {
   for (const Vec3& p : skip.pixels) max_skip = std::max(max_skip, p.x);
   EXPECT_GT(max_skip, 0.0f);
   EXPECT_LE(max_skip, 1.0f);
+  // The .pfm holds the rates themselves: the same render (fixed costs, same seed) again.
+  ManylightConfig same = o.config;
+  same.width = rc.width;
+  same.height = rc.height;
+  same.spp = rc.spp;
+  same.seed = rc.seed;
+  ManylightRenderer again(scene, *accel, same);
+  again.render_for(1e300, {}, 8);
+  const std::vector<float> rates = again.skip_image();
+  ASSERT_EQ(rates.size(), skip.pixels.size());
+  int between = 0;
+  for (size_t i = 0; i < rates.size(); ++i) {
+    between += rates[i] > 0.05f && rates[i] < 0.95f;
+    ASSERT_EQ(skip.pixels[i].x, rates[i]) << "pixel " << i;
+  }
+  EXPECT_GT(between, 0);  // a rate an sRGB curve would have changed
 
   rc.width = 8;  // the reference no longer matches
   EXPECT_THROW(make_manylight_integrator(o)->render(scene, *accel, rc), InputError);
+}
+
+// A skip image shows the rate in every format: .pfm and .exr store it, a .png's 8-bit pixel
+// value is rate * 255 (rounded) after the writer's sRGB encoding.
+TEST(ManylightIntegrator, SkipImageStoresTheRateInEveryFormat) {
+  const std::vector<float> rates{0.0f, 0.1f, 0.25f, 0.5f, 0.75f, 1.0f};
+  const auto dir = std::filesystem::temp_directory_path() / "rayscout_manylight_skip_test";
+  std::filesystem::create_directories(dir);
+  for (const char* name : {"skip.pfm", "skip.exr", "skip.png", "SKIP.PNG"}) {
+    write_image(skip_rate_image(rates, 3, 2, dir / name), dir / name);
+    const Image back = read_image(dir / name);
+    ASSERT_EQ(back.pixels.size(), rates.size()) << name;
+    const bool png = std::string(name).ends_with("png") || std::string(name).ends_with("PNG");
+    for (size_t i = 0; i < rates.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        if (png) EXPECT_NEAR(255.0f * linear_to_srgb(back.pixels[i][c]), 255.0f * rates[i], 0.5f) << name << " " << i;
+        else EXPECT_EQ(back.pixels[i][c], rates[i]) << name << " " << i;
+      }
+  }
 }
 
 TEST(ManylightConfig, VisibilityModeNames) {

@@ -1,9 +1,12 @@
 // The many-light renderer behind the render module's Integrator interface (`--integrator manylight`).
 #pragma once
 
+#include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 
+#include "rayscout/image/image.h"
 #include "rayscout/manylight/config.h"
 #include "rayscout/render/renderer.h"
 
@@ -19,6 +22,12 @@ struct ManylightRunOptions {
   std::string skip_image;     ///< where to write the per-pixel skip rate (grey: white = skipped)
   bool verbose = true;        ///< summary lines on stderr
 };
+
+/// The width x height grey picture of per-pixel skip rates (ManylightRenderer::skip_image) to
+/// hand to write_image(path), so that the file holds the rate as its reader sees it: .exr and
+/// .pfm store the rate itself; .png stores 8-bit pixel values rate * 255 (write_image
+/// sRGB-encodes, so the linear value handed to it is srgb_to_linear(rate)).
+Image skip_rate_image(std::span<const float> rates, int width, int height, const std::filesystem::path& path);
 
 /// An Integrator running ManylightRenderer with the given options (copied).
 std::unique_ptr<Integrator> make_manylight_integrator(const ManylightRunOptions& options);
