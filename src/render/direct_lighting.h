@@ -32,7 +32,7 @@ inline void add_area_light_rays(const ShadeContext& ctx, const PathState& state,
   const int n = ctx.config->light_samples;
   for (int k = 0; k < n; ++k) {
     const uint32_t dim = kDimLights + 3 * uint32_t(k);
-    const LightSample ls = ctx.lights->sample(sampler.get(dim), sampler.get(dim + 1), sampler.get(dim + 2));
+    const LightSample ls = ctx.lights->sample(sampler.bits(dim), sampler.get(dim + 1), sampler.get(dim + 2));
     const Vec3 d = ls.p - sp.p;
     const float dist = length(d);
     if (!(dist > 2.0f * ctx.epsilon)) continue;

@@ -11,28 +11,19 @@ LightSampler::LightSampler(const Scene& scene) : scene_(&scene) {
   if (candidates.empty())  // scenes built by hand may not fill emissive_triangles
     for (uint32_t i = 0; i < scene.triangles.size(); ++i)
       if (scene.material_of(i).emissive()) candidates.push_back(i);
-  double total = 0;
   std::vector<double> weights;
   for (uint32_t prim : candidates) {
     const Vec3 e = scene.material_of(prim).emission;
     const double w = double(scene.triangles[prim].area()) * (double(e.x) + e.y + e.z) / 3.0;
-    if (!(w > 0)) continue;
+    if (!(w > 0) || !std::isfinite(w)) continue;
     prims_.push_back(prim);
     weights.push_back(w);
-    total += w;
   }
-  double running = 0;
-  for (double w : weights) {
-    running += w;
-    cdf_.push_back(float(running / total));
-    pmf_.push_back(float(w / total));
-  }
-  if (!cdf_.empty()) cdf_.back() = 1.0f;
+  if (!weights.empty()) choice_ = DiscreteDistribution(weights, 53);
 }
 
-LightSample LightSampler::sample(float u0, float u1, float u2) const {
-  const size_t k = std::min<size_t>(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin()),
-                                    prims_.size() - 1);
+LightSample LightSampler::sample(uint64_t choice_bits, float u1, float u2) const {
+  const size_t k = choice_.sample_bits(choice_bits);
   const Triangle& tri = scene_->triangles[prims_[k]];
   const float su = std::sqrt(u1);
   const float b1 = 1.0f - su, b2 = u2 * su;  // uniform barycentrics (Turk 1990)
@@ -40,7 +31,8 @@ LightSample LightSampler::sample(float u0, float u1, float u2) const {
   ls.p = tri.v0 * (1.0f - b1 - b2) + tri.v1 * b1 + tri.v2 * b2;
   ls.n = normalize(tri.normal());
   ls.emission = scene_->material_of(prims_[k]).emission;
-  ls.pdf_area = pmf_[k] / tri.area();
+  ls.choice_probability = choice_.probability(k);
+  ls.pdf_area = float(ls.choice_probability / double(tri.area()));
   return ls;
 }
 

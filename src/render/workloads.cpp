@@ -80,7 +80,7 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
               out.set(o++, dist > 2 * eps ? Ray{sp.p, eps, d / dist, dist - eps} : Ray{sp.p, eps, sp.n, 0.0f});
             }
           } else {
-            const LightSample ls = lights.sample(sampler.get(kDimLights), sampler.get(kDimLights + 1), sampler.get(kDimLights + 2));
+            const LightSample ls = lights.sample(sampler.bits(kDimLights), sampler.get(kDimLights + 1), sampler.get(kDimLights + 2));
             const Vec3 d = ls.p - sp.p;
             const float dist = length(d);
             out.set(o, dist > 2 * eps ? Ray{sp.p, eps, d / dist, dist - eps} : Ray{sp.p, eps, sp.n, 0.0f});

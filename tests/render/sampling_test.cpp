@@ -150,7 +150,7 @@ TEST(LightSampler, PowerProportionalChoice) {
   double inv_pdf = 0;
   for (int i = 0; i < n; ++i) {
     const PathSampler s(1, uint32_t(i), 0, 0);
-    const LightSample ls = lights.sample(s.get(0), s.get(1), s.get(2));
+    const LightSample ls = lights.sample(s.bits(0), s.get(1), s.get(2));
     ASSERT_LT(ls.p.x, 7.0f);
     second += ls.p.x >= 5.0f;
     EXPECT_EQ(ls.emission.x, ls.p.x >= 5.0f ? 3.0f : 1.0f);
@@ -159,6 +159,40 @@ TEST(LightSampler, PowerProportionalChoice) {
   }
   EXPECT_NEAR(double(second) / n, 6.0 / 7.0, 0.005);  // power 1 vs 2 x 3
   EXPECT_NEAR(inv_pdf / n, 3.0, 0.01);                 // E[1 / pdf] = total area 3
+}
+
+// A light far dimmer than its neighbour is chosen with exactly the probability it reports,
+// so E[1{chosen} / p] = 1. The choice is monotonic in the random bits: bisection finds the
+// measure of the bit patterns that choose each light. With a float CDF searched by a 24-bit u
+// a light of relative power 1e-7 was chosen 1.19 times as often as reported, 3e-8 1.79 times.
+TEST(LightSampler, ChoiceProbabilityIsExactForDimLights) {
+  for (const double ratio : {1e3, 1e7, 3e7, 1e12})
+    for (const bool dim_first : {true, false}) {
+      Scene scene;
+      const Material dim{.emission = Vec3{1.0f}}, bright{.emission = Vec3{float(ratio)}};
+      // Equal areas (0.5): the power ratio is the emission ratio.
+      testing::add_part(scene, {Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, dim_first ? dim : bright);
+      testing::add_part(scene, {Triangle{{5, 0, 0}, {6, 0, 0}, {5, 1, 0}}}, dim_first ? bright : dim);
+      const LightSampler lights(scene);
+      ASSERT_EQ(lights.distribution().size(), 2u);
+      auto second = [&](uint64_t m) { return lights.sample(m << 11, 0.3f, 0.3f).p.x >= 2.0f; };
+      uint64_t lo = 0, hi = uint64_t(1) << 53;  // second(lo) is false, second(hi - 1) is true
+      ASSERT_FALSE(second(lo));
+      ASSERT_TRUE(second(hi - 1));
+      while (hi - lo > 1) {
+        const uint64_t mid = lo + (hi - lo) / 2;
+        (second(mid) ? hi : lo) = mid;
+      }
+      const double chosen[2] = {std::ldexp(double(hi), -53), 1.0 - std::ldexp(double(hi), -53)};
+      for (int k = 0; k < 2; ++k) {
+        const LightSample ls = lights.sample(k == 0 ? 0 : ~uint64_t(0), 0.3f, 0.3f);
+        EXPECT_EQ(ls.choice_probability, chosen[k]) << ratio << " " << dim_first << " " << k;
+        EXPECT_NEAR(ls.pdf_area * 0.5 / chosen[k], 1.0, 1e-6) << ratio << " " << k;
+        const bool is_dim = (k == 0) == dim_first;
+        const double r = double(float(ratio));  // the emission as stored
+        EXPECT_NEAR(ls.choice_probability, (is_dim ? 1.0 : r) / (1.0 + r), 0x1p-52) << ratio << " " << k;
+      }
+    }
 }
 
 // The sampled weight f cos / pdf of a glossy material has the mean of the cosine-sampled

@@ -1,0 +1,47 @@
+// DiscreteDistribution: the probability reported is the length of the range that chooses.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "rayscout/core/discrete_distribution.h"
+
+namespace rayscout {
+namespace {
+
+TEST(DiscreteDistribution, RangesAreTheProbabilities) {
+  const std::vector<double> w{1e-30, 3.0, 0.0, 1.0, 1e-7};
+  for (int bits : {8, 24, 53}) {
+    const DiscreteDistribution d(w, bits);
+    ASSERT_EQ(d.size(), w.size());
+    EXPECT_EQ(d.cdf(w.size() - 1), uint64_t(1) << bits);
+    double sum = 0;
+    for (size_t k = 0; k < w.size(); ++k) {
+      const uint64_t lo = k ? d.cdf(k - 1) : 0, hi = d.cdf(k);
+      EXPECT_EQ(d.probability(k), std::ldexp(double(hi - lo), -bits)) << bits << " " << k;
+      sum += d.probability(k);
+      if (w[k] == 0) { EXPECT_EQ(hi, lo); continue; }
+      ASSERT_GT(hi, lo) << "a positive weight keeps a step: " << bits << " " << k;
+      EXPECT_EQ(d.sample(lo), k);
+      EXPECT_EQ(d.sample(hi - 1), k);
+      // Rounding and the one-unit floor move each share by at most a unit; the largest one takes
+      // up the others' rounding.
+      EXPECT_LE(std::fabs(d.probability(k) - w[k] / (4.0 + 1e-7 + 1e-30)), std::ldexp(double(w.size()), -bits)) << k;
+    }
+    EXPECT_EQ(sum, 1.0);
+    EXPECT_EQ(d.sample_bits(~uint64_t(0)), w.size() - 1);
+    EXPECT_EQ(d.sample_bits(0), 0u);
+  }
+}
+
+TEST(DiscreteDistribution, RejectsBadWeights) {
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>{0.0, 0.0}, 24), std::invalid_argument);
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, -1.0}, 24), std::invalid_argument);
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, NAN}, 24), std::invalid_argument);
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>(5, 1.0), 4), std::invalid_argument);
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0}, 54), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rayscout
