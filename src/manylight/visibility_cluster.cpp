@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "rayscout/core/discrete_distribution.h"
 #include "rayscout/manylight/brdf.h"
 #include "rng.h"
 
@@ -230,20 +231,19 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   tbb::parallel_for(size_t(0), ns, [&](size_t s) {
     double row = 0;
     for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
-    double acc = 0;
+    std::vector<double> p(nl);
     for (size_t l = 0; l < nl; ++l) {
       const double uniform = double(vc.lights.count(l)) / n_vpl;
-      const double p = row > 0 ? (1.0 - mix) * weight[s * nl + l] / row + mix * uniform : uniform;
-      vc.pmf[s * nl + l] = float(p);
-      acc += p;
-      vc.cdf[s * nl + l] = float(acc);
+      p[l] = row > 0 ? (1.0 - mix) * weight[s * nl + l] / row + mix * uniform : uniform;
     }
-    // Normalise so the last entry is exactly 1 and pmf matches the CDF steps.
+    // The renderer draws u on the 2^-24 grid (Rng::uniform) and chooses the first cluster with
+    // u < cdf: quantised to that grid, each CDF step is exactly the probability of the choice
+    // (floats hold k 2^-24 exactly), and every cluster keeps at least one step.
+    const DiscreteDistribution d(p, 24);
     for (size_t l = 0; l < nl; ++l) {
-      vc.pmf[s * nl + l] = float(vc.pmf[s * nl + l] / acc);
-      vc.cdf[s * nl + l] = float(vc.cdf[s * nl + l] / acc);
+      vc.pmf[s * nl + l] = float(d.probability(l));
+      vc.cdf[s * nl + l] = std::ldexp(float(d.cdf(l)), -24);
     }
-    vc.cdf[s * nl + nl - 1] = 1.0f;
   });
   if (config.override_r >= 0.0f && config.override_r <= 1.0f) std::fill(vc.r.begin(), vc.r.end(), config.override_r);
   vc.pmf_ms = ms_since(t0);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "rayscout/accelerators.h"
@@ -132,6 +133,15 @@ TEST(VisibilityClusters, PmfsArePositiveAndNormalised) {
     }
     EXPECT_NEAR(sum, 1.0, 1e-5);
     EXPECT_FLOAT_EQ(vc.cdf[s * nl + nl - 1], 1.0f);
+    // The renderer's u is k 2^-24 (k uniform) and picks the first l with u < cdf[l]: that is
+    // exact only when every CDF entry is on the same grid; then pmf is the number of k in
+    // [cdf[l - 1], cdf[l]) times 2^-24, the weight the renderer divides by.
+    for (size_t l = 0; l < nl; ++l) {
+      const double hi = std::ldexp(double(vc.cdf[s * nl + l]), 24), lo = l ? std::ldexp(double(vc.cdf[s * nl + l - 1]), 24) : 0.0;
+      ASSERT_EQ(hi, std::floor(hi)) << s << " " << l << ": cdf off the 2^-24 grid";
+      ASSERT_GE(hi - lo, 1.0);
+      ASSERT_EQ(double(vc.pmf[s * nl + l]), std::ldexp(hi - lo, -24));
+    }
   }
   EXPECT_TRUE(some_occluded);
   EXPECT_TRUE(some_visible);

@@ -34,8 +34,11 @@ struct VisibilityClusters {
   Clustering lights;                ///< over VPLs
   std::vector<uint32_t> shading_cluster_of;  ///< per shading point; kNoCluster for invalid ones
   std::vector<float> r;             ///< [s * lights.size() + v]: estimated average visibility
-  std::vector<float> pmf;           ///< [s * lights.size() + v]: probability of VPL cluster v
-  std::vector<float> cdf;           ///< [s * lights.size() + v]: inclusive prefix sums of pmf
+  /// [s * lights.size() + v]: probability of VPL cluster v, a multiple of 2^-24 (at least one)
+  std::vector<float> pmf;
+  /// [s * lights.size() + v]: inclusive prefix sums of pmf, on the 2^-24 grid of the renderer's
+  /// u, so the first v with u < cdf is chosen with probability exactly pmf
+  std::vector<float> cdf;
   size_t shadow_rays = 0;           ///< rays traced to estimate r (incl. refinement)
   size_t refined_pairs = 0;
   double cluster_ms = 0.0, visibility_ms = 0.0, pmf_ms = 0.0;
