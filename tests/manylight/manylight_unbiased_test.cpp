@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "exact_sum.h"
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/manylight/brdf.h"
@@ -35,29 +36,8 @@ ManylightConfig small_config() {
 
 /// Eq. (1) summed over every VPL with exact visibility, per pixel.
 std::vector<Vec3> exact_sum(const Scene& scene, const Accelerator& accel, const ManylightRenderer& r) {
-  const auto& points = r.shading_points();
-  const auto& vpls = r.vpls().vpls;
-  const float offset = 1e-4f * length(scene.bounds().diagonal());
-  std::vector<Vec3> img(size_t(r.config().width) * r.config().height, Vec3(0.0f));
-  for (const ShadingPoint& sp : points) {
-    img[sp.pixel] += sp.emitted;
-    if (!sp.valid()) continue;
-    RayBatch rays;
-    std::vector<Vec3> t;
-    for (const Vpl& v : vpls) {
-      const Vec3 c = tentative_contribution(scene, sp, v, r.config().clamp_distance);
-      if (max_component(c) <= 0.0f) continue;
-      t.push_back(c);
-      rays.push_back(shadow_ray(sp, v, offset));
-    }
-    std::vector<uint8_t> occ;
-    accel.occluded(rays, occ);
-    Vec3 sum(0.0f);
-    for (size_t i = 0; i < t.size(); ++i)
-      if (!occ[i]) sum += t[i];
-    img[sp.pixel] += sp.weight * sum;
-  }
-  return img;
+  return testing::exact_sum(scene, accel, r.shading_points(), r.vpls().vpls, r.config().width, r.config().height,
+                            r.config().clamp_distance);
 }
 
 /// Region means (8 x 8 pixel blocks, channel-averaged) of an image.
