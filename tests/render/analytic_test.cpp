@@ -150,6 +150,30 @@ TEST(Analytic, AmbientOcclusionClosedBoxIsZero) {
   EXPECT_GT(mean_channel(open, 0), 0.95);
 }
 
+// Between two parallel planes h apart, a cosine-distributed ray of length R escapes when
+// cos(theta) < h / R; sin^2(theta) is uniform for cosine rays, so AO = (h / R)^2 (uniform
+// hemisphere rays would give h / R: 0.5 and 0.25 instead of 0.25 and 0.0625).
+TEST(Analytic, AmbientOcclusionBetweenParallelPlanes) {
+  const float h = 1.0f;
+  Scene scene;
+  testing::add_part(scene, testing::quad({-50, -50, 0}, {100, 0, 0}, {0, 100, 0}), Material{});
+  testing::add_part(scene, testing::quad({-50, -50, h}, {0, 100, 0}, {100, 0, 0}), Material{});  // normal -z
+  scene.camera.eye = {0, 0, 0.5f * h};
+  scene.camera.look_at = {0, 0, 0};
+  scene.camera.fov_deg = 30;
+  RenderConfig cfg;
+  cfg.width = cfg.height = 16;
+  cfg.spp = testing::small_scale() ? 1 : 4;
+  cfg.ao_samples = 64;
+  for (const float radius : {2.0f, 4.0f}) {
+    cfg.ao_radius = radius;
+    const double expected = double(h / radius) * (h / radius);
+    const double rays = double(cfg.width) * cfg.height * cfg.spp * cfg.ao_samples;
+    const double se = std::sqrt(expected * (1 - expected) / rays);
+    EXPECT_NEAR(mean_channel(render_with(*make_ao_integrator(), scene, cfg), 0), expected, 4 * se) << "R " << radius;
+  }
+}
+
 // A perfect mirror (reflectance 1) shows the lit floor it faces with the floor's radiance.
 TEST(Analytic, MirrorReflectsRadianceUnchanged) {
   Scene scene;

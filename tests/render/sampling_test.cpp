@@ -2,9 +2,11 @@
 // lights, and the glossy BSDF's sampling weights against its value.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <vector>
 
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/render/bsdf.h"
@@ -85,6 +87,36 @@ TEST(CameraRays, ThinLensFocusesOnThePlaneInFocus) {
   const Ray centre = CameraRays(cam, 64, 48).generate(32, 24, 0, 0);
   EXPECT_NEAR(centre.dir.z, -1.0f, 1e-6f);
   EXPECT_GT(CameraRays(cam, 64, 48).generate(32, 0, 0, 0).dir.y, 0.0f);
+}
+
+// Lens points are uniform on the disk of radius R: E[r^2] = R^2 / 2, a quarter of them within
+// R / 2, and equal shares in equal angular sectors (a polar map r = u, not sqrt(u), crowds the
+// centre: E[r^2] = R^2 / 3, half within R / 2).
+TEST(CameraRays, ThinLensSamplesTheDiskUniformly) {
+  Camera cam;
+  cam.eye = {1, 2, 3};
+  cam.look_at = {1, 2, -7};  // lens plane z = 3, axes x and y
+  cam.lens_radius = 0.5f;
+  cam.focus_distance = 4.0f;
+  const CameraRays rays(cam, 64, 48);
+  const int n = 200;  // an n x n grid of (u, v): the disk map's quadrature
+  double r2 = 0, inner = 0;
+  std::vector<double> sector(8, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Ray r = rays.generate(20.5f, 30.25f, (i + 0.5f) / n, (j + 0.5f) / n);
+      const double dx = (r.org.x - cam.eye.x) / cam.lens_radius, dy = (r.org.y - cam.eye.y) / cam.lens_radius;
+      const double rr = dx * dx + dy * dy;
+      ASSERT_LE(rr, 1.0 + 1e-5);
+      r2 += rr;
+      inner += rr < 0.25;
+      const double phi = std::atan2(dy, dx) + std::numbers::pi;
+      sector[std::min<size_t>(7, size_t(phi / (2 * std::numbers::pi) * 8))] += 1;
+    }
+  const double count = double(n) * n;
+  EXPECT_NEAR(r2 / count, 0.5, 0.005);
+  EXPECT_NEAR(inner / count, 0.25, 0.005);
+  for (double c : sector) EXPECT_NEAR(c / count, 0.125, 0.003);
 }
 
 // A focus plane far away, a lens far wider than the focus distance, a focus distance of
@@ -224,6 +256,29 @@ TEST(Bsdf, GlossySamplingWeightsMatchItsValue) {
   EXPECT_TRUE(ms.specular);
   EXPECT_NEAR(ms.wi.x, -wo.x, 1e-6f);
   EXPECT_NEAR(ms.wi.z, wo.z, 1e-6f);
+}
+
+// The normalised Phong lobe ks (e + 2) / (2 pi) cos^e reflects exactly ks at normal incidence
+// (its lobe is then entirely above the surface): integral of f cos over the hemisphere,
+// by the midpoint rule in (cos theta, phi). With (e + 1) it would reflect ks (e + 1) / (e + 2).
+TEST(Bsdf, GlossyLobeAlbedoAtNormalIncidenceIsKs) {
+  const Vec3 n{0, 0, 1};
+  for (const float e : {0.0f, 1.0f, 10.0f, 100.0f, 1000.0f}) {
+    const Material m{.type = Material::Type::Glossy, .diffuse = Vec3{0.2f}, .specular = Vec3{0.7f}, .exponent = e};
+    // cos theta = 1 - (1 - t)^4 crowds the nodes at the pole, where a sharp lobe lives.
+    const int nt = 4000, nphi = 8;
+    double albedo = 0;
+    for (int i = 0; i < nt; ++i) {
+      const double t = (i + 0.5) / nt, c = 1 - std::pow(1 - t, 4), dc = 4 * std::pow(1 - t, 3) / nt;
+      const double s = std::sqrt(1 - c * c);
+      for (int j = 0; j < nphi; ++j) {
+        const double phi = 2 * std::numbers::pi * (j + 0.5) / nphi;
+        const Vec3 wi{float(s * std::cos(phi)), float(s * std::sin(phi)), float(c)};
+        albedo += double(eval_bsdf(m, n, n, wi).x) * c * dc * (2 * std::numbers::pi / nphi);
+      }
+    }
+    EXPECT_NEAR(albedo, 0.2 + 0.7, 2e-3) << "exponent " << e;
+  }
 }
 
 // A very sharp lobe (any exponent >= 0 is valid) stays finite: along the mirror direction
