@@ -157,7 +157,13 @@ Mesh read_assimp(const std::filesystem::path& path) {
     Vec3 ke = color(m, AI_MATKEY_COLOR_EMISSIVE, Vec3(0.0f));
     if (auto it = strengths.find(n); named && it != strengths.end()) ke *= it->second;
     if (!is_finite(ke)) throw InputError(file + ": material \"" + n + "\": emission beyond float range");
-    mesh.materials.push_back(material_from_mtl(n, kd, ks, ns, 2, ke));
+    Material mat = material_from_mtl(n, kd, ks, ns, 2, ke);
+    if (const float total = conserve_energy(mat); total > 1.0f)
+      mesh.warnings.push_back(file + ": material \"" + n + "\": diffuse + specular reaches " +
+                              detail::format_number(total) +
+                              " in a channel (> 1 reflects more light than arrives); both scaled by 1/" +
+                              detail::format_number(total));
+    mesh.materials.push_back(std::move(mat));
   }
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});
   // Every instance of a mesh in the node tree, in world space. The node transforms are applied

@@ -1,6 +1,7 @@
 // JSON scene files: meshes and shapes with transforms, materials, camera and lights.
 #include "json_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -96,6 +97,15 @@ class Fields {
     if (c.x < 0 || c.y < 0 || c.z < 0) fail(field, "colour components must be >= 0");
     return c;
   }
+  // A reflectance: a colour with components in [0, 1].
+  Vec3 reflectance(const Json& j, const std::string& field) const {
+    const Vec3 c = color(j, field);
+    for (int i = 0; i < 3; ++i)
+      if (c[i] > 1.0f)
+        fail(field, format_number(c[i]) + " is above 1: a reflectance must be in [0, 1] (more would reflect more "
+                    "light than arrives)");
+    return c;
+  }
   static std::string join(const std::string& field, const std::string& key) {
     return field.empty() ? key : field + "." + key;
   }
@@ -104,6 +114,10 @@ class Fields {
  private:
   std::string file_;
 };
+
+std::string format_vec3(const Vec3& v) {
+  return "[" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + "]";
+}
 
 // Applies the fields of a material object to m (omitted fields keep their value).
 void apply_material(const Fields& f, const Json& j, const std::string& field, Material& m, bool allow_name) {
@@ -116,15 +130,25 @@ void apply_material(const Fields& f, const Json& j, const std::string& field, Ma
     else if (t == "glossy") m.type = Material::Type::Glossy;
     else f.fail(Fields::join(field, "type"), "expected \"diffuse\", \"mirror\" or \"glossy\", found \"" + t + "\"");
   }
-  if (j.contains("diffuse")) m.diffuse = f.color(j["diffuse"], Fields::join(field, "diffuse"));
-  if (j.contains("specular")) m.specular = f.color(j["specular"], Fields::join(field, "specular"));
+  if (j.contains("diffuse")) m.diffuse = f.reflectance(j["diffuse"], Fields::join(field, "diffuse"));
+  if (j.contains("specular")) m.specular = f.reflectance(j["specular"], Fields::join(field, "specular"));
   if (j.contains("exponent")) m.exponent = f.non_negative(j["exponent"], Fields::join(field, "exponent"));
   if (j.contains("emission")) m.emission = f.color(j["emission"], Fields::join(field, "emission"));
   // A mirror or glossy material without any specular colour would be black; give it one.
   const bool no_specular = m.specular.x == 0 && m.specular.y == 0 && m.specular.z == 0;
   if (m.type == Material::Type::Mirror && no_specular) m.specular = Vec3(1.0f);
-  if (m.type == Material::Type::Glossy && no_specular) m.specular = Vec3(0.5f);
+  if (m.type == Material::Type::Glossy && no_specular) m.specular = Vec3(std::min(0.5f, 1.0f - max_component(m.diffuse)));
   if (m.type == Material::Type::Glossy && m.exponent == 0 && !j.contains("exponent")) m.exponent = 50.0f;
+  // Both lobes of a glossy material reflect: their sum, channel by channel, must stay <= 1.
+  if (m.type == Material::Type::Glossy) {
+    const Vec3 sum = m.diffuse + m.specular;
+    const int i = sum.x >= sum.y && sum.x >= sum.z ? 0 : (sum.y >= sum.z ? 1 : 2);  // the largest
+    if (sum[i] > 1.0f)
+      f.fail(field, "diffuse + specular is " + format_number(sum[i]) + " in channel " + std::to_string(i) +
+                        " (diffuse " + format_vec3(m.diffuse) + ", specular " + format_vec3(m.specular) +
+                        "): a glossy material must have diffuse + specular <= 1 in every channel (more "
+                        "would reflect more light than arrives)");
+  }
 }
 
 Transform parse_single_transform(const Fields& f, const Json& j, const std::string& field) {

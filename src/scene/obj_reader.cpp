@@ -84,7 +84,17 @@ Material material_from_mtl(std::string name, const Vec3& kd, const Vec3& ks, flo
   return m;
 }
 
-void read_mtl(const std::filesystem::path& path, std::vector<Material>& out) {
+float conserve_energy(Material& m) {
+  const Vec3 reflectance = m.type == Material::Type::Mirror ? m.specular : m.diffuse + m.specular;
+  const float total = max_component(reflectance);
+  if (total > 1.0f) {
+    m.diffuse = m.diffuse * (1.0f / total);
+    m.specular = m.specular * (1.0f / total);
+  }
+  return total;
+}
+
+void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std::vector<std::string>* warnings) {
   const std::string data = detail::read_file(path);
   struct Pending {
     std::string name;
@@ -130,6 +140,12 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out) {
   });
   for (auto& d : defs) {
     Material m = material_from_mtl(d.name, d.kd, d.ks, d.ns, d.illum, d.ke);
+    if (const float total = conserve_energy(m); total > 1.0f && warnings)
+      warnings->push_back(detail::display_name(path) + ":" + std::to_string(d.line) + ": material '" + d.name +
+                          "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") + " reaches " +
+                          detail::format_number(total) +
+                          " in a channel (> 1 reflects more light than arrives); Kd and Ks scaled by 1/" +
+                          detail::format_number(total));
     auto same = std::find_if(out.begin(), out.end(), [&](const Material& o) { return o.name == m.name; });
     if (same != out.end()) *same = std::move(m);
     else out.push_back(std::move(m));
@@ -227,7 +243,7 @@ Mesh read_obj(const std::filesystem::path& path) {
         }
         if (std::filesystem::is_directory(mtl, ec))
           fail_at(path, line, "material library '" + f + "' is a directory, not a file");
-        read_mtl(mtl, library);
+        read_mtl(mtl, library, &mesh.warnings);
       }
     }
     // g, o, s, l, p, vp, ...: not needed for triangles.

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -100,5 +101,12 @@ void for_each_statement(const std::string& data, F&& f) {
 
 /// The file name as shown in messages.
 inline std::string display_name(const std::filesystem::path& p) { return p.string(); }
+
+/// A number for messages: %g, 6 significant digits ("1.563", "2", "1e+20").
+inline std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 }  // namespace rayscout::detail

@@ -240,6 +240,30 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   expect_contains(json_error(dir, R"({"meshes": []})"), {"scene.json: no triangles"});
 }
 
+// docs/scene-format.md: reflectances in [0, 1], and a glossy material's diffuse + specular
+// <= 1 per channel; the error names the file, the field and the value.
+TEST(SceneBadInput, JsonMaterialsReflectingMoreThanArrives) {
+  TempDir dir;
+  dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  auto with = [](const std::string& material) {
+    return R"({"meshes": [{"file": "tri.obj", "material": "m"}], "materials": {"m": )" + material + "}}";
+  };
+  expect_contains(json_error(dir, with(R"({"diffuse": 2.0})")),
+                  {"scene.json: materials.m.diffuse: 2 is above 1: a reflectance must be in [0, 1]"});
+  expect_contains(json_error(dir, with(R"({"type": "mirror", "specular": [0.5, 1.5, 0]})")),
+                  {"scene.json: materials.m.specular: 1.5 is above 1"});
+  expect_contains(json_error(dir, with(R"({"type": "glossy", "diffuse": [0.486, 0.631, 0.663], "specular": 0.9})")),
+                  {"scene.json: materials.m: diffuse + specular is 1.563 in channel 2",
+                   "(diffuse [0.486, 0.631, 0.663], specular [0.9, 0.9, 0.9])", "<= 1 in every channel"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": {"diffuse": [0, 0, 1.01]}}]})"),
+                  {"scene.json: meshes[0].material.diffuse: 1.01 is above 1"});
+  // At the limits, and a glossy default (specular 0.5) that fits beside the default diffuse 0.8.
+  EXPECT_NO_THROW(load_scene(dir.write("ok.json", with(R"({"type": "glossy", "diffuse": 0.4, "specular": 0.6})"))));
+  const Scene s = load_scene(dir.write("def.json", with(R"({"type": "glossy"})")));
+  EXPECT_NEAR(s.material_of(0).specular.x, 0.2f, 1e-6f);
+  EXPECT_NEAR(s.material_of(0).diffuse.x, 0.8f, 1e-6f);
+}
+
 // Found by fuzzing: ordered_json copies values recursively (while parsing too, when an object
 // grows), so a deeply nested value overflowed the stack.
 TEST(SceneBadInput, JsonDeepNesting) {

@@ -52,7 +52,7 @@ TEST(JsonScene, MeshMaterialByNameOrInline) {
   TempDir dir;
   write_room(dir);
   const Scene s = load_scene(dir.write("scene.json", R"({
-    "materials": {"gold": {"type": "glossy", "diffuse": [0.3, 0.2, 0.1], "specular": [0.8, 0.6, 0.2], "exponent": 100}},
+    "materials": {"gold": {"type": "glossy", "diffuse": [0.3, 0.2, 0.1], "specular": [0.7, 0.6, 0.2], "exponent": 100}},
     "meshes": [{"file": "room.obj", "material": "gold"},
                {"file": "room.obj", "material": {"type": "mirror"}},
                {"file": "room.obj"}]

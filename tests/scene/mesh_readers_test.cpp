@@ -115,6 +115,35 @@ TEST(ObjReader, MtlMaterialMapping) {
   EXPECT_FALSE(s.material_of(0).emissive());
 }
 
+// MTL data from the wild may reflect more than arrives (CornellBox-Glossy's sphere: Kd up to
+// 0.663 + Ks 0.9): Kd and Ks are scaled by 1 / max(Kd + Ks) with a warning naming the file,
+// the newmtl line and the material. A mirror's unused Kd does not count.
+TEST(ObjReader, MaterialsReflectingMoreThanArrivesAreScaledWithAWarning) {
+  TempDir dir;
+  dir.write("m.mtl",
+            "newmtl sphere\nNs 400\nillum 2\nKd 0.4860 0.6310 0.6630\nKs 0.9 0.9 0.9\n"
+            "newmtl bright\nKd 1.25 0.5 0.5\n"
+            "newmtl mirror\nKd 0.5\nKs 0.9\nillum 3\n"
+            "newmtl plain\nKd 0.5\nKs 0.5\nNs 10\n");
+  const Scene s = load_scene(dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                                "usemtl sphere\nf 1 2 3\nusemtl bright\nf 1 2 3\n"
+                                                "usemtl mirror\nf 1 2 3\nusemtl plain\nf 1 2 3\n"));
+  ASSERT_EQ(s.triangles.size(), 4u);
+  ASSERT_EQ(s.warnings.size(), 2u);
+  EXPECT_NE(s.warnings[0].find("m.mtl:1: material 'sphere': Kd + Ks reaches 1.563 in a channel"), std::string::npos)
+      << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("Kd and Ks scaled by 1/1.563"), std::string::npos) << s.warnings[0];
+  EXPECT_NE(s.warnings[1].find("m.mtl:6: material 'bright'"), std::string::npos) << s.warnings[1];
+  const Material& sphere = s.material_of(0);
+  EXPECT_EQ(sphere.type, Material::Type::Glossy);
+  expect_vec(sphere.diffuse, Vec3{0.486f, 0.631f, 0.663f} * (1.0f / 1.563f));
+  expect_vec(sphere.specular, Vec3(0.9f / 1.563f));
+  EXPECT_NEAR(max_component(sphere.diffuse + sphere.specular), 1.0f, 1e-6f);
+  expect_vec(s.material_of(1).diffuse, {1.0f, 0.4f, 0.4f});
+  expect_vec(s.material_of(2).specular, Vec3(0.9f));  // a mirror reflects Ks only
+  expect_vec(s.material_of(3).diffuse, Vec3(0.5f));   // Kd + Ks = 1 exactly is fine
+}
+
 TEST(ObjReader, MissingMtlAndUnknownMaterialAreWarnings) {
   TempDir dir;
   const Scene s = load_scene(dir.write("w.obj", "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n"));

@@ -34,8 +34,17 @@ Mesh read_ply(const std::filesystem::path& path);
 /// emission scaled by KHR_materials_emissive_strength, only materials some triangle uses.
 Mesh read_assimp(const std::filesystem::path& path);
 
-/// Parses an MTL file into materials (appended to out, replacing same-named ones).
-void read_mtl(const std::filesystem::path& path, std::vector<Material>& out);
+/// Parses an MTL file into materials (appended to out, replacing same-named ones). A material
+/// that would reflect more than it receives is scaled down (conserve_energy) with a warning
+/// "file:line: material 'name': ..." appended to warnings when given.
+void read_mtl(const std::filesystem::path& path, std::vector<Material>& out,
+              std::vector<std::string>* warnings = nullptr);
+
+/// Energy conservation for materials from files rayscout does not control (MTL, glTF): when
+/// the largest channel of the reflectance the material uses, max(Kd + Ks) (Ks alone for a
+/// mirror, which has no diffuse lobe), exceeds 1, scales diffuse and specular by 1 / that
+/// maximum (as Mitsuba does) and returns the maximum; otherwise returns it and changes nothing.
+float conserve_energy(Material& m);
 
 /// Maps MTL values to a Material: Ke -> emission, Kd -> diffuse; with Ks > 0, illum 3/5/7
 /// or Ns >= 1000 -> Mirror, else Glossy with exponent Ns; Ks = 0 -> Diffuse.
