@@ -199,6 +199,8 @@ void check_image_path(const std::filesystem::path& path) {
   check_output_path(path, path.string());
 }
 
+bool writes_srgb(const std::filesystem::path& path) { return lower_extension(path) == ".png"; }
+
 void write_image(const Image& image, const std::filesystem::path& path) {
   check_size(image, path);
   check_image_path(path);

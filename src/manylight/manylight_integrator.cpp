@@ -2,7 +2,6 @@
 #include "rayscout/manylight/manylight_integrator.h"
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -116,9 +115,7 @@ class ManylightIntegrator final : public Integrator {
 }  // namespace
 
 Image skip_rate_image(std::span<const float> rates, int width, int height, const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  const bool srgb = ext == ".png";  // the only format write_image encodes
+  const bool srgb = writes_srgb(path);
   Image image(width, height);
   for (size_t i = 0; i < rates.size() && i < image.pixels.size(); ++i)
     image.pixels[i] = Vec3(srgb ? srgb_to_linear(rates[i]) : rates[i]);

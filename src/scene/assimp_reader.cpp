@@ -158,11 +158,8 @@ Mesh read_assimp(const std::filesystem::path& path) {
     if (auto it = strengths.find(n); named && it != strengths.end()) ke *= it->second;
     if (!is_finite(ke)) throw InputError(file + ": material \"" + n + "\": emission beyond float range");
     Material mat = material_from_mtl(n, kd, ks, ns, 2, ke);
-    if (const float total = conserve_energy(mat); total > 1.0f)
-      mesh.warnings.push_back(file + ": material \"" + n + "\": diffuse + specular reaches " +
-                              detail::format_number(total) +
-                              " in a channel (> 1 reflects more light than arrives); both scaled by 1/" +
-                              detail::format_number(total));
+    if (std::string warning = conserve_energy_with_warning(mat, file); !warning.empty())
+      mesh.warnings.push_back(std::move(warning));
     mesh.materials.push_back(std::move(mat));
   }
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});

@@ -94,6 +94,14 @@ float conserve_energy(Material& m) {
   return total;
 }
 
+std::string conserve_energy_with_warning(Material& m, const std::string& where) {
+  const float total = conserve_energy(m);
+  if (!(total > 1.0f)) return {};
+  const std::string max = detail::format_number(total);
+  return where + ": material '" + m.name + "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") +
+         " reaches " + max + " in a channel (> 1 reflects more light than arrives); Kd and Ks scaled by 1/" + max;
+}
+
 void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std::vector<std::string>* warnings) {
   const std::string data = detail::read_file(path);
   struct Pending {
@@ -140,12 +148,9 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
   });
   for (auto& d : defs) {
     Material m = material_from_mtl(d.name, d.kd, d.ks, d.ns, d.illum, d.ke);
-    if (const float total = conserve_energy(m); total > 1.0f && warnings)
-      warnings->push_back(detail::display_name(path) + ":" + std::to_string(d.line) + ": material '" + d.name +
-                          "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") + " reaches " +
-                          detail::format_number(total) +
-                          " in a channel (> 1 reflects more light than arrives); Kd and Ks scaled by 1/" +
-                          detail::format_number(total));
+    const std::string warning =
+        conserve_energy_with_warning(m, detail::display_name(path) + ":" + std::to_string(d.line));
+    if (!warning.empty() && warnings) warnings->push_back(warning);
     auto same = std::find_if(out.begin(), out.end(), [&](const Material& o) { return o.name == m.name; });
     if (same != out.end()) *same = std::move(m);
     else out.push_back(std::move(m));

@@ -26,6 +26,10 @@ struct Image {
 /// extension or a file that cannot be written.
 void write_image(const Image& image, const std::filesystem::path& path);
 
+/// Whether write_image sRGB-encodes the pixels for this path's format (.png, any case): a
+/// value v is then stored as the 8-bit code of srgb(v), else as v itself.
+bool writes_srgb(const std::filesystem::path& path);
+
 /// Throws InputError (naming the path) when write_image could not write `path`: another
 /// extension than .png, .exr or .pfm, a directory, or a parent folder that does not exist.
 /// Commands call it before their work, so a mistyped --out never costs a finished render.

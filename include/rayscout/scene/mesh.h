@@ -46,6 +46,10 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out,
 /// maximum (as Mitsuba does) and returns the maximum; otherwise returns it and changes nothing.
 float conserve_energy(Material& m);
 
+/// conserve_energy(m), and when it scaled m, the warning "<where>: material '<name>': Kd + Ks
+/// reaches <max> in a channel (...); Kd and Ks scaled by 1/<max>" (empty when m was kept).
+std::string conserve_energy_with_warning(Material& m, const std::string& where);
+
 /// Maps MTL values to a Material: Ke -> emission, Kd -> diffuse; with Ks > 0, illum 3/5/7
 /// or Ns >= 1000 -> Mirror, else Glossy with exponent Ns; Ks = 0 -> Diffuse.
 Material material_from_mtl(std::string name, const Vec3& kd, const Vec3& ks, float ns, int illum,
