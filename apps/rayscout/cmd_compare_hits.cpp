@@ -6,7 +6,7 @@
 #include <fmt/core.h>
 
 #include "commands.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/hit_compare.h"
 #include "rayscout/core/ray_file.h"
 

@@ -5,7 +5,7 @@
 #include <fmt/core.h>
 
 #include "commands.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
 
 namespace rayscout::cli {

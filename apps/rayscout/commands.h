@@ -12,7 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::cli {
 

@@ -1,7 +1,7 @@
 // The integrator table of the CLI: add an integrator with one line in integrator_table().
 #include "integrators.h"
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "manylight_options.h"
 
 namespace rayscout::cli {

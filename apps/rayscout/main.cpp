@@ -7,7 +7,7 @@
 #include <fmt/core.h>
 
 #include "commands.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::cli {
 std::vector<AddCommand>& command_registry() {

@@ -9,7 +9,7 @@
 
 #include <fmt/core.h>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::bench {
 

@@ -13,7 +13,7 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::detail {
 namespace {

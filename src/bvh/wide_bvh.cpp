@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "validate_coverage.h"
 
 namespace rayscout {

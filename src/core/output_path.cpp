@@ -3,7 +3,7 @@
 
 #include <fstream>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout {
 

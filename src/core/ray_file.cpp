@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/little_endian.h"
 #include "rayscout/core/output_path.h"
 

@@ -29,7 +29,7 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 

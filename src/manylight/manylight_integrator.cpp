@@ -10,7 +10,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 #include "rayscout/manylight/manylight_renderer.h"

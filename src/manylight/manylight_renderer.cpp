@@ -8,7 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/manylight/brdf.h"
 #include "rng.h"
 

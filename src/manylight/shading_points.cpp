@@ -1,7 +1,7 @@
 // Shading points from pinhole camera rays, following mirrors, traced as batches.
 #include "rayscout/manylight/shading_points.h"
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/manylight/brdf.h"
 #include "rng.h"
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout {
 

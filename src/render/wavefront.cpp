@@ -7,7 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/render/camera_rays.h"
 
 namespace rayscout {

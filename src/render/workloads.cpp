@@ -3,7 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/sampler.h"
 #include "rayscout/render/surface.h"

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/scene/scene.h"
 
 namespace rayscout {

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::detail {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <unordered_map>
 
-#include "rayscout/core/accelerator_options.h"  // InputError
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::detail {
 namespace {

@@ -10,7 +10,7 @@
 #include "generated_scenes.h"
 #include "rayscout/bvh/bvh2.h"
 #include "rayscout/bvh/wide_bvh.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/scene/load_scene.h"
 

@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 
 #include "generated_scenes.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/ray_file.h"
 
 namespace rayscout {

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <limits>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
 
 namespace rayscout {

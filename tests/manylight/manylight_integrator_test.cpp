@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayscout/accelerators.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
 #include "rayscout/manylight/manylight_integrator.h"
 #include "rayscout/manylight/manylight_renderer.h"

@@ -8,7 +8,7 @@
 #include <set>
 #include <vector>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/render/bsdf.h"
 #include "rayscout/render/camera_rays.h"
 #include "rayscout/render/light_sampler.h"

@@ -3,7 +3,7 @@
 
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/render/workloads.h"
 #include "rayscout/scene/load_scene.h"
 

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "rayscout/core/accelerator_options.h"
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::testing {
 

@@ -3,16 +3,11 @@
 
 #include <map>
 #include <set>
-#include <stdexcept>
 #include <string>
 
-namespace rayscout {
+#include "rayscout/core/input_error.h"
 
-/// Bad user input that names what was wrong (an option, a file and line, a field).
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace rayscout {
 
 /// Key=value tunables, e.g. "skip=off" or "budget_mib=64". Each accelerator reads the keys
 /// it knows with a default; keys nobody read are reported by check_all_used(), so a

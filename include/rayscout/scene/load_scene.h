@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "rayscout/core/accelerator_options.h"  // InputError
+#include "rayscout/core/input_error.h"
 #include "rayscout/scene/scene.h"
 
 namespace rayscout {
