@@ -20,12 +20,12 @@ inline constexpr float kRobustScale =
 // conservative (traversal widens tmin below 0, see CullInterval).
 inline constexpr float kRobustScaleNegative = 2.0f - kRobustScale;
 
-/// The slab test of core's intersect_box (Ize 2013) with the near and far planes chosen by
-/// the sign of the inverse direction instead of by comparing the two distances (what Ize's
-/// paper and Embree do). Without NaNs the two choices are the same numbers; when a direction
-/// component is 0 and the origin lies exactly on a slab plane (0 * inf = NaN), this version
-/// keeps the box where core's swap may cull it, so it never culls a box core accepts. A
-/// negative far distance is scaled by kRobustScaleNegative, towards zero, to stay conservative.
+/// The slab test of core's intersect_box (Ize 2013): near and far planes chosen by the sign
+/// of the inverse direction (not by comparing the two distances, as Ize's paper and Embree
+/// do, which can cull a box when a 0 direction puts the origin's 0 * inf = NaN on a plane),
+/// NaN leaving the axis unconstrained. One difference: a negative far distance is scaled by
+/// kRobustScaleNegative, towards zero, so this test keeps every box core's keeps (and a few
+/// more), which the widened tmin of CullInterval needs.
 inline bool intersect_box_robust(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
                                  float tmax, float& tnear_out) {
   float tnear = tmin, tfar = tmax;

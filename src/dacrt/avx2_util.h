@@ -36,14 +36,14 @@ inline __m256i compress(__m256i ids, int mask) {
   return _mm256_permutevar8x32_epi32(ids, _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompressTable[mask].idx)));
 }
 
-/// One slab of intersect_box for 8 lanes, as the AVX-512 kernels: t0/t1 swapped when t0 > t1
-/// (ordered), the far end scaled by robust; max/min keep the running value on NaN.
+/// One slab of intersect_box for 8 lanes, as the AVX-512 kernels: near and far planes chosen
+/// by the sign of inv (blendv reads the sign bit), the far end scaled by robust; max/min keep
+/// the running value on NaN.
 inline void slab(__m256 lo, __m256 hi, __m256 o, __m256 inv, __m256 robust, __m256& tnear, __m256& tfar) {
   const __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(lo, o), inv);
   const __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(hi, o), inv);
-  const __m256 swap = _mm256_cmp_ps(t0, t1, _CMP_GT_OQ);
-  const __m256 a = _mm256_blendv_ps(t0, t1, swap);
-  const __m256 b = _mm256_mul_ps(_mm256_blendv_ps(t1, t0, swap), robust);
+  const __m256 a = _mm256_blendv_ps(t0, t1, inv);
+  const __m256 b = _mm256_mul_ps(_mm256_blendv_ps(t1, t0, inv), robust);
   tnear = _mm256_max_ps(a, tnear);  // a > tnear ? a : tnear
   tfar = _mm256_min_ps(b, tfar);    // b < tfar ? b : tfar
 }

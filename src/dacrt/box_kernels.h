@@ -1,6 +1,8 @@
 // Ray-box kernels of DACRT: partitioning a ray index range against one box (AVX-512, with a
 // scalar fallback) and testing one ray against many candidate boxes (ray sampling).
-// Both compute exactly core's intersect_box (same float operations and NaN handling).
+// Both compute exactly core's intersect_box: the same float operations, near and far planes
+// chosen by the sign of the inverse direction, the same NaN handling (tested lane by lane in
+// tests/dacrt/dacrt_votes_test.cpp, rays lying in a box plane with a +-0 direction included).
 #pragma once
 
 #include <cstddef>
@@ -93,6 +95,7 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
   const __m512 lox = _mm512_set1_ps(box.lo.x), loy = _mm512_set1_ps(box.lo.y), loz = _mm512_set1_ps(box.lo.z);
   const __m512 hix = _mm512_set1_ps(box.hi.x), hiy = _mm512_set1_ps(box.hi.y), hiz = _mm512_set1_ps(box.hi.z);
   const __m512 robust = _mm512_set1_ps(kRobustScale), slack = _mm512_set1_ps(kHitSlack);
+  const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
   const float* base = reinterpret_cast<const float*>(rays);
   auto test_fields = [&](__m512 ox, __m512 oy, __m512 oz, __m512 tnear, __m512 ix, __m512 iy, __m512 iz, __m512 t,
                          __mmask16 valid) -> __mmask16 {
@@ -100,9 +103,9 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     auto slab = [&](__m512 lo, __m512 hi, __m512 o, __m512 inv) {
       const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo, o), inv);
       const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(hi, o), inv);
-      const __mmask16 swap = _mm512_cmp_ps_mask(t0, t1, _CMP_GT_OQ);
-      const __m512 a = _mm512_mask_blend_ps(swap, t0, t1);
-      const __m512 b = _mm512_mul_ps(_mm512_mask_blend_ps(swap, t1, t0), robust);
+      const __mmask16 negative = _mm512_test_epi32_mask(_mm512_castps_si512(inv), sign_bit);
+      const __m512 a = _mm512_mask_blend_ps(negative, t0, t1);
+      const __m512 b = _mm512_mul_ps(_mm512_mask_blend_ps(negative, t1, t0), robust);
       tnear = _mm512_max_ps(a, tnear);  // a > tnear ? a : tnear, as the scalar test
       tfar = _mm512_min_ps(b, tfar);    // b < tfar ? b : tfar
     };
@@ -238,21 +241,21 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
   const __m512 robust = _mm512_set1_ps(kRobustScale), tmin = _mm512_set1_ps(r.tmin),
                tmax = _mm512_set1_ps(filter_tmax(r.t));
   const __m512i one = _mm512_set1_epi32(1);
+  // One ray for all boxes: its near and far planes are chosen once, by the sign of its inverse
+  // direction, by swapping the plane arrays.
+  const bool nx = std::signbit(r.ix), ny = std::signbit(r.iy), nz = std::signbit(r.iz);
   auto test = [&](const BoxSoa& b, int i, __m512& tnear, __m512& tfar) {
     tnear = tmin;
     tfar = tmax;
-    auto slab = [&](const float* lo, const float* hi, __m512 o, __m512 inv) {
-      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(lo + i), o), inv);
-      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(hi + i), o), inv);
-      const __mmask16 swap = _mm512_cmp_ps_mask(t0, t1, _CMP_GT_OQ);
-      const __m512 a = _mm512_mask_blend_ps(swap, t0, t1);
-      const __m512 c = _mm512_mul_ps(_mm512_mask_blend_ps(swap, t1, t0), robust);
-      tnear = _mm512_max_ps(a, tnear);
-      tfar = _mm512_min_ps(c, tfar);
+    auto slab = [&](const float* near, const float* far, __m512 o, __m512 inv) {
+      const __m512 a = _mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(near + i), o), inv);
+      const __m512 c = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(_mm512_load_ps(far + i), o), inv), robust);
+      tnear = _mm512_max_ps(a, tnear);  // a > tnear ? a : tnear, as the scalar test
+      tfar = _mm512_min_ps(c, tfar);    // c < tfar ? c : tfar
     };
-    slab(b.lox, b.hix, ox, ix);
-    slab(b.loy, b.hiy, oy, iy);
-    slab(b.loz, b.hiz, oz, iz);
+    slab(nx ? b.hix : b.lox, nx ? b.lox : b.hix, ox, ix);
+    slab(ny ? b.hiy : b.loy, ny ? b.loy : b.hiy, oy, iy);
+    slab(nz ? b.hiz : b.loz, nz ? b.loz : b.hiz, oz, iz);
     return _mm512_cmp_ps_mask(tnear, tfar, _CMP_LE_OQ);
   };
   for (int i = 0; i < lb.count; i += 16) {

@@ -13,10 +13,14 @@
 
 namespace rayscout::detail {
 
+/// Relative widening of a slab's far distance, for either sign (Ize 2013's idea; the entry
+/// boxes are quantised outward, so this only has to cover the slab test's own rounding).
+inline constexpr float kEntryFarWiden = 4.0e-7f;
+
 /// Writes the entries whose (widened) box the ray meets within [near, far] to refs/dist,
 /// sorted by entry distance (Sorted) or in list order; returns their count. NaN slab
-/// distances (0 * inf for a ray in a box plane) leave the interval unconstrained, as core's
-/// intersect_box does: conservative.
+/// distances (0 * inf for a ray in a box plane) leave that axis unconstrained: conservative.
+/// The AVX2 and the scalar path compute the same numbers.
 template <bool Sorted>
 inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec3& org, const Vec3& inv_dir,
                           float near, float far, uint32_t* refs, float* dist) {
@@ -32,7 +36,7 @@ inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec
 #if defined(__AVX2__)
   const uint8_t* rows = c.boxes;
   const __m256 ninf = _mm256_set1_ps(-INFINITY), pinf = _mm256_set1_ps(INFINITY);
-  const __m256 rel = _mm256_set1_ps(4.0e-7f), signmask = _mm256_set1_ps(-0.0f);
+  const __m256 rel = _mm256_set1_ps(kEntryFarWiden), signmask = _mm256_set1_ps(-0.0f);
   alignas(32) float tn[8];
   for (int chunk = 0; chunk < len; chunk += 8) {
     __m256 tnear = _mm256_set1_ps(near), tfar = _mm256_set1_ps(far);
@@ -64,13 +68,18 @@ inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec
   }
 #else
   for (int k = 0; k < len; ++k) {
-    Bounds3 b;
+    float tnear = near, tfar = far;
     for (int a = 0; a < 3; ++a) {
-      b.lo[a] = dq.base[a] + float(c.boxes[a * len + k]) * dq.step[a] - dq.margin;
-      b.hi[a] = dq.base[a] + float(c.boxes[(3 + a) * len + k]) * dq.step[a] + dq.margin;
+      const float lo = dq.base[a] + float(c.boxes[a * len + k]) * dq.step[a] - dq.margin;
+      const float hi = dq.base[a] + float(c.boxes[(3 + a) * len + k]) * dq.step[a] + dq.margin;
+      const float ta = (lo - org[a]) * inv_dir[a], tb = (hi - org[a]) * inv_dir[a];
+      const float near_a = std::fmin(std::isnan(ta) ? -INFINITY : ta, std::isnan(tb) ? -INFINITY : tb);
+      float far_a = std::fmax(std::isnan(ta) ? INFINITY : ta, std::isnan(tb) ? INFINITY : tb);
+      far_a += std::fabs(far_a) * kEntryFarWiden;
+      tnear = std::fmax(tnear, near_a);
+      tfar = std::fmin(tfar, far_a);
     }
-    float d;
-    if (intersect_box(org, inv_dir, b, near, far, d)) insert(k, d);
+    if (tnear <= tfar) insert(k, tnear);
   }
 #endif
   return n;

@@ -1,5 +1,5 @@
-// The sample-ray votes of Algorithm 2: the SIMD kernel over candidate pairs counts exactly
-// what the scalar rule vote() gives, for every rule, and the literal rule is the paper's.
+// DACRT's SIMD ray-box kernels against the scalar test: the sample-ray votes of Algorithm 2
+// (every rule; the literal rule is the paper's) and ray partitioning.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -11,6 +11,18 @@ namespace {
 
 RayRecord record(Vec3 o, Vec3 d, float t = kInfinity) {
   return {o.x, o.y, o.z, 0.0f, 1.0f / d.x, 1.0f / d.y, 1.0f / d.z, t};
+}
+
+// The ray moved into a plane of box b, its direction along that axis +0 or -0 (inverse
+// +-inf, so 0 * inf = NaN on the plane): where a kernel choosing planes by comparing the two
+// distances differs from core's choice by sign.
+RayRecord in_plane_of(const Bounds3& b, int q, RayRecord r) {
+  const int axis = (q / 4) % 3;
+  const float plane = (q / 12) % 2 ? b.hi[axis] : b.lo[axis];
+  const float inv = (q / 24) % 2 ? -kInfinity : kInfinity;
+  (axis == 0 ? r.ox : axis == 1 ? r.oy : r.oz) = plane;
+  (axis == 0 ? r.ix : axis == 1 ? r.iy : r.iz) = inv;
+  return r;
 }
 
 TEST(DacrtVotes, LiteralRuleIsAlgorithm2AsPrinted) {
@@ -54,7 +66,8 @@ TEST(DacrtVotes, KernelCountsWhatTheScalarRuleGives) {
     for (auto& w : want) w.assign(size_t(n), 0);
     uint64_t votes = 0;
     for (int q = 0; q < 300; ++q) {
-      const RayRecord ray = record({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, q % 3 ? kInfinity : s(rng));
+      RayRecord ray = record({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, q % 3 ? kInfinity : s(rng));
+      if (q % 4 == 0) ray = in_plane_of(l[size_t(q) % size_t(n)], q, ray);
       const bool up = q % 2 == 0;
       sample_pairs(ray, lb, rb, up, rule, c[0], c[1], c[2], c[3]);
       for (int j = 0; j < n; ++j) {
@@ -71,6 +84,32 @@ TEST(DacrtVotes, KernelCountsWhatTheScalarRuleGives) {
     if (rule == DacrtVotes::Literal) EXPECT_EQ(votes, 300u * n);  // every ray votes for every pair
     else EXPECT_GT(votes, 0u);
   }
+}
+
+// partition_rays (AVX-512, AVX2 or scalar, whichever this build has) keeps exactly the rays
+// the scalar ray_hits_box keeps, in order, with full chunks, a tail and rays in box planes.
+TEST(DacrtBoxKernels, PartitionKeepsWhatTheScalarTestKeeps) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-4.0f, 4.0f), s(0.1f, 3.0f);
+  const Bounds3 box{{-1.0f, -0.5f, -2.0f}, {1.5f, 2.0f, 0.5f}};
+  const size_t n = 16 * 20 + 7;
+  std::vector<RayRecord> rays(n);
+  for (size_t i = 0; i < n; ++i) {
+    rays[i] = record({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, i % 3 ? kInfinity : s(rng));
+    if (i % 3 == 0) rays[i] = in_plane_of(box, int(i), rays[i]);
+  }
+  std::vector<uint32_t> rid(n), scratch(n), want_in, want_out;
+  for (uint32_t i = 0; i < n; ++i) {
+    rid[i] = i;
+    float tnear;
+    (ray_hits_box(rays[i], box, tnear) ? want_in : want_out).push_back(i);
+  }
+  ASSERT_GT(want_in.size(), 20u);
+  ASSERT_GT(want_out.size(), 20u);
+  const size_t k = partition_rays(rays.data(), rid.data(), n, box, scratch.data());
+  ASSERT_EQ(k, want_in.size());
+  EXPECT_TRUE(std::equal(want_in.begin(), want_in.end(), rid.begin()));
+  EXPECT_TRUE(std::equal(want_out.begin(), want_out.end(), rid.begin() + ptrdiff_t(k)));
 }
 
 }  // namespace

@@ -27,8 +27,9 @@ struct Bvh2Node {
 static_assert(sizeof(Bvh2Node) == 32);
 
 /// Binary BVH built with binned SAH (Wald 2007), parallel with oneTBB. The builder sees only
-/// triangle boxes and centroids. Traversal uses core's robust slab test (Ize 2013) and
-/// watertight triangle test, so hits are bit-identical to BruteForce.
+/// triangle boxes and centroids. Traversal uses a robust slab test (Ize 2013; it keeps every
+/// box core's intersect_box keeps, see src/bvh/box_test.h) and core's watertight triangle
+/// test, so hits are bit-identical to BruteForce.
 class Bvh2 {
  public:
   std::vector<Bvh2Node> nodes;     ///< nodes[0] = root; empty for an empty triangle set

@@ -81,8 +81,8 @@ static_assert(sizeof(WideNode) == 256);
 /// It keeps its own copy of the triangles in leaf order, four per TriangleBlock, so traversal
 /// reads leaves contiguously and tests four triangles at once (closest hit with AVX2: eight,
 /// when a leaf spans two blocks); hits report the original triangle ids and are bit-identical
-/// to BruteForce (core's robust box and watertight triangle tests, the same float operations
-/// in every SIMD lane).
+/// to BruteForce (core's watertight triangle test with the same float operations in every
+/// SIMD lane, and a robust box test that keeps every box core's keeps: src/bvh/box_test.h).
 class WideBvh {
  public:
   std::vector<WideNode> nodes;     ///< nodes[0] = root (empty when there are no triangles)
