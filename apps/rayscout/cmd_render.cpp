@@ -2,7 +2,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -17,6 +16,7 @@
 #include "thread_limit.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/image/image.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/scene/load_scene.h"
@@ -35,8 +35,6 @@ struct RenderOptions {
   RenderConfig config;
 };
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 std::string default_accelerator() {
   for (const auto& a : accelerators())
@@ -71,7 +69,7 @@ void run(RenderOptions& o) {
   AcceleratorOptions accel_options;
   for (const auto& kv : o.accel_opts) accel_options.set(kv);
 
-  auto t = Clock::now();
+  auto t = SteadyClock::now();
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
   for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
@@ -80,7 +78,7 @@ void run(RenderOptions& o) {
                "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "
                "(its {} emissive triangles light --integrator area, path or manylight): the image will be dark\n",
                scene.emissive_triangles.size());
-  t = Clock::now();
+  t = SteadyClock::now();
   const auto accel = make_accelerator(o.accel, scene, accel_options);
   const double build_ms = ms_since(t);
 

@@ -1,6 +1,5 @@
 // `rayscout trace`: traces a ray file with one accelerator and prints one JSON line of timings.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -13,6 +12,7 @@
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/scene/load_scene.h"
 
 namespace rayscout::cli {
@@ -25,9 +25,6 @@ struct TraceArgs {
   std::vector<std::string> accel_opts;
 };
 
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -67,7 +64,7 @@ void run_trace(const TraceArgs& a) {
   trace_once(nullptr);  // warm-up: page in the structure and the rays
   std::vector<double> times;
   for (int r = 0; r < a.repeat; ++r) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = SteadyClock::now();
     trace_once(nullptr);
     times.push_back(ms_since(start));
   }

@@ -5,7 +5,6 @@
 // drift on a shared machine hits all alike); the median of the rounds is reported. Builds are
 // timed the same way. Work counters come from a separate, untimed run.
 #include <algorithm>
-#include <chrono>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -22,6 +21,7 @@
 #include "rayscout/accelerators.h"
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/scenes_dir.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/render/workloads.h"
 #include "rayscout/scene/load_scene.h"
 
@@ -30,11 +30,6 @@ namespace {
 
 using bench::median;
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 /// One accelerator column: registry name plus options ("embree" with robust=off is Embree's fastest mode).
 struct Column {
@@ -63,7 +58,7 @@ bool g_cpu_time = false;  // --cpu-time: time traces by process CPU time instead
 double trace_ms(const Accelerator& a, const RayBatch& rays, bool occluded, TraceStats* stats = nullptr) {
   HitBatch hits;
   std::vector<uint8_t> occ;
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   const double cpu0 = g_cpu_time ? process_cpu_ms() : 0.0;
   if (occluded) a.occluded(rays, occ, stats);
   else a.intersect(rays, hits, stats);
@@ -126,7 +121,7 @@ int run(const Options& opt) {
 
   for (const std::string& scene_arg : opt.scenes) {
     const std::string scene_name = std::filesystem::path(scene_arg).stem().string();
-    const auto load_start = Clock::now();
+    const auto load_start = SteadyClock::now();
     const Scene scene = resolve_scene(scene_arg);
     fmt::print(stderr, "{}: {} triangles loaded in {:.0f} ms\n", scene_name, scene.triangles.size(), ms_since(load_start));
 

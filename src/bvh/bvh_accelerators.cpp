@@ -2,23 +2,17 @@
 #include "rayscout/bvh/bvh_accelerators.h"
 
 #include <atomic>
-#include <chrono>
 #include <string>
 
 #include <tbb/parallel_for.h>
+
+#include "rayscout/core/stopwatch.h"
 
 namespace rayscout {
 namespace {
 
 // Rays per task: enough to amortise scheduling, small enough to balance incoherent rays.
 constexpr size_t kGrain = 256;
-
-template <class Fn>
-double time_ms(Fn&& fn) {
-  const auto t0 = std::chrono::steady_clock::now();
-  fn();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Runs trace(ray_index, stats_or_null) over every ray in parallel; counters are summed per
 // task and added once, so they are exact and the uncounted path does no counting at all.

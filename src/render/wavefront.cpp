@@ -2,21 +2,17 @@
 #include "rayscout/render/wavefront.h"
 
 #include <algorithm>
-#include <chrono>
 #include <string>
 
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/render/camera_rays.h"
 
 namespace rayscout {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // Paths per shading task. Fixed (not derived from the thread count) so that the merge order,
 // and with it every floating-point sum, is the same for any number of threads.
@@ -84,7 +80,7 @@ void generate_camera_rays(const Scene& scene, int width, int height, int spp, ui
 Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, const RenderConfig& config,
                                   RenderStats* stats_out) const {
   check_config(config);
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   RenderStats stats;
   const LightSampler lights(scene);
   const Bounds3 bounds = scene.bounds();
@@ -104,7 +100,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   const int passes = (config.spp + per_pass - 1) / per_pass;
   RayBatch rays;
   std::vector<PathState> paths;
-  auto t0 = Clock::now();
+  auto t0 = SteadyClock::now();
 
   uint64_t rays_traced = 0;
   int pass = 0;
@@ -114,7 +110,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
     bs.info = info;
     bs.rays = batch.size();
     TraceStats* counters = config.count ? &bs.counters : nullptr;
-    const auto t = Clock::now();
+    const auto t = SteadyClock::now();
     if (hits) accel.intersect(batch, *hits, counters);
     else accel.occluded(batch, *occluded, counters);
     bs.trace_ms = ms_since(t);
@@ -123,7 +119,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
     rays_traced += batch.size();
     if (config.on_progress)
       config.on_progress({info.bounce, max_bounce(config), pass, passes, rays_traced,
-                          std::chrono::duration<double>(Clock::now() - start).count()});
+                          ms_since(start) / 1000.0});
   };
 
   // Buffers live across bounces: their capacity is reused, so later bounces do not page-fault.
@@ -134,7 +130,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   std::vector<ShadeOutput::Contribution> occlusion;
   std::vector<PathState> next_paths;
   for (pass = 0; pass < passes; ++pass) {
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, rays, &paths, pass * per_pass,
                          std::min(config.spp, (pass + 1) * per_pass));
     stats.raygen_ms += ms_since(t0);
@@ -142,7 +138,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
       ctx.bounce = bounce;
       trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, rays, &hits, nullptr);
 
-      t0 = Clock::now();
+      t0 = SteadyClock::now();
       const size_t n = paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
       outs.resize(chunks);
       tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
@@ -183,7 +179,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
 
       if (!occlusion_rays.empty()) {
         trace({bounce, occlusion_kind(), true}, occlusion_rays, nullptr, &occluded);
-        t0 = Clock::now();
+        t0 = SteadyClock::now();
         accumulate(film, occlusion, &occluded);
         stats.shading_ms += ms_since(t0);
       }
