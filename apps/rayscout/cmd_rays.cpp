@@ -16,7 +16,7 @@ namespace rayscout::cli {
 namespace {
 
 struct RaysArgs {
-  std::string scene, workload = "primary", out, accel = "bvh";
+  std::string scene, workload = "primary", out, accel = kDefaultAccelerator;
   WorkloadConfig config;
 };
 

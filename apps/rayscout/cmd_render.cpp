@@ -27,7 +27,7 @@ namespace {
 struct RenderOptions {
   std::string scene;
   std::string integrator = "direct";
-  std::string accel;
+  std::string accel = kDefaultAccelerator;
   std::vector<std::string> accel_opts;
   int threads = 0;
   std::string out = "rayscout.png";
@@ -35,12 +35,6 @@ struct RenderOptions {
   RenderConfig config;
 };
 
-
-std::string default_accelerator() {
-  for (const auto& a : accelerators())
-    if (a.name == "bvh") return "bvh";
-  return "brute";
-}
 
 // One line on stderr, redrawn in place; only on a terminal.
 void draw_progress(const RenderProgress& p) {
@@ -65,7 +59,6 @@ void run(RenderOptions& o) {
     if (!ml.rmse_log.empty()) check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);
   }
   const auto integrator = make_integrator(o.integrator);
-  if (o.accel.empty()) o.accel = default_accelerator();
   AcceleratorOptions accel_options;
   for (const auto& kv : o.accel_opts) accel_options.set(kv);
 
@@ -124,7 +117,7 @@ CommandRegistration registration{[](CLI::App& app) {
   RenderConfig& c = opts->config;
   cmd->add_option("--scene", opts->scene, "scene file (.json) or mesh; default: built-in Cornell box");
   cmd->add_option("--integrator", opts->integrator, "one of: " + integrator_names())->capture_default_str();
-  cmd->add_option("--accel", opts->accel, "accelerator (default bvh, else brute); see `rayscout accelerators`");
+  cmd->add_option("--accel", opts->accel, "accelerator; see `rayscout accelerators`")->capture_default_str();
   cmd->add_option("--accel-opt", opts->accel_opts, "accelerator tunable key=value (repeatable)");
   cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
   cmd->add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));

@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "thread_limit.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/median.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
 #include "rayscout/core/stopwatch.h"
@@ -19,18 +20,12 @@ namespace rayscout::cli {
 namespace {
 
 struct TraceArgs {
-  std::string scene, rays, accel = "bvh", out;
+  std::string scene, rays, accel = kDefaultAccelerator, out;
   bool occluded = false, count = false;
   int threads = 0, repeat = 5;
   std::vector<std::string> accel_opts;
 };
 
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // JSON string literal (names and paths only: escape quotes, backslashes and control bytes).
 std::string quoted(const std::string& s) {

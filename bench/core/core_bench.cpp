@@ -1,4 +1,4 @@
-// core_bench: Mrays/s of bvh2, bvh and embree side by side (issue 2, item 8), plus build times.
+// core_bench: Mrays/s of bvh2, bvh and embree side by side, plus build times.
 //
 // For every scene, thread count and workload: one warm-up trace per accelerator, then
 // `repeat` rounds in which every accelerator traces the same rays once (interleaved, so load

@@ -159,6 +159,9 @@ int main(int argc, char** argv) {
     out["clock"] = g_cpu_time ? "process CPU time" : "wall";
     fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
                g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
+    fmt::print("# dacrt:    {}\n# dacrt-rs: {}\n\n", DacrtConfig::afra().describe(), DacrtConfig::ray_sampled().describe());
+    out["dacrt_config"] = DacrtConfig::afra().describe();
+    out["dacrt_rs_config"] = DacrtConfig::ray_sampled().describe();
 
     std::map<std::string, std::shared_ptr<Scene>> scenes;
     const bool render = o.source == "render";

@@ -10,16 +10,13 @@
 #include <fmt/core.h>
 
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/median.h"
 
 namespace rayscout::bench {
 
-/// Median of the repetitions' times (the mean of the two middle ones for an even count). v is
-/// never empty: every driver's repetition options are checked to be at least 1.
-inline double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+// Median of the repetitions' times; never empty: every driver's repetition options are
+// checked to be at least 1.
+using rayscout::median;
 
 /// Throws InputError naming `option` and the first of `given` that is not in `known`, so a
 /// misspelt workload or view is an error instead of an empty table.

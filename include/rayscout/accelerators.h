@@ -17,6 +17,9 @@ struct AcceleratorInfo {
   std::string description;
 };
 
+/// The accelerator commands use when none is named: the 8-wide BVH.
+inline constexpr const char* kDefaultAccelerator = "bvh";
+
 /// Every accelerator compiled into this build, reference ("brute") first.
 const std::vector<AcceleratorInfo>& accelerators();
 

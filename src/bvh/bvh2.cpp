@@ -36,21 +36,6 @@ Bvh2 Bvh2::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
   return bvh;
 }
 
-void Bvh2::update_depth() {
-  depth_ = 0;
-  if (nodes.empty()) return;
-  std::vector<std::pair<uint32_t, int>> stack{{0, 0}};
-  while (!stack.empty()) {
-    auto [n, d] = stack.back();
-    stack.pop_back();
-    depth_ = std::max(depth_, d);
-    if (n >= nodes.size() || nodes[n].is_leaf() || nodes[n].first + 1 >= nodes.size()) continue;
-    if (d > int(nodes.size())) return;  // a cycle; validate() reports it
-    stack.push_back({nodes[n].first, d + 1});
-    stack.push_back({nodes[n].first + 1, d + 1});
-  }
-}
-
 std::string Bvh2::validate(size_t triangle_count) const {
   if (nodes.empty())
     return triangle_count == 0 && prim_ids.empty() ? "" : "no nodes but " + std::to_string(triangle_count) + " triangles";

@@ -24,6 +24,8 @@ namespace {
 
 // A task below this many rays would lose more to splitting than it gains from a core.
 constexpr size_t kMinRaysPerTask = 16384;
+// Per-ray set-up loops run in parallel only above this many rays.
+constexpr size_t kMinRaysParallelSetup = 4 * kMinRaysPerTask;
 
 size_t task_count(const DacrtConfig& c, size_t n) {
   if (!c.parallel) return 1;
@@ -35,7 +37,7 @@ size_t task_count(const DacrtConfig& c, size_t n) {
 
 template <typename F>
 void for_range(bool parallel, size_t n, F&& f) {
-  if (parallel && n > 65536)
+  if (parallel && n > kMinRaysParallelSetup)
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const auto& r) { for (size_t i = r.begin(); i != r.end(); ++i) f(i); });
   else
     for (size_t i = 0; i < n; ++i) f(i);
@@ -125,7 +127,7 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   const Bounds3 box = a.box, cb = a.cb;
 
   // Ray records, shears and ids in contiguous blocks (one per thread when parallel).
-  const size_t blocks = par && n > 65536 ? std::min<size_t>(64, n / 16384) : 1;
+  const size_t blocks = par && n > kMinRaysParallelSetup ? std::min<size_t>(64, n / kMinRaysPerTask) : 1;
   std::vector<float> block_magnitude(blocks, 0.0f);
   auto setup_block = [&](size_t b) {
     block_magnitude[b] = dacrt::setup_rays(rays, n * b / blocks, n * (b + 1) / blocks, rec, shear, rid);

@@ -77,8 +77,6 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
       for (int j = k - 1; j > 0; --j) sweep(j, right[j - 1]);
       uint32_t* hits_l = hits_l_; uint32_t* hits_r = hits_r_;
       uint32_t* votes_l = votes_l_; uint32_t* votes_r = votes_r_;
-      std::fill_n(hits_l, k, 0u); std::fill_n(hits_r, k, 0u);
-      std::fill_n(votes_l, k, 0u); std::fill_n(votes_r, k, 0u);
       size_t ns = 0;
       // The sampled cost only where its 2 (K - 1) N_s tests fit the budget (DacrtConfig).
       const bool sampled_cost = sample && cfg_.sampled_cost &&
@@ -96,8 +94,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
         std::fill_n(votes_l, padded_count, 0u); std::fill_n(votes_r, padded_count, 0u);
         for (size_t q = 0; q < ns; ++q) {
           const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
-          const bool goes_up = (axis == 0 ? r.ix : (axis == 1 ? r.iy : r.iz)) >= 0.0f;
-          sample_pairs(r, lb, rb, goes_up, cfg_.votes, hits_l, hits_r, votes_l, votes_r);
+          sample_pairs(r, lb, rb, r.goes_up(axis), cfg_.votes, hits_l, hits_r, votes_l, votes_r);
         }
         if constexpr (kStats) {
           const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
@@ -189,8 +186,7 @@ void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, 
       h[c] = ray_hits_box(r, s.box[c], d[c], f[c]);
       hits[c] += h[c];
     }
-    const bool ray_goes_up = (s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz)) >= 0.0f;
-    const int v = vote(cfg_.votes, h[0], h[1], d[0], f[0], d[1], f[1], ray_goes_up);
+    const int v = vote(cfg_.votes, h[0], h[1], d[0], f[0], d[1], f[1], r.goes_up(s.axis));
     if (v >= 0) ++s.votes[v];
   }
   s.alpha[0] = double(hits[0]) / double(ns);

@@ -8,8 +8,8 @@
 
 #include "box_kernels.h"
 #include "leaf_avx2.h"
+#include "leaf_avx512.h"
 #include "leaf_kernels.h"
-#include "leaf_simd.h"
 #include "rayscout/core/trace_stats.h"
 #include "rayscout/dacrt/dacrt.h"
 #include "ray_record.h"
@@ -64,18 +64,17 @@ class DacrtTracer {
   }
 
   void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
-    uint64_t tests;
-#if defined(__AVX512F__) || defined(__AVX2__)
-    // 16 (AVX-512) or 8 (AVX2) rays per triangle test; a handful of rays stays scalar.
-    if (nr >= 8)
-      tests = leaf_simd<kOccluded>(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits, ctx_.occ);
-    else
-#endif
-    if constexpr (kOccluded)
-      tests = leaf_occluded(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.occ);
-    else
-      tests = leaf_intersect(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits);
+    const uint64_t tests = leaf_tests(rid, nr, tid, nt);
     if constexpr (kStats) { stats.ray_tri_tests += tests; ++details.leaves; }
+  }
+
+  uint64_t leaf_tests(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
+#if defined(__AVX512F__) || defined(__AVX2__)
+    if (nr >= 8)  // 16 (AVX-512) or 8 (AVX2) rays per triangle test; a handful stays scalar
+      return leaf_simd<kOccluded>(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits, ctx_.occ);
+#endif
+    if constexpr (kOccluded) return leaf_occluded(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.occ);
+    else return leaf_intersect(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits);
   }
 
   // Algorithm 1. rid[0, nr) all hit this node's box (or were passed on unfiltered).
@@ -92,9 +91,7 @@ class DacrtTracer {
       first = s.votes[0] >= s.votes[1] ? 0 : 1;  // Algorithm 1, line 18
     } else {
       // Afra: one ray (the first of the set) decides, by its direction along the split axis.
-      const RayRecord& r = ctx_.rays[rid[0]];
-      const float inv = s.axis == 0 ? r.ix : (s.axis == 1 ? r.iy : r.iz);
-      first = inv >= 0.0f ? 0 : 1;
+      first = ctx_.rays[rid[0]].goes_up(s.axis) ? 0 : 1;
     }
     for (int k = 0; k < 2; ++k) {
       const int c = k == 0 ? first : 1 - first;

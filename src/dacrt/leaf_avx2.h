@@ -1,6 +1,6 @@
 // AVX2 leaf kernel (when AVX-512 is not available): 8 rays against one triangle at a time,
 // the same float operations in the same order as core's intersect_triangle (watertight,
-// Woop et al. 2013) and leaf_simd.h, so hits are bit-identical; lanes with an exactly-zero
+// Woop et al. 2013) and leaf_avx512.h, so hits are bit-identical; lanes with an exactly-zero
 // edge function take the scalar path (its double recomputation).
 #pragma once
 

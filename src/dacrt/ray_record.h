@@ -14,6 +14,10 @@ namespace rayscout::dacrt {
 struct alignas(32) RayRecord {
   float ox, oy, oz, tmin;
   float ix, iy, iz, t;  ///< 1 / direction (as RayPrecomp::inv_dir), current closest t
+
+  /// Whether the ray runs towards larger coordinates along axis (0, 1, 2): the side whose
+  /// child it meets first (Afra's child order; the tie-break of the vote rules).
+  bool goes_up(int axis) const { return (axis == 0 ? ix : (axis == 1 ? iy : iz)) >= 0.0f; }
 };
 static_assert(sizeof(RayRecord) == 32);
 

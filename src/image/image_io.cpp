@@ -29,18 +29,13 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
+#include "rayscout/core/file_extension.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 
 namespace rayscout {
 namespace {
-
-std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 void check_size(const Image& image, const std::filesystem::path& path) {
   if (image.width <= 0 || image.height <= 0 || image.pixels.size() != size_t(image.width) * size_t(image.height))

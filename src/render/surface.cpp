@@ -37,6 +37,11 @@ float scene_ray_epsilon(const Bounds3& bounds) {
   return 1e-5f * std::max(extent, 1e-3f);
 }
 
+float ao_radius_for(float configured, const Bounds3& bounds) {
+  if (configured > 0) return configured;
+  return bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal());
+}
+
 void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {
   const float sign = std::copysign(1.0f, n.z);
   const float a = -1.0f / (sign + n.z);

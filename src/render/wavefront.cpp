@@ -89,8 +89,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   ctx.config = &config;
   ctx.lights = &lights;
   ctx.epsilon = config.ray_epsilon > 0 ? config.ray_epsilon : scene_ray_epsilon(bounds);
-  ctx.ao_radius = config.ao_radius > 0 ? config.ao_radius
-                                       : (bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal()));
+  ctx.ao_radius = ao_radius_for(config.ao_radius, bounds);
 
   const size_t n_pixels = size_t(config.width) * size_t(config.height);
   std::vector<Vec3> film(n_pixels);

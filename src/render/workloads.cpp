@@ -43,8 +43,7 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   accel.intersect(primary, hits);
   const Bounds3 bounds = scene.bounds();
   const float eps = scene_ray_epsilon(bounds);
-  const float ao_radius = config.ao_radius > 0 ? config.ao_radius
-                                               : (bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal()));
+  const float ao_radius = ao_radius_for(config.ao_radius, bounds);
   const LightSampler lights(scene);
   const bool to_points = !scene.point_lights.empty();
   const size_t per_hit = workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));

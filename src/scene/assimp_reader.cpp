@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "rayscout/core/file_extension.h"
 #include "rayscout/core/little_endian.h"
 #include "rayscout/scene/mesh.h"
 #include "scene_builder.h"
@@ -132,7 +133,7 @@ void drop_unused_materials(Mesh& mesh) {
 }  // namespace
 
 Mesh read_assimp(const std::filesystem::path& path) {
-  const bool binary = detail::lower_extension(path) == ".glb";
+  const bool binary = lower_extension(path) == ".glb";
   const std::string file = detail::display_name(path), data = detail::read_file(path);
   const std::string_view json = json_text(data, binary);
   detail::check_json_nesting(json, file);

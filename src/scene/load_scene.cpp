@@ -1,4 +1,5 @@
 // load_scene / resolve_scene: dispatch between JSON scene files, bare meshes and the built-in scene.
+#include "rayscout/core/file_extension.h"
 #include "rayscout/scene/load_scene.h"
 
 #include "json_scene.h"
@@ -12,7 +13,7 @@ Scene load_scene(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(detail::display_name(path) + ": is a directory, not a scene or mesh file");
-  const std::string ext = detail::lower_extension(path);
+  const std::string ext = lower_extension(path);
   if (ext == ".json") return detail::load_json_scene(path);
 
   Mesh mesh = read_mesh(path);

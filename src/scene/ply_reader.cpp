@@ -192,7 +192,6 @@ Mesh read_ply(const std::filesystem::path& path) {
   const bool swap = (format == Format::BinaryBig) != (std::endian::native == std::endian::big);
   std::vector<double> values;
   std::vector<double> poly;  // face indices, range-checked before any conversion to an integer
-  bool seen_vertex = false;
 
   for (const auto& el : elements) {
     const bool is_vertex = el.name == "vertex";
@@ -315,9 +314,7 @@ Mesh read_ply(const std::filesystem::path& path) {
         }
       }
     }
-    if (is_vertex) seen_vertex = true;
   }
-  (void)seen_vertex;
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no faces (empty mesh)");
   return mesh;
 }

@@ -1,13 +1,14 @@
 // read_mesh: picks the reader by file extension.
 #include <string>
 
+#include "rayscout/core/file_extension.h"
 #include "rayscout/scene/mesh.h"
 #include "text_parse.h"
 
 namespace rayscout {
 
 Mesh read_mesh(const std::filesystem::path& path) {
-  const std::string ext = detail::lower_extension(path);
+  const std::string ext = lower_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".ply") return read_ply(path);
   if (ext == ".gltf" || ext == ".glb") return read_assimp(path);

@@ -17,13 +17,6 @@ namespace rayscout::detail {
 /// The whole file; throws InputError "path: cannot open ..." when it cannot be read.
 std::string read_file(const std::filesystem::path& path);
 
-/// The file's extension in lower case (".obj", ".gltf", ...): how the readers are picked.
-inline std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 /// Start of the text after a UTF-8 byte order mark, if any.
 inline const char* skip_bom(const std::string& data) {
   return data.size() >= 3 && data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? data.data() + 3 : data.data();

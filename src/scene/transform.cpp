@@ -50,12 +50,6 @@ Vec3 Transform::apply_point(const Vec3& p) const {
   return {float(r[0]), float(r[1]), float(r[2])};
 }
 
-Vec3 Transform::apply_vector(const Vec3& v) const {
-  double r[3];
-  for (int i = 0; i < 3; ++i) r[i] = m[i][0] * v.x + m[i][1] * v.y + m[i][2] * v.z;
-  return {float(r[0]), float(r[1]), float(r[2])};
-}
-
 bool Transform::is_identity() const {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 4; ++j)

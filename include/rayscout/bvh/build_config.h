@@ -37,7 +37,7 @@ struct BvhBuildConfig {
   float presplit = 0.0f;
   /// Most references one triangle may be pre-split into (1..65). 2 (one split, at the
   /// coarsest grid plane crossing it) spreads the budget over many triangles; up to 65 pieces
-  /// per triangle (the earlier cap) cut scene-spanning triangles such as Conference's floor
+  /// per triangle cut scene-spanning triangles such as Conference's floor
   /// into many references and cost up to 20 % of closest-hit throughput there.
   int presplit_max_pieces = 2;
   /// Nodes with at least this many triangles bin in parallel and recurse as parallel tasks;

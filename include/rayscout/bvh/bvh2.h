@@ -66,8 +66,6 @@ class Bvh2 {
   size_t memory_bytes() const {
     return nodes.capacity() * sizeof(Bvh2Node) + prim_ids.capacity() * sizeof(uint32_t);
   }
-  /// Recomputes depth() after nodes were edited by hand.
-  void update_depth();
 
  private:
   int depth_ = 0;

@@ -36,8 +36,6 @@ class LightSampler {
   LightSample sample(uint64_t choice_bits, float u1, float u2) const;
   /// The choice among the emissive triangles (in the order of their primitive ids).
   const DiscreteDistribution& distribution() const { return choice_; }
-  /// Primitive id of the distribution's item k.
-  uint32_t primitive(size_t k) const { return prims_[k]; }
 
  private:
   const Scene* scene_;

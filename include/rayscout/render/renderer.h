@@ -92,7 +92,7 @@ class Integrator {
                        RenderStats* stats = nullptr) const = 0;
 };
 
-/// The integrators of this module (issue 3): primary rays, shadow rays to every point light,
+/// The integrators of this module: primary rays, shadow rays to every point light,
 /// mirror reflections up to max_depth.
 std::unique_ptr<Integrator> make_direct_integrator();
 /// As direct, plus light_samples shadow rays per hit to points on the area lights.

@@ -34,6 +34,10 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 /// the light distance minus epsilon.
 float scene_ray_epsilon(const Bounds3& bounds);
 
+/// The length of ambient-occlusion rays: `configured` when positive, else 10 % of the scene
+/// diagonal (1 for an empty scene).
+float ao_radius_for(float configured, const Bounds3& bounds);
+
 /// Orthonormal basis (t, b, n) around unit n (Duff et al., JCGT 2017).
 void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b);
 

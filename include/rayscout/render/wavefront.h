@@ -60,7 +60,7 @@ class ShadeOutput {
   std::vector<PathState> next_;
 };
 
-/// The wavefront loop (issue 3, item 1): camera rays for every pixel sample as one batch
+/// The wavefront loop: camera rays for every pixel sample as one batch
 /// (split into passes of whole samples when above RenderConfig::max_batch_rays);
 /// trace the whole batch; shade every hit (chunks in parallel); trace the batch of occlusion
 /// rays; continue with the batch of next rays. Contributions are added per pixel in a fixed

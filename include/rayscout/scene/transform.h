@@ -20,8 +20,6 @@ struct Transform {
   Transform operator*(const Transform& inner) const;
   /// M p + t, computed in double and rounded to float once.
   Vec3 apply_point(const Vec3& p) const;
-  /// M v (no translation).
-  Vec3 apply_vector(const Vec3& v) const;
   /// True when exactly the identity (then points are copied bit for bit).
   bool is_identity() const;
   /// Determinant of the linear part: negative for a mirroring transform, which reverses
