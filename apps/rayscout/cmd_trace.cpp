@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <fmt/core.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "thread_limit.h"
@@ -27,16 +28,8 @@ struct TraceArgs {
 };
 
 
-// JSON string literal (names and paths only: escape quotes, backslashes and control bytes).
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') { out += '\\'; out += c; }
-    else if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", int(c));
-    else out += c;
-  }
-  return out + "\"";
-}
+// x rounded to 3 decimals (milliseconds to the microsecond) for the JSON line.
+double round3(double x) { return std::round(x * 1e3) / 1e3; }
 
 void run_trace(const TraceArgs& a) {
   const ThreadLimit limit(a.threads);
@@ -72,29 +65,37 @@ void run_trace(const TraceArgs& a) {
     else write_hits(a.out, hits);
   }
 
-  std::string line = fmt::format(
-      "{{\"accel\": {}, \"query\": \"{}\", \"rays\": {}, \"{}\": {}, \"threads\": {}, \"build_ms\": {:.3f}, "
-      "\"trace_ms\": {:.3f}, \"trace_ms_min\": {:.3f}, \"repeat\": {}, \"mrays_per_s\": {:.3f}, \"memory_bytes\": {}",
-      quoted(a.accel), a.occluded ? "occluded" : "intersect", rays.size(), a.occluded ? "occluded" : "hits",
-      positives, threads, build.build_ms, trace_ms, *std::min_element(times.begin(), times.end()), a.repeat,
-      trace_ms > 0 ? double(rays.size()) / (trace_ms * 1e3) : 0.0, build.memory_bytes);
-  if (accel->last_trace_memory_bytes() > 0)
-    line += fmt::format(", \"trace_memory_bytes\": {}", accel->last_trace_memory_bytes());
+  nlohmann::ordered_json line;
+  line["accel"] = a.accel;
+  line["query"] = a.occluded ? "occluded" : "intersect";
+  line["rays"] = rays.size();
+  line[a.occluded ? "occluded" : "hits"] = positives;
+  line["threads"] = threads;
+  line["build_ms"] = round3(build.build_ms);
+  line["trace_ms"] = round3(trace_ms);
+  line["trace_ms_min"] = round3(*std::min_element(times.begin(), times.end()));
+  line["repeat"] = a.repeat;
+  line["mrays_per_s"] = round3(trace_ms > 0 ? double(rays.size()) / (trace_ms * 1e3) : 0.0);
+  line["memory_bytes"] = build.memory_bytes;
+  if (accel->last_trace_memory_bytes() > 0) line["trace_memory_bytes"] = accel->last_trace_memory_bytes();
   if (a.count) {
     // A separate run: counting must never slow the timed runs.
     TraceStats stats;
     trace_once(&stats);
-    if (a.accel == "embree")
-      line += ", \"counters\": null, \"counters_note\": \"Embree has no work counters\"";
-    else
-      line += fmt::format(
-          ", \"counters\": {{\"rays\": {}, \"traversal_steps\": {}, \"ray_box_tests\": {}, \"ray_tri_tests\": {}, "
-          "\"box_tests_per_ray\": {:.3f}, \"tri_tests_per_ray\": {:.3f}}}",
-          stats.rays, stats.traversal_steps, stats.ray_box_tests, stats.ray_tri_tests,
-          rays.empty() ? 0.0 : double(stats.ray_box_tests) / double(rays.size()),
-          rays.empty() ? 0.0 : double(stats.ray_tri_tests) / double(rays.size()));
+    if (!accel->counts_work()) {
+      line["counters"] = nullptr;
+      line["counters_note"] = accel->name() + " has no work counters";
+    } else {
+      auto per_ray = [&](uint64_t n) { return rays.empty() ? 0.0 : round3(double(n) / double(rays.size())); };
+      line["counters"] = {{"rays", stats.rays},
+                          {"traversal_steps", stats.traversal_steps},
+                          {"ray_box_tests", stats.ray_box_tests},
+                          {"ray_tri_tests", stats.ray_tri_tests},
+                          {"box_tests_per_ray", per_ray(stats.ray_box_tests)},
+                          {"tri_tests_per_ray", per_ray(stats.ray_tri_tests)}};
+    }
   }
-  fmt::print("{}}}\n", line);
+  fmt::print("{}\n", line.dump());
 }
 
 CommandRegistration registration{[](CLI::App& app) {

@@ -6,7 +6,7 @@
 #include <bit>
 #include <random>
 
-#include "../../src/bvh/triangle_block_test.h"
+#include "triangle_block_test.h"  // private: src/bvh
 
 namespace rayscout {
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "../../src/dacrt/ray_setup.h"
+#include "ray_setup.h"  // private: src/dacrt
 
 namespace rayscout {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "../../src/dacrt/box_kernels.h"
+#include "box_kernels.h"  // private: src/dacrt
 
 namespace rayscout::dacrt {
 namespace {

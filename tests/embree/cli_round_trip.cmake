@@ -14,7 +14,7 @@ foreach(workload primary diffuse)
   foreach(accel bvh embree)
     run(${RAYSCOUT} trace --scene cornell --rays ${WORK}/${workload}.rays --accel ${accel} --repeat 1
         --out ${WORK}/${workload}_${accel}.hits)
-    if(NOT last_output MATCHES "\"accel\": \"${accel}\".*\"mrays_per_s\"")
+    if(NOT last_output MATCHES "\"accel\":\"${accel}\".*\"mrays_per_s\"")
       message(FATAL_ERROR "trace printed no JSON line for ${accel}")
     endif()
   endforeach()

@@ -39,6 +39,9 @@ class Accelerator {
   virtual BuildInfo build_info() const = 0;
   /// Peak scratch memory of the last trace call (DACRT's index arrays); 0 when none.
   virtual size_t last_trace_memory_bytes() const { return 0; }
+  /// Whether stats receive work counts (steps, box and triangle tests); false for a peer
+  /// library that does not expose them (Embree), whose stats count rays only.
+  virtual bool counts_work() const { return true; }
 };
 
 /// The reference: tests every ray against every triangle. Single source of truth in tests.

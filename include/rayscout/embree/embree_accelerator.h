@@ -50,6 +50,7 @@ class EmbreeAccelerator final : public Accelerator {
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
                 TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return info_; }
+  bool counts_work() const override { return false; }
 
  private:
   struct State;
