@@ -24,124 +24,17 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
                                            const Bounds3& cb, bool sample, Split& s) {
   const int axis = s.axis = cb.largest_axis();
   const float lo = cb.lo[axis], extent = cb.hi[axis] - lo;
-  const TriBox* tb = ctx_.tri_boxes;
   bool separated = false;
   if (extent > 0.0f && std::isfinite(extent)) {
     if (double(nr) <= cfg_.midpoint_ratio * double(nt)) {
       // Few rays per triangle: a cheap midpoint split (sec. 5), sampling only orders and skips.
       const float mid = lo + 0.5f * extent;
+      const TriBox* tb = ctx_.tri_boxes;
       s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return tb[p].center(axis) < mid; }) - tid);
       separated = s.n_left > 0 && s.n_left < nt;
       if (separated) finish_sides(tid, nt, s);
     } else {
-      const int k = cfg_.bins;
-      const float scale = float(k) / extent;
-      // Two bin sets, even and odd triangles, so consecutive triangles of one bin do not
-      // wait for each other's stores; each triangle's bin is kept for the partition below.
-      const __m128 half = _mm_set1_ps(0.5f), pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
-      for (int set = 0; set < 2; ++set)
-        for (int j = 0; j < k; ++j) { vbins_[set][j] = {pinf, ninf, pinf, ninf}; counts_[set][j] = 0; }
-      uint8_t* bin_idx = bin_idx_;
-      auto add = [&](int set, size_t i) {
-        if (i + 16 < nt) _mm_prefetch(reinterpret_cast<const char*>(tb + tid[i + 16]), _MM_HINT_T0);
-        const TriBox& t = tb[tid[i]];
-        const __m128 blo = _mm_load_ps(t.lo), bhi = _mm_load_ps(t.hi);
-        const __m128 c = _mm_mul_ps(_mm_add_ps(blo, bhi), half);  // Bounds3::center()
-        const int b = std::clamp(int((t.center(axis) - lo) * scale), 0, k - 1);
-        bin_idx[i] = uint8_t(b);
-        vbins_[set][b].extend(blo, bhi, c);
-        ++counts_[set][b];
-      };
-      size_t i = 0;
-      for (; i + 2 <= nt; i += 2) { add(0, i); add(1, i + 1); }
-      if (i < nt) add(0, i);
-      VBin* bins = vbins_[0];
-      for (int j = 0; j < k; ++j) {
-        bins[j].extend(vbins_[1][j]);
-        counts_[0][j] += counts_[1][j];
-      }
-      const uint32_t* count = counts_[0];
-      Bin* left = left_;
-      Bin* right = right_;
-      // left[j] = bins 0..j, right[j] = bins j+1..k-1 (candidate j, 0 <= j < k - 1).
-      VBin acc = {pinf, ninf, pinf, ninf};
-      uint32_t n_acc = 0;
-      auto sweep = [&](int j, Bin& out) {
-        acc.extend(bins[j]);
-        n_acc += count[j];
-        out.box = to_bounds(acc.lo, acc.hi); out.cb = to_bounds(acc.clo, acc.chi); out.n = n_acc;
-      };
-      for (int j = 0; j < k - 1; ++j) sweep(j, left[j]);
-      acc = {pinf, ninf, pinf, ninf};
-      n_acc = 0;
-      for (int j = k - 1; j > 0; --j) sweep(j, right[j - 1]);
-      uint32_t* hits_l = hits_l_; uint32_t* hits_r = hits_r_;
-      uint32_t* votes_l = votes_l_; uint32_t* votes_r = votes_r_;
-      size_t ns = 0;
-      // The sampled cost only where its 2 (K - 1) N_s tests fit the budget (DacrtConfig).
-      const bool sampled_cost = sample && cfg_.sampled_cost &&
-                                (cfg_.sample_budget <= 0.0 ||
-                                 double(cfg_.sample_count(nr)) * double(k - 1) <= cfg_.sample_budget * double(nr));
-      if (sampled_cost) {
-        // Algorithm 2 for every sample ray and candidate.
-        BoxSoa& lb = lb_;
-        BoxSoa& rb = rb_;
-        for (int j = 0; j < k - 1; ++j) { lb.set(j, left[j].box); rb.set(j, right[j].box); }
-        lb.resize(k - 1); rb.resize(k - 1);
-        ns = cfg_.sample_count(nr);
-        const int padded_count = lb.count;
-        std::fill_n(hits_l, padded_count, 0u); std::fill_n(hits_r, padded_count, 0u);
-        std::fill_n(votes_l, padded_count, 0u); std::fill_n(votes_r, padded_count, 0u);
-        for (size_t q = 0; q < ns; ++q) {
-          const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
-          sample_pairs(r, lb, rb, r.goes_up(axis), cfg_.votes, hits_l, hits_r, votes_l, votes_r);
-        }
-        if constexpr (kStats) {
-          const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
-          stats.ray_box_tests += tests;
-          details.sampling_box_tests += tests;
-          ++details.sampled_nodes;
-        }
-      }
-      const float area = merge(left[0].box, right[0].box).surface_area();
-      double best = kInfinity;
-      int jmin = -1;
-      for (int j = 0; j < k - 1; ++j) {
-        if (left[j].n == 0 || right[j].n == 0) continue;
-        double pl, pr;
-        if (sampled_cost) {  // eq. (2)
-          pl = double(hits_l[j]) / double(ns);
-          pr = double(hits_r[j]) / double(ns);
-        } else {  // eq. (1), surface-area ratios
-          pl = area > 0 ? left[j].box.surface_area() / area : 1.0;
-          pr = area > 0 ? right[j].box.surface_area() / area : 1.0;
-        }
-        // Eqs. (1), (2) without C_T + C_I·(...): only the argmin over the bins is used.
-        const double cost = pl * left[j].n + pr * right[j].n;
-        if (cost <= best) { best = cost; jmin = j; }  // Algorithm 1, line 14: <=
-      }
-      if (jmin >= 0) {
-        // std::partition's scheme on the kept bins: a position, once passed, is not read again.
-        size_t a = 0, e = nt;
-        for (;;) {
-          while (a < e && bin_idx[a] <= jmin) ++a;
-          while (a < e && bin_idx[e - 1] > jmin) --e;
-          if (a >= e) break;
-          std::swap(tid[a], tid[e - 1]);
-          ++a; --e;
-        }
-        s.n_left = a;
-        s.box[0] = left[jmin].box; s.cb[0] = left[jmin].cb;
-        s.box[1] = right[jmin].box; s.cb[1] = right[jmin].cb;
-        separated = true;
-        if (sampled_cost) {
-          s.sampled = true;
-          s.alpha[0] = double(hits_l[jmin]) / double(ns);
-          s.alpha[1] = double(hits_r[jmin]) / double(ns);
-          s.votes[0] = votes_l[jmin];
-          s.votes[1] = votes_r[jmin];
-        }
-      }
+      separated = binned_split(rid, nr, tid, nt, axis, lo, extent, sample, s);
     }
   }
   if (!separated) {
@@ -152,6 +45,140 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
   }
   if (sample && !s.sampled) sample_two(rid, nr, s);
   return true;
+}
+
+template <bool kStats, bool kOccluded>
+bool DacrtTracer<kStats, kOccluded>::binned_split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
+                                                  int axis, float lo, float extent, bool sample, Split& s) {
+  const int k = cfg_.bins;
+  bin_triangles(tid, nt, axis, lo, float(k) / extent, k);
+  sweep_bins(k);
+  // The sampled cost only where its 2 (K - 1) N_s tests fit the budget (DacrtConfig).
+  const bool sampled_cost = sample && cfg_.sampled_cost &&
+                            (cfg_.sample_budget <= 0.0 ||
+                             double(cfg_.sample_count(nr)) * double(k - 1) <= cfg_.sample_budget * double(nr));
+  const size_t ns = sampled_cost ? sample_candidates(rid, nr, axis, k) : 0;
+  const int jmin = cheapest_candidate(k, ns);
+  if (jmin < 0) return false;
+  s.n_left = partition_by_bin(tid, nt, jmin);
+  s.box[0] = left_[jmin].box; s.cb[0] = left_[jmin].cb;
+  s.box[1] = right_[jmin].box; s.cb[1] = right_[jmin].cb;
+  if (ns > 0) {
+    s.sampled = true;
+    s.alpha[0] = double(hits_l_[jmin]) / double(ns);
+    s.alpha[1] = double(hits_r_[jmin]) / double(ns);
+    s.votes[0] = votes_l_[jmin];
+    s.votes[1] = votes_r_[jmin];
+  }
+  return true;
+}
+
+template <bool kStats, bool kOccluded>
+void DacrtTracer<kStats, kOccluded>::bin_triangles(const uint32_t* tid, size_t nt, int axis, float lo, float scale,
+                                                   int k) {
+  // Two bin sets, even and odd triangles, so consecutive triangles of one bin do not wait
+  // for each other's stores; each triangle's bin is kept for partition_by_bin.
+  const __m128 half = _mm_set1_ps(0.5f), pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
+  for (int set = 0; set < 2; ++set)
+    for (int j = 0; j < k; ++j) { vbins_[set][j] = {pinf, ninf, pinf, ninf}; counts_[set][j] = 0; }
+  const TriBox* tb = ctx_.tri_boxes;
+  uint8_t* bin_idx = bin_idx_;
+  auto add = [&](int set, size_t i) {
+    if (i + 16 < nt) _mm_prefetch(reinterpret_cast<const char*>(tb + tid[i + 16]), _MM_HINT_T0);
+    const TriBox& t = tb[tid[i]];
+    const __m128 blo = _mm_load_ps(t.lo), bhi = _mm_load_ps(t.hi);
+    const __m128 c = _mm_mul_ps(_mm_add_ps(blo, bhi), half);  // Bounds3::center()
+    const int b = std::clamp(int((t.center(axis) - lo) * scale), 0, k - 1);
+    bin_idx[i] = uint8_t(b);
+    vbins_[set][b].extend(blo, bhi, c);
+    ++counts_[set][b];
+  };
+  size_t i = 0;
+  for (; i + 2 <= nt; i += 2) { add(0, i); add(1, i + 1); }
+  if (i < nt) add(0, i);
+  for (int j = 0; j < k; ++j) {
+    vbins_[0][j].extend(vbins_[1][j]);
+    counts_[0][j] += counts_[1][j];
+  }
+}
+
+template <bool kStats, bool kOccluded>
+void DacrtTracer<kStats, kOccluded>::sweep_bins(int k) {
+  // left_[j] = bins 0..j, right_[j] = bins j+1..k-1 (candidate j, 0 <= j < k - 1).
+  const __m128 pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
+  const VBin* bins = vbins_[0];
+  VBin acc = {pinf, ninf, pinf, ninf};
+  uint32_t n_acc = 0;
+  auto sweep = [&](int j, Bin& out) {
+    acc.extend(bins[j]);
+    n_acc += counts_[0][j];
+    out.box = to_bounds(acc.lo, acc.hi); out.cb = to_bounds(acc.clo, acc.chi); out.n = n_acc;
+  };
+  for (int j = 0; j < k - 1; ++j) sweep(j, left_[j]);
+  acc = {pinf, ninf, pinf, ninf};
+  n_acc = 0;
+  for (int j = k - 1; j > 0; --j) sweep(j, right_[j - 1]);
+}
+
+template <bool kStats, bool kOccluded>
+size_t DacrtTracer<kStats, kOccluded>::sample_candidates(const uint32_t* rid, size_t nr, int axis, int k) {
+  // Algorithm 2 for every sample ray and candidate: hit counts c_L, c_R and votes n_L, n_R.
+  for (int j = 0; j < k - 1; ++j) { lb_.set(j, left_[j].box); rb_.set(j, right_[j].box); }
+  lb_.resize(k - 1); rb_.resize(k - 1);
+  const size_t ns = cfg_.sample_count(nr);
+  const int padded_count = lb_.count;
+  std::fill_n(hits_l_, padded_count, 0u); std::fill_n(hits_r_, padded_count, 0u);
+  std::fill_n(votes_l_, padded_count, 0u); std::fill_n(votes_r_, padded_count, 0u);
+  for (size_t q = 0; q < ns; ++q) {
+    const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
+    sample_pairs(r, lb_, rb_, r.goes_up(axis), cfg_.votes, hits_l_, hits_r_, votes_l_, votes_r_);
+  }
+  if constexpr (kStats) {
+    const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
+    stats.ray_box_tests += tests;
+    details.sampling_box_tests += tests;
+    ++details.sampled_nodes;
+  }
+  return ns;
+}
+
+template <bool kStats, bool kOccluded>
+int DacrtTracer<kStats, kOccluded>::cheapest_candidate(int k, size_t ns) const {
+  const float area = merge(left_[0].box, right_[0].box).surface_area();
+  double best = kInfinity;
+  int jmin = -1;
+  for (int j = 0; j < k - 1; ++j) {
+    const Bin& l = left_[j];
+    const Bin& r = right_[j];
+    if (l.n == 0 || r.n == 0) continue;
+    double pl, pr;
+    if (ns > 0) {  // eq. (2)
+      pl = double(hits_l_[j]) / double(ns);
+      pr = double(hits_r_[j]) / double(ns);
+    } else {  // eq. (1), surface-area ratios
+      pl = area > 0 ? l.box.surface_area() / area : 1.0;
+      pr = area > 0 ? r.box.surface_area() / area : 1.0;
+    }
+    // Eqs. (1), (2) without C_T + C_I·(...): only the argmin over the bins is used.
+    const double cost = pl * l.n + pr * r.n;
+    if (cost <= best) { best = cost; jmin = j; }  // Algorithm 1, line 14: <=
+  }
+  return jmin;
+}
+
+template <bool kStats, bool kOccluded>
+size_t DacrtTracer<kStats, kOccluded>::partition_by_bin(uint32_t* tid, size_t nt, int jmin) const {
+  // std::partition's scheme on the kept bins: a position, once passed, is not read again.
+  const uint8_t* bin_idx = bin_idx_;
+  size_t a = 0, e = nt;
+  for (;;) {
+    while (a < e && bin_idx[a] <= jmin) ++a;
+    while (a < e && bin_idx[e - 1] > jmin) --e;
+    if (a >= e) break;
+    std::swap(tid[a], tid[e - 1]);
+    ++a; --e;
+  }
+  return a;
 }
 
 template <bool kStats, bool kOccluded>

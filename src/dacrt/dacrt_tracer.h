@@ -125,6 +125,20 @@ class DacrtTracer {
   // Chooses and performs the triangle split; false when the triangles cannot be separated.
   __attribute__((noinline)) bool split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
                                        const Bounds3& cb, bool sample, Split& s);
+  // The binned split (K bins over the centroid bounds): eq. (2) over sampled candidates when
+  // sampled, else eq. (1); false when no candidate separates the triangles.
+  bool binned_split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt, int axis, float lo, float extent,
+                    bool sample, Split& s);
+  // Bins tid[0, nt) by centroid into vbins_[0], counts_[0] and bin_idx_.
+  void bin_triangles(const uint32_t* tid, size_t nt, int axis, float lo, float scale, int k);
+  // The candidates' left_ and right_ bins from the binned triangles.
+  void sweep_bins(int k);
+  // Algorithm 2 over the K - 1 candidates; returns the number of sample rays N_s.
+  size_t sample_candidates(const uint32_t* rid, size_t nr, int axis, int k);
+  // The candidate of least cost (eq. (2) when ns > 0, else eq. (1)); -1 when none separates.
+  int cheapest_candidate(int k, size_t ns) const;
+  // Moves the triangles of bins 0..jmin to the front; returns their count.
+  size_t partition_by_bin(uint32_t* tid, size_t nt, int jmin) const;
   __attribute__((noinline)) void sample_two(const uint32_t* rid, size_t nr, Split& s);
   size_t sample_index(size_t k, size_t ns, size_t nr) {
     if (cfg_.strategy == DacrtSampling::Stride) return k * (nr / ns);
