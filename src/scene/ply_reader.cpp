@@ -90,13 +90,13 @@ std::string number_text(double v) {
   return ec == std::errc() ? std::string(buf, end) : std::to_string(v);
 }
 
-}  // namespace
+struct Header {
+  Format format = Format::Ascii;
+  std::vector<Element> elements;
+};
 
-Mesh read_ply(const std::filesystem::path& path) {
-  const std::string data = detail::read_file(path);
-  const char* p = data.data();
-  const char* const end = p + data.size();
-  size_t line = 0;
+// Reads the header from p (left after end_header); line counts the lines read.
+Header read_header(const std::filesystem::path& path, const char*& p, const char* end, size_t& line) {
   // Next header line, without its newline.
   auto header_line = [&](std::string_view& out) {
     if (p >= end) return false;
@@ -111,9 +111,8 @@ Mesh read_ply(const std::filesystem::path& path) {
 
   std::string_view hl;
   if (!header_line(hl) || hl != "ply") fail_at(path, 1, "not a PLY file (first line must be 'ply')");
-  Format format = Format::Ascii;
+  Header h;
   bool have_format = false, have_end = false;
-  std::vector<Element> elements;
   while (header_line(hl)) {
     const char* q = hl.data();
     const char* e = q + hl.size();
@@ -122,9 +121,9 @@ Mesh read_ply(const std::filesystem::path& path) {
     if (key == "end_header") { have_end = true; break; }
     if (key == "format") {
       std::string_view f = next_token(q, e);
-      if (f == "ascii") format = Format::Ascii;
-      else if (f == "binary_little_endian") format = Format::BinaryLittle;
-      else if (f == "binary_big_endian") format = Format::BinaryBig;
+      if (f == "ascii") h.format = Format::Ascii;
+      else if (f == "binary_little_endian") h.format = Format::BinaryLittle;
+      else if (f == "binary_big_endian") h.format = Format::BinaryBig;
       else fail_at(path, line, "unknown PLY format '" + std::string(f) + "'");
       have_format = true;
     } else if (key == "element") {
@@ -136,7 +135,7 @@ Mesh read_ply(const std::filesystem::path& path) {
         fail_at(path, line, "element: expected 'element <name> <count>'");
       // Each vertex element would need its own x, y, z positions; one is all a mesh has.
       if (el.name == "vertex") {
-        for (const auto& other : elements)
+        for (const auto& other : h.elements)
           if (other.name == "vertex")
             fail_at(path, line,
                     "a second vertex element (the first is on line " + std::to_string(other.header_line) + ")");
@@ -146,9 +145,9 @@ Mesh read_ply(const std::filesystem::path& path) {
       }
       el.count = size_t(n);
       el.header_line = line;
-      elements.push_back(std::move(el));
+      h.elements.push_back(std::move(el));
     } else if (key == "property") {
-      if (elements.empty()) fail_at(path, line, "property before any element");
+      if (h.elements.empty()) fail_at(path, line, "property before any element");
       Property prop;
       std::string_view t = next_token(q, e);
       if (t == "list") {
@@ -162,47 +161,68 @@ Mesh read_ply(const std::filesystem::path& path) {
       if (!scalar_from_name(t, prop.type)) fail_at(path, line, "unknown PLY type '" + std::string(t) + "'");
       prop.name = std::string(next_token(q, e));
       if (prop.name.empty()) fail_at(path, line, "property without a name");
-      elements.back().props.push_back(std::move(prop));
+      h.elements.back().props.push_back(std::move(prop));
     } else {
       fail_at(path, line, "unknown header keyword '" + std::string(key) + "'");
     }
   }
   if (!have_end) fail_at(path, line, "header has no end_header");
   if (!have_format) throw InputError(detail::display_name(path) + ": header has no format line");
+  return h;
+}
 
-  // Which element and properties we need.
-  size_t vertex_count = 0;
-  int vx = -1, vy = -1, vz = -1;
+// The vertex element's count and the indices of its x, y, z properties.
+struct VertexLayout {
+  size_t count = 0;
+  int x = -1, y = -1, z = -1;
+};
+
+VertexLayout vertex_layout(const std::filesystem::path& path, const std::vector<Element>& elements) {
+  VertexLayout v;
   for (const auto& el : elements) {
     if (el.name != "vertex") continue;
-    vertex_count = el.count;
+    v.count = el.count;
     for (size_t i = 0; i < el.props.size(); ++i) {
       const auto& pr = el.props[i];
-      int* slot = pr.name == "x" ? &vx : pr.name == "y" ? &vy : pr.name == "z" ? &vz : nullptr;
+      int* slot = pr.name == "x" ? &v.x : pr.name == "y" ? &v.y : pr.name == "z" ? &v.z : nullptr;
       if (slot && !pr.is_list) *slot = int(i);
     }
-    if (vx < 0 || vy < 0 || vz < 0) fail_at(path, el.header_line, "vertex element lacks x, y or z properties");
+    if (v.x < 0 || v.y < 0 || v.z < 0) fail_at(path, el.header_line, "vertex element lacks x, y or z properties");
   }
+  return v;
+}
+
+// The index of a face element's vertex index list.
+int face_index_property(const std::filesystem::path& path, const Element& el) {
+  for (size_t i = 0; i < el.props.size(); ++i)
+    if (el.props[i].is_list && (el.props[i].name == "vertex_indices" || el.props[i].name == "vertex_index"))
+      return int(i);
+  fail_at(path, el.header_line, "face element lacks a vertex_indices list");
+}
+
+}  // namespace
+
+Mesh read_ply(const std::filesystem::path& path) {
+  const std::string data = detail::read_file(path);
+  const char* p = data.data();
+  const char* const end = p + data.size();
+  size_t line = 0;
+  const Header header = read_header(path, p, end, line);
+  const VertexLayout vertices = vertex_layout(path, header.elements);
 
   Mesh mesh;
   mesh.materials.push_back(Material{.name = "default"});
   // A header may declare absurd counts; never reserve more than the data could hold.
-  mesh.positions.reserve(std::min(vertex_count, data.size() / 3));
-  const bool binary = format != Format::Ascii;
-  const bool swap = (format == Format::BinaryBig) != (std::endian::native == std::endian::big);
+  mesh.positions.reserve(std::min(vertices.count, data.size() / 3));
+  const bool binary = header.format != Format::Ascii;
+  const bool swap = (header.format == Format::BinaryBig) != (std::endian::native == std::endian::big);
   std::vector<double> values;
   std::vector<double> poly;  // face indices, range-checked before any conversion to an integer
 
-  for (const auto& el : elements) {
+  for (const auto& el : header.elements) {
     const bool is_vertex = el.name == "vertex";
     const bool is_face = el.name == "face";
-    int face_prop = -1;
-    if (is_face) {
-      for (size_t i = 0; i < el.props.size(); ++i)
-        if (el.props[i].is_list && (el.props[i].name == "vertex_indices" || el.props[i].name == "vertex_index"))
-          face_prop = int(i);
-      if (face_prop < 0) fail_at(path, el.header_line, "face element lacks a vertex_indices list");
-    }
+    const int face_prop = is_face ? face_index_property(path, el) : -1;
     // A binary instance without properties takes no bytes: nothing to read, whatever the count.
     if (binary && el.props.empty()) continue;
     for (size_t k = 0; k < el.count; ++k) {
@@ -214,99 +234,80 @@ Mesh read_ply(const std::filesystem::path& path) {
                            std::to_string(byte) + "): " + msg);
         fail_at(path, line, msg);
       };
-      poly.clear();
+      // Ascii: each element instance is one line [q, e).
+      const char* q = nullptr;
+      const char* e = nullptr;
       if (!binary) {
-        // Each element instance is one line.
         if (p >= end) fail_at(path, line + 1, "unexpected end of file in " + el.name + " " + std::to_string(k) +
                                                   " of " + std::to_string(el.count));
         const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
-        const char* q = p;
-        const char* e = nl ? nl : end;
+        q = p;
+        e = nl ? nl : end;
         p = nl ? nl + 1 : end;
         ++line;
-        values.clear();
-        // Numbers are parsed by their declared type, so float coordinates round once and
-        // integer indices stay exact.
-        auto next_value = [&](Scalar type, const std::string& what) -> double {
-          std::string_view t = next_token(q, e);
-          if (t.empty()) fail("too few values for " + el.name + " (property " + what + ")");
-          if (type == Scalar::Float32) {
-            float f;
-            if (!detail::parse_float(t, f)) {
-              double d;
-              fail("'" + std::string(t) + (detail::parse_double(t, d) ? "' is out of float range" : "' is not a number"));
-            }
-            return f;
-          }
-          if (type == Scalar::Float64) {
+      }
+      // The next value of the instance. Ascii numbers are parsed by their declared type, so
+      // float coordinates round once and integer indices stay exact.
+      auto next_value = [&](Scalar type, const std::string& what) -> double {
+        if (binary) {
+          double x = 0;
+          if (!read_binary(p, end, type, swap, x))
+            fail("unexpected end of data (" + std::to_string(el.count) + " " + el.name + "s declared)");
+          return x;
+        }
+        std::string_view t = next_token(q, e);
+        if (t.empty()) fail("too few values for " + el.name + " (property " + what + ")");
+        if (type == Scalar::Float32) {
+          float f;
+          if (!detail::parse_float(t, f)) {
             double d;
-            if (!detail::parse_double(t, d)) fail("'" + std::string(t) + "' is not a number");
-            return d;
+            fail("'" + std::string(t) + (detail::parse_double(t, d) ? "' is out of float range" : "' is not a number"));
           }
-          long long i;
-          if (!detail::parse_int(t, i)) fail("'" + std::string(t) + "' is not an integer");
-          return double(i);
-        };
-        for (size_t i = 0; i < el.props.size(); ++i) {
-          const auto& pr = el.props[i];
-          if (!pr.is_list) {
-            values.push_back(next_value(pr.type, pr.name));
-            continue;
-          }
-          values.push_back(0);
-          double cnt = next_value(pr.count_type, pr.name);
-          if (cnt < 0) fail("negative list length");
-          for (size_t j = 0; j < size_t(cnt); ++j) {
-            double v = next_value(pr.type, pr.name);
-            if (int(i) == face_prop) {
-              if (v != std::floor(v)) fail("face index " + std::to_string(v) + " is not an integer");
-              poly.push_back(v);
-            }
+          return f;
+        }
+        if (type == Scalar::Float64) {
+          double d;
+          if (!detail::parse_double(t, d)) fail("'" + std::string(t) + "' is not a number");
+          return d;
+        }
+        long long i;
+        if (!detail::parse_int(t, i)) fail("'" + std::string(t) + "' is not an integer");
+        return double(i);
+      };
+
+      values.clear();
+      poly.clear();
+      for (size_t i = 0; i < el.props.size(); ++i) {
+        const auto& pr = el.props[i];
+        if (!pr.is_list) {
+          values.push_back(next_value(pr.type, pr.name));
+          continue;
+        }
+        values.push_back(0);
+        const double cnt = next_value(pr.count_type, pr.name);
+        if (cnt < 0) fail("negative list length");
+        for (size_t j = 0; j < size_t(cnt); ++j) {
+          const double v = next_value(pr.type, pr.name);
+          if (int(i) == face_prop) {
+            if (v != std::floor(v)) fail("face index " + std::to_string(v) + " is not an integer");
+            poly.push_back(v);
           }
         }
+      }
+      if (!binary)
         if (std::string_view t = next_token(q, e); !t.empty())
           fail("more values than the header declares for " + el.name + " ('" + std::string(t) + "')");
-        if (is_vertex) {
-          Vec3 v(float(values[size_t(vx)]), float(values[size_t(vy)]), float(values[size_t(vz)]));
-          if (!is_finite(v)) fail("vertex coordinate is not finite");
-          mesh.positions.push_back(v);
-        }
-      } else {
-        values.clear();
-        for (size_t i = 0; i < el.props.size(); ++i) {
-          const auto& pr = el.props[i];
-          double x;
-          if (!pr.is_list) {
-            if (!read_binary(p, end, pr.type, swap, x))
-              fail("unexpected end of data (" + std::to_string(el.count) + " " + el.name + "s declared)");
-            values.push_back(x);
-            continue;
-          }
-          double cnt;
-          if (!read_binary(p, end, pr.count_type, swap, cnt))
-            fail("unexpected end of data (" + std::to_string(el.count) + " " + el.name + "s declared)");
-          values.push_back(0);
-          if (cnt < 0) fail("negative list length");
-          for (size_t j = 0; j < size_t(cnt); ++j) {
-            if (!read_binary(p, end, pr.type, swap, x))
-              fail("unexpected end of data (" + std::to_string(el.count) + " " + el.name + "s declared)");
-            if (int(i) == face_prop) {
-              if (x != std::floor(x)) fail("face index is not an integer");
-              poly.push_back(x);
-            }
-          }
-        }
-        if (is_vertex) {
-          Vec3 v(float(values[size_t(vx)]), float(values[size_t(vy)]), float(values[size_t(vz)]));
-          if (!is_finite(v)) fail("vertex coordinate is not finite");
-          mesh.positions.push_back(v);
-        }
+
+      if (is_vertex) {
+        Vec3 v(float(values[size_t(vertices.x)]), float(values[size_t(vertices.y)]), float(values[size_t(vertices.z)]));
+        if (!is_finite(v)) fail("vertex coordinate is not finite");
+        mesh.positions.push_back(v);
       }
       if (is_face) {
         if (poly.size() < 3) fail("face with " + std::to_string(poly.size()) + " vertices (at least 3 needed)");
         for (double idx : poly)
-          if (!(idx >= 0 && idx < double(vertex_count)))
-            fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertex_count) +
+          if (!(idx >= 0 && idx < double(vertices.count)))
+            fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertices.count) +
                  " vertices)");
         for (size_t j = 1; j + 1 < poly.size(); ++j) {
           mesh.faces.push_back({uint32_t(poly[0]), uint32_t(poly[j]), uint32_t(poly[j + 1])});
