@@ -12,14 +12,14 @@ namespace rayscout::detail {
 inline void add_point_light_rays(const ShadeContext& ctx, const PathState& state, const Material& m,
                                  const SurfacePoint& sp, const Vec3& wo, ShadeOutput& out) {
   for (const PointLight& light : ctx.scene->point_lights) {
-    const Vec3 d = light.position - sp.p;
-    const float dist = length(d);
-    if (!(dist > 2.0f * ctx.epsilon)) continue;
-    const Vec3 wi = d / dist;
+    Ray ray;
+    float dist;
+    if (!shadow_ray_to(sp.p, light.position, ctx.epsilon, ray, dist)) continue;
+    const Vec3& wi = ray.dir;
     const float cos_s = dot(sp.n, wi);
     if (!(cos_s > 0)) continue;
     const Vec3 c = state.throughput * eval_bsdf(m, sp.n, wo, wi) * light.intensity * (cos_s / (dist * dist));
-    if (max_component(c) > 0) out.add_occlusion_ray({sp.p, ctx.epsilon, wi, dist - ctx.epsilon}, state.pixel, c);
+    if (max_component(c) > 0) out.add_occlusion_ray(ray, state.pixel, c);
   }
 }
 
@@ -33,15 +33,15 @@ inline void add_area_light_rays(const ShadeContext& ctx, const PathState& state,
   for (int k = 0; k < n; ++k) {
     const uint32_t dim = kDimLights + 3 * uint32_t(k);
     const LightSample ls = ctx.lights->sample(sampler.bits(dim), sampler.get(dim + 1), sampler.get(dim + 2));
-    const Vec3 d = ls.p - sp.p;
-    const float dist = length(d);
-    if (!(dist > 2.0f * ctx.epsilon)) continue;
-    const Vec3 wi = d / dist;
+    Ray ray;
+    float dist;
+    if (!shadow_ray_to(sp.p, ls.p, ctx.epsilon, ray, dist)) continue;
+    const Vec3& wi = ray.dir;
     const float cos_s = dot(sp.n, wi), cos_l = -dot(ls.n, wi);
     if (!(cos_s > 0 && cos_l > 0)) continue;
     const Vec3 c = state.throughput * eval_bsdf(m, sp.n, wo, wi) * ls.emission *
                    (cos_s * cos_l / (dist * dist * ls.pdf_area * float(n)));
-    if (max_component(c) > 0) out.add_occlusion_ray({sp.p, ctx.epsilon, wi, dist - ctx.epsilon}, state.pixel, c);
+    if (max_component(c) > 0) out.add_occlusion_ray(ray, state.pixel, c);
   }
 }
 

@@ -37,6 +37,14 @@ float scene_ray_epsilon(const Bounds3& bounds) {
   return 1e-5f * std::max(extent, 1e-3f);
 }
 
+bool shadow_ray_to(const Vec3& p, const Vec3& target, float eps, Ray& ray, float& dist) {
+  const Vec3 d = target - p;
+  dist = length(d);
+  if (!(dist > 2.0f * eps)) return false;
+  ray = {p, eps, d / dist, dist - eps};
+  return true;
+}
+
 float ao_radius_for(float configured, const Bounds3& bounds) {
   if (configured > 0) return configured;
   return bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal());

@@ -10,6 +10,17 @@
 #include "rayscout/render/wavefront.h"
 
 namespace rayscout {
+namespace {
+
+// A workload has a fixed number of shadow rays per hit: a light within 2 eps of the point
+// gets a ray that tests nothing (tmax 0 < tmin).
+Ray shadow_ray_or_nothing(const SurfacePoint& sp, const Vec3& target, float eps) {
+  Ray ray;
+  float dist;
+  return shadow_ray_to(sp.p, target, eps, ray, dist) ? ray : Ray{sp.p, eps, sp.n, 0.0f};
+}
+
+}  // namespace
 
 Workload parse_workload(const std::string& name) {
   if (name == "primary") return Workload::Primary;
@@ -73,16 +84,11 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
           break;
         case Workload::Shadow:
           if (to_points) {
-            for (const PointLight& light : scene.point_lights) {
-              const Vec3 d = light.position - sp.p;
-              const float dist = length(d);
-              out.set(o++, dist > 2 * eps ? Ray{sp.p, eps, d / dist, dist - eps} : Ray{sp.p, eps, sp.n, 0.0f});
-            }
+            for (const PointLight& light : scene.point_lights)
+              out.set(o++, shadow_ray_or_nothing(sp, light.position, eps));
           } else {
             const LightSample ls = lights.sample(sampler.bits(kDimLights), sampler.get(kDimLights + 1), sampler.get(kDimLights + 2));
-            const Vec3 d = ls.p - sp.p;
-            const float dist = length(d);
-            out.set(o, dist > 2 * eps ? Ray{sp.p, eps, d / dist, dist - eps} : Ray{sp.p, eps, sp.n, 0.0f});
+            out.set(o, shadow_ray_or_nothing(sp, ls.p, eps));
           }
           break;
       }

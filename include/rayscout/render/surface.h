@@ -34,6 +34,12 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 /// the light distance minus epsilon.
 float scene_ray_epsilon(const Bounds3& bounds);
 
+/// The shadow ray from a surface point p to target at distance dist: direction
+/// (target - p) / dist, interval [eps, dist - eps] (the surface at p and a light's own surface
+/// at target excluded). False, and ray untouched, when target lies within 2 eps of p: there
+/// is nothing to test.
+bool shadow_ray_to(const Vec3& p, const Vec3& target, float eps, Ray& ray, float& dist);
+
 /// The length of ambient-occlusion rays: `configured` when positive, else 10 % of the scene
 /// diagonal (1 for an empty scene).
 float ao_radius_for(float configured, const Bounds3& bounds);
