@@ -3,12 +3,12 @@
 #include "rayscout/shafts/shaft_collection.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
 #include "candidate_list.h"
+#include "rayscout/core/stopwatch.h"
 #include "shaft_samples.h"
 #include "shaft_selection.h"
 
@@ -17,10 +17,6 @@ namespace rayscout {
 namespace {
 
 using detail::Selection;
-
-double ms_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
 /// at min_prob), then the cullNodeSubtree(root) fallback. Counts raises and fallbacks.
@@ -59,7 +55,7 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
 ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
                                        std::span<const Triangle> tris, const TraceFn& trace,
                                        const RayBatch& sample_rays, const ShaftConfig& config_in) {
-  const auto t_start = std::chrono::steady_clock::now();
+  const auto t_start = SteadyClock::now();
   const ShaftConfig config = config_in.resolved(tree.arity);
   const size_t budget = config.budget_mib > 0.0 ? size_t(config.budget_mib * 1048576.0)
                                                 : size_t(config.budget_rel * double(bvh_bytes));
@@ -68,8 +64,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     col.stats_.build_rounds = rounds;
     col.stats_.pilot_ms = pilot_ms;
     col.stats_.budget_bytes = budget;
-    col.stats_.build_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+    col.stats_.build_ms = ms_since(t_start);
     return col;
   };
   if (config.voxels > 0) {

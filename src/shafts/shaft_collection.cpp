@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "group_list_builder.h"
+#include "rayscout/core/stopwatch.h"
 #include "shaft_samples.h"
 #include "shaft_selection.h"
 
@@ -36,10 +37,6 @@ namespace {
 
 using detail::PooledSample;
 using detail::Selection;
-
-double ms_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// Cells of one cube face rectangle built together (GroupListBuilder): the members' centre
 /// directions agree on the sign of every component, at most 8 x 8 cells.
@@ -347,7 +344,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
 ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGrid& grid,
                                             std::span<const Triangle> tris, const TraceFn& trace,
                                             const RayBatch& sample_rays, const ShaftConfig& config_in) {
-  const auto t_start = std::chrono::steady_clock::now();
+  const auto t_start = SteadyClock::now();
   const ShaftConfig config = config_in.resolved(tree.arity);
   ShaftCollection col;
   col.grid_ = grid;
@@ -360,7 +357,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
 
   Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
   const double select_ms = ms_since(t_start);
-  const auto t_lists = std::chrono::steady_clock::now();
+  const auto t_lists = SteadyClock::now();
   std::vector<uint8_t>& voxel_listed = sel.voxel_listed;
   std::vector<uint8_t>& shaft_selected = sel.shaft_selected;
   std::vector<uint32_t> listed;
@@ -380,7 +377,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
   const size_t per = size_t(config.samples);
   std::vector<PooledSample> pool;
-  const auto t_samples = std::chrono::steady_clock::now();
+  const auto t_samples = SteadyClock::now();
   if (config.reuse_rays > 0 && tree.size() > 0) {
     std::vector<int32_t> listed_index(nvox, -1);
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
@@ -402,11 +399,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     size_t chunk_begin = 0, chunk_end = 0;
     for (size_t li = range.begin(); li != range.end(); ++li) {
       if (chunked && li >= chunk_end) {
-        const auto t0 = std::chrono::steady_clock::now();
+        const auto t0 = SteadyClock::now();
         chunk_begin = li;
         chunk_end = std::min(range.end(), li + kChunk);
         detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, trace, config, chunk_pool);
-        chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+        chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(SteadyClock::now() - t0).count();
       }
       auto samples_of = [&](uint32_t cell) {
         return chunked ? chunk_pool.data() + (cell * (chunk_end - chunk_begin) + (li - chunk_begin)) * per
@@ -418,7 +415,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
 
   const double lists_ms = ms_since(t_lists);
   if (chunked) col.stats_.samples_ms = double(chunk_trace_ns.load()) * 1e-6;
-  const auto t_pack = std::chrono::steady_clock::now();
+  const auto t_pack = SteadyClock::now();
   col.pack(tree, listed, out, config.dedup);
   ShaftStats& st = col.stats_;
   st.select_ms = select_ms;

@@ -2,7 +2,6 @@
 #include "rayscout/shafts/shafts_accelerator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <mutex>
 
@@ -11,6 +10,7 @@
 #include "../bvh/cull_interval.h"
 #include "entry_filter.h"
 #include "rayscout/bvh/bvh_accelerators.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/shafts/ray_sampling.h"
 
 namespace rayscout {
@@ -24,17 +24,17 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
                                      const BvhBuildConfig& bvh_config)
     : triangles_(scene.triangles), base_(base) {
   const ShaftConfig config = config_in.resolved(base == Base::Binary ? 2 : kWideWidth);
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   TreeView tree;
   Bounds3 box;
   if (base_ == Base::Binary) {
     bvh2_ = Bvh2::build(triangles_, bvh_config);
-    bvh_build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    bvh_build_ms_ = ms_since(t0);
     tree = TreeView::from_bvh2(bvh2_, config.collapse);
     if (!bvh2_.nodes.empty()) box = bvh2_.nodes[0].bounds;
   } else {
     wide_ = WideBvh::build(triangles_, bvh_config);
-    bvh_build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    bvh_build_ms_ = ms_since(t0);
     tree = TreeView::from_wide(wide_);
     box = wide_.bounds;
   }
@@ -60,7 +60,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   }
   // Rounding of lo + q step stays within a few ulps of the largest coordinate.
   dequant_.margin = (scene_coord + max_component(box.diagonal())) * (1.0f / 1048576.0f);
-  info_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  info_.build_ms = ms_since(t0);
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
 }
 
