@@ -9,6 +9,7 @@
 #include <immintrin.h>
 #endif
 
+#include "entry_box_codec.h"
 #include "rayscout/shafts/shaft_collection.h"
 
 namespace rayscout::detail {
@@ -22,7 +23,7 @@ inline constexpr float kEntryFarWiden = 4.0e-7f;
 /// distances (0 * inf for a ray in a box plane) leave that axis unconstrained: conservative.
 /// The AVX2 and the scalar path compute the same numbers.
 template <bool Sorted>
-inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec3& org, const Vec3& inv_dir,
+inline int filter_entries(const EntryBoxCodec& codec, const Candidates& c, const Vec3& org, const Vec3& inv_dir,
                           float near, float far, uint32_t* refs, float* dist) {
   const int len = int(c.list.size());
   int n = 0;
@@ -41,8 +42,8 @@ inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec
   for (int chunk = 0; chunk < len; chunk += 8) {
     __m256 tnear = _mm256_set1_ps(near), tfar = _mm256_set1_ps(far);
     for (int a = 0; a < 3; ++a) {
-      const __m256 base = _mm256_set1_ps(dq.base[a]), step = _mm256_set1_ps(dq.step[a]);
-      const __m256 m = _mm256_set1_ps(dq.margin), o = _mm256_set1_ps(org[a]), inv = _mm256_set1_ps(inv_dir[a]);
+      const __m256 base = _mm256_set1_ps(codec.base(a)), step = _mm256_set1_ps(codec.step(a));
+      const __m256 m = _mm256_set1_ps(codec.margin()), o = _mm256_set1_ps(org[a]), inv = _mm256_set1_ps(inv_dir[a]);
       auto row = [&](int r) {  // 8 quantised bounds of row r as floats
         const __m128i bytes = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(rows + r * len + chunk));
         return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(bytes));
@@ -70,8 +71,8 @@ inline int filter_entries(const EntryDequant& dq, const Candidates& c, const Vec
   for (int k = 0; k < len; ++k) {
     float tnear = near, tfar = far;
     for (int a = 0; a < 3; ++a) {
-      const float lo = dq.base[a] + float(c.boxes[a * len + k]) * dq.step[a] - dq.margin;
-      const float hi = dq.base[a] + float(c.boxes[(3 + a) * len + k]) * dq.step[a] + dq.margin;
+      const float lo = codec.base(a) + float(c.boxes[a * len + k]) * codec.step(a) - codec.margin();
+      const float hi = codec.base(a) + float(c.boxes[(3 + a) * len + k]) * codec.step(a) + codec.margin();
       const float ta = (lo - org[a]) * inv_dir[a], tb = (hi - org[a]) * inv_dir[a];
       const float near_a = std::fmin(std::isnan(ta) ? -INFINITY : ta, std::isnan(tb) ? -INFINITY : tb);
       float far_a = std::fmax(std::isnan(ta) ? INFINITY : ta, std::isnan(tb) ? INFINITY : tb);

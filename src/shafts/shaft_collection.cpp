@@ -14,6 +14,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "entry_box_codec.h"
 #include "group_list_builder.h"
 #include "rayscout/core/stopwatch.h"
 #include "shaft_samples.h"
@@ -190,39 +191,6 @@ std::string ShaftStats::summary() const {
   return s.str();
 }
 
-void ShaftCollection::init_quantization() {
-  const Bounds3& b = grid_.box();
-  for (int a = 0; a < 3; ++a) {
-    const double lo = b.lo[a], step = (double(b.hi[a]) - lo) / 255.0;
-    for (int q = 0; q < 256; ++q) {
-      const double x = q == 255 ? double(b.hi[a]) : lo + step * q;
-      float down = float(x), up = float(x);
-      if (double(down) > x) down = std::nextafter(down, -kInfinity);
-      if (double(up) < x) up = std::nextafter(up, kInfinity);
-      qlo_[a][q] = q == 0 ? std::min(down, b.lo[a]) : down;
-      qhi_[a][q] = q == 255 ? std::max(up, b.hi[a]) : up;
-    }
-  }
-}
-
-ShaftCollection::QBox ShaftCollection::quantize(const Bounds3& box) const {
-  QBox q{};
-  const Bounds3& g = grid_.box();
-  for (int a = 0; a < 3; ++a) {
-    const double ext = double(g.hi[a]) - g.lo[a];
-    int lo = 0, hi = 255;
-    if (ext > 0) {
-      lo = std::clamp(int(std::floor((double(box.lo[a]) - g.lo[a]) / ext * 255.0)), 0, 255);
-      hi = std::clamp(int(std::ceil((double(box.hi[a]) - g.lo[a]) / ext * 255.0)), 0, 255);
-    }
-    while (lo > 0 && qlo_[a][lo] > box.lo[a]) --lo;   // the stored box must contain the node's
-    while (hi < 255 && qhi_[a][hi] < box.hi[a]) ++hi;
-    q.lo[a] = uint8_t(lo);
-    q.hi[a] = uint8_t(hi);
-  }
-  return q;
-}
-
 void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& listed,
                            const std::vector<detail::VoxelLists>& out, bool dedup) {
   const uint32_t cells = grid_.cells_per_voxel();
@@ -247,7 +215,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
   std::vector<Slot> slots(capacity);
   size_t unique = 0;
   // Entry boxes are quantised once per tree node.
-  std::vector<QBox> qcache(boxed_ ? tree.size() : 0);
+  std::vector<detail::QBox> qcache(boxed() ? tree.size() : 0);
   std::vector<uint8_t> qdone(qcache.size(), 0);
   size_t total_len = 0, nonempty = 0;
   // Hashes of every list in packing order first, so the probe of a list kAhead lists later
@@ -264,7 +232,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
     for (uint32_t cell = 0; cell < cells; ++cell)
       if (vl.status[cell] == 1) hashes.push_back(hash_refs(vl.data.data() + vl.begin[cell], vl.len[cell]));
   }
-  lists_.reserve(total_entries * (boxed_ ? 3 : 1) + 2);
+  lists_.reserve(total_entries * (boxed() ? 3 : 1) + 2);
   constexpr size_t kAhead = 8;
   size_t next_hash = 0;
   for (size_t li = 0; li < listed.size(); ++li) {
@@ -307,12 +275,12 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
         if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
         if (dedup) slots[slot] = {h, ((offset << 5) | len) + 1};
         ++unique;
-        if (boxed_) {
-          QBox q[31];
+        if (boxed()) {
+          detail::QBox q[31];
           for (uint32_t k = 0; k < len; ++k) {
             const uint32_t node = vl.data[pos + k];
             if (!qdone[node]) {
-              qcache[node] = quantize(tree.bounds[node]);
+              qcache[node] = entry_codec_->encode(tree.bounds[node]);
               qdone[node] = 1;
             }
             q[k] = qcache[node];
@@ -333,7 +301,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
       st.max_list = std::max(st.max_list, int(len));
     }
   }
-  if (boxed_) lists_.resize(lists_.size() + 2, 0);  // SIMD rows read 8 bytes
+  if (boxed()) lists_.resize(lists_.size() + 2, 0);  // SIMD rows read 8 bytes
   lists_.shrink_to_fit();
   st.unique_lists = unique;
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
@@ -348,8 +316,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   const ShaftConfig config = config_in.resolved(tree.arity);
   ShaftCollection col;
   col.grid_ = grid;
-  col.boxed_ = config.entry_boxes > 0;
-  if (col.boxed_) col.init_quantization();
+  if (config.entry_boxes > 0) col.entry_codec_ = std::make_shared<const detail::EntryBoxCodec>(grid.box());
   const uint32_t cells = grid.cells_per_voxel();
   const size_t nvox = grid.voxel_count();
   if (nvox * cells >= (size_t(1) << 32) - 64)

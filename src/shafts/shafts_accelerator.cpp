@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "../bvh/cull_interval.h"
+#include "entry_box_codec.h"
 #include "entry_filter.h"
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/stopwatch.h"
@@ -53,13 +54,6 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
   scene_box_ = box;
-  const float scene_coord = max_component(max(abs(box.lo), abs(box.hi)));
-  for (int a = 0; a < 3; ++a) {
-    dequant_.base[a] = box.lo[a];
-    dequant_.step[a] = (box.hi[a] - box.lo[a]) / 255.0f;
-  }
-  // Rounding of lo + q step stays within a few ulps of the largest coordinate.
-  dequant_.margin = (scene_coord + max_component(box.diagonal())) * (1.0f / 1048576.0f);
   info_.build_ms = ms_since(t0);
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
 }
@@ -80,7 +74,7 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   const detail::CullInterval cull(scene_box_, ray);
   uint32_t refs[32];
   float dist[32];
-  const int n = detail::filter_entries<!Any>(dequant_, c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
+  const int n = detail::filter_entries<!Any>(*collection_.entry_codec(), c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
                                        refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;

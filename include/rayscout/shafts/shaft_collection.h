@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -18,7 +19,8 @@
 namespace rayscout {
 
 namespace detail {
-struct VoxelLists;  // one voxel's lists before packing (shaft_collection.cpp)
+struct VoxelLists;     // one voxel's lists before packing (shaft_collection.cpp)
+class EntryBoxCodec;   // quantisation of the entry boxes (src/shafts/entry_box_codec.h)
 }  // namespace detail
 
 /// Build and memory figures of a collection (paper sec. 5 reports the same).
@@ -51,22 +53,11 @@ struct ShaftStats {
   std::string summary() const;
 };
 
-/// A list entry's box, quantised outward to 1/255 of the grid box per axis (6 bytes).
-struct QBox {
-  uint8_t lo[3], hi[3];
-};
-
-/// Arithmetic dequantisation of QBox: lo + q step, widened by margin (which exceeds the
-/// rounding of that expression), so the result contains the node's box.
-struct EntryDequant {
-  float base[3], step[3], margin;
-};
-
 /// What a lookup gives: a candidate list (empty = start at the root) or "nothing reachable".
 struct Candidates {
   std::span<const uint32_t> list;
-  /// Boxes of the list entries (collections built with entry_boxes), quantised (QBox) and laid
-  /// out per list as 6 byte rows: lo.x of every entry, then lo.y, lo.z, hi.x, hi.y, hi.z.
+  /// Boxes of the list entries (collections built with entry_boxes), quantised outward to
+  /// 1/255 of the grid box per axis (ShaftCollection::entry_codec()) and laid out per list as 6 byte rows: lo.x of every entry, then lo.y, lo.z, hi.x, hi.y, hi.z.
   /// At least 8 readable bytes follow every row (SIMD loads).
   const uint8_t* boxes = nullptr;
   bool nothing = false;         ///< the shaft provably reaches no geometry: the ray misses
@@ -107,7 +98,7 @@ class ShaftCollection {
     if (e == kEmptyList) return {{}, nullptr, true};
     const uint32_t* ids = lists_.data() + (e >> 5);
     const uint32_t len = e & 31u;
-    return {{ids, len}, boxed_ ? reinterpret_cast<const uint8_t*>(ids + len) : nullptr, false};
+    return {{ids, len}, entry_codec_ ? reinterpret_cast<const uint8_t*>(ids + len) : nullptr, false};
   }
   /// Where the entry of a classified shaft lives (nullptr: its voxel has no table); for
   /// prefetching ahead of lookup(c).
@@ -116,27 +107,29 @@ class ShaftCollection {
     return base == kNoVoxel ? nullptr : entries_.data() + base + c.cell;
   }
   const ShaftGrid& grid() const { return grid_; }
+  /// Encoder and decoder of the entry boxes (src/shafts/entry_box_codec.h), over the grid
+  /// box; nullptr for a collection built without entry_boxes.
+  const detail::EntryBoxCodec* entry_codec() const { return entry_codec_.get(); }
   const ShaftStats& stats() const { return stats_; }
   size_t memory_bytes() const { return stats_.memory_bytes(); }
 
  private:
-  using QBox = rayscout::QBox;
-  void init_quantization();
-  QBox quantize(const Bounds3& box) const;
-  /// 4-byte words a stored list of len entries takes: its ids, then (boxed_) its entry-box
+  bool boxed() const { return entry_codec_ != nullptr; }
+  /// 4-byte words a stored list of len entries takes: its ids, then (boxed()) its entry-box
   /// rows padded to a word.
-  size_t list_words(uint32_t len) const { return len + (boxed_ ? (6 * size_t(len) + 3) / 4 : 0); }
+  size_t list_words(uint32_t len) const { return len + (boxed() ? (6 * size_t(len) + 3) / 4 : 0); }
   /// Packs the lists of the listed voxels (serial, so offsets do not depend on the thread
   /// count): lookup tables, deduplicated list area, entry boxes, and the figures in stats_.
   void pack(const TreeView& tree, const std::vector<uint32_t>& listed, const std::vector<detail::VoxelLists>& out,
             bool dedup);
 
   ShaftGrid grid_;
-  bool boxed_ = false;
-  float qlo_[3][256] = {}, qhi_[3][256] = {};  ///< dequantisation: rounded down / up
+  /// Shared by copies (it never changes after the build); a pointer, so that the codec's
+  /// type stays private to src/shafts.
+  std::shared_ptr<const detail::EntryBoxCodec> entry_codec_;
   std::vector<uint32_t> voxel_base_;
   std::vector<uint32_t> entries_;
-  /// The list area: per unique list its node references, then (boxed_) its entry-box rows
+  /// The list area: per unique list its node references, then (boxed()) its entry-box rows
   /// (6 len bytes, padded to 4; layout: Candidates::boxes), so a lookup touches one region.
   std::vector<uint32_t> lists_;
   ShaftStats stats_;
