@@ -1,6 +1,6 @@
 // Bvh2 single-ray traversal: ordered closest hit and early-exit any hit.
 #include "rayscout/bvh/bvh2.h"
-#include "cull_interval.h"
+#include "rayscout/bvh/cull_interval.h"
 #include "traversal_stack.h"
 #include "box_test.h"
 
@@ -39,7 +39,7 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
   Hit best;
   if (nodes.empty()) return best;
   best.t = ray.tmax;
-  const detail::CullInterval cull(nodes[0].bounds, ray);
+  const CullInterval cull = cull_interval(ray);
   const float box_tmin = cull.near(ray.tmin);
   float cull_t = cull.far(best.t);
   const RayPrecomp rp(ray.dir);
@@ -93,7 +93,7 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
                     TraceStats* stats) const {
   if (nodes.empty()) return false;
   const RayPrecomp rp(ray.dir);
-  const detail::CullInterval cull(nodes[0].bounds, ray);
+  const CullInterval cull = cull_interval(ray);
   const float box_tmin = cull.near(ray.tmin), box_tmax = cull.far(ray.tmax);
   const uint32_t root = 0;
   if (start.empty()) start = std::span<const uint32_t>(&root, 1);

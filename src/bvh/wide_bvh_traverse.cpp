@@ -5,7 +5,7 @@
 #include <immintrin.h>
 
 #include "rayscout/bvh/wide_bvh.h"
-#include "cull_interval.h"
+#include "rayscout/bvh/cull_interval.h"
 #include "traversal_stack.h"
 #include "triangle_block_test.h"
 #include "box_test.h"
@@ -93,7 +93,7 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
   Hit best;
   if (nodes.empty()) return best;
   best.t = ray.tmax;
-  const detail::CullInterval cull(bounds, ray);
+  const CullInterval cull = cull_interval(ray);
   const float box_tmin = cull.near(ray.tmin);
   float cull_t = cull.far(best.t);
   const detail::WideRay wr(ray.org, rp.inv_dir, box_tmin);
@@ -228,7 +228,7 @@ template <bool CaptureStats, bool Finite>
 bool WideBvh::occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start,
                             TraceStats* stats) const {
   if (nodes.empty()) return false;
-  const detail::CullInterval cull(bounds, ray);
+  const CullInterval cull = cull_interval(ray);
   const float box_tmax = cull.far(ray.tmax);
   const detail::WideRay wr(ray.org, rp.inv_dir, cull.near(ray.tmin));
   const uint32_t root = 0;

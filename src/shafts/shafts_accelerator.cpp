@@ -7,7 +7,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include "../bvh/cull_interval.h"
 #include "entry_box_codec.h"
 #include "entry_filter.h"
 #include "rayscout/bvh/bvh_accelerators.h"
@@ -53,7 +52,6 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   if (config.select == "camera") prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
-  scene_box_ = box;
   info_.build_ms = ms_since(t0);
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
 }
@@ -71,7 +69,7 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   // the exact order (session 6: fewer steps and 1-10 % less time than sorting). rp is made
   // once here and handed to the traversal.
   const RayPrecomp rp(ray.dir);
-  const detail::CullInterval cull(scene_box_, ray);
+  const CullInterval cull = base_ == Base::Binary ? bvh2_.cull_interval(ray) : wide_.cull_interval(ray);
   uint32_t refs[32];
   float dist[32];
   const int n = detail::filter_entries<!Any>(*collection_.entry_codec(), c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),

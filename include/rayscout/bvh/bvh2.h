@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rayscout/bvh/build_config.h"
+#include "rayscout/bvh/cull_interval.h"
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/ray.h"
 #include "rayscout/core/trace_stats.h"
@@ -55,6 +56,10 @@ class Bvh2 {
   template <bool CaptureStats>
   bool occluded(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
                 TraceStats* stats) const;
+  /// The widened interval the traversal box-tests with for this ray (over the root's box).
+  CullInterval cull_interval(const Ray& ray) const {
+    return CullInterval(nodes.empty() ? Bounds3{} : nodes[0].bounds, ray);
+  }
 
   /// Checks the invariants: every triangle id in [0, triangle_count) exactly once (at least
   /// once and once per leaf with split_references), children inside their parent, no empty leaf, every node reachable exactly once, child indices in

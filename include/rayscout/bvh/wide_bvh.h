@@ -9,6 +9,7 @@
 
 #include "rayscout/bvh/build_config.h"
 #include "rayscout/bvh/bvh2.h"
+#include "rayscout/bvh/cull_interval.h"
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/ray.h"
 #include "rayscout/core/trace_stats.h"
@@ -115,6 +116,8 @@ class WideBvh {
   Hit intersect(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   template <bool CaptureStats>
   bool occluded(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
+  /// The widened interval the traversal box-tests with for this ray (over `bounds`).
+  CullInterval cull_interval(const Ray& ray) const { return CullInterval(bounds, ray); }
 
   /// The triangle in leaf slot s.
   Triangle leaf_triangle(size_t s) const {

@@ -66,7 +66,6 @@ class ShaftsAccelerator final : public Accelerator {
 
   std::span<const Triangle> triangles_;
   Base base_;
-  Bounds3 scene_box_;  ///< box of the BVH the lists index (the box tests' slack)
   Bvh2 bvh2_;
   WideBvh wide_;
   ShaftCollection collection_;

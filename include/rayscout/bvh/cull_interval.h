@@ -1,10 +1,10 @@
-// CullInterval (private): the conservative [near, far] limits of box tests during traversal.
+// CullInterval: the conservative [near, far] limits of box tests during BVH traversal.
 #pragma once
 
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/ray.h"
 
-namespace rayscout::detail {
+namespace rayscout {
 
 /// Widens the ray interval a box test is run with. A box's slab distances and a triangle's t
 /// (watertight arithmetic) round differently: a triangle hit at t <= best_t can sit in a box
@@ -14,6 +14,9 @@ namespace rayscout::detail {
 /// plus 2^-20 of the coordinate magnitude along the ray's dominant axis (about 16 ulps of
 /// every coordinate). Triangle tests keep the exact interval, so results stay identical to
 /// brute force; the cost is a few extra box visits.
+/// Public because it is part of the seeded traversal's contract (Bvh2/WideBvh::intersect with
+/// start entries): a caller that box-tests start entries on the traversal's behalf (shafts'
+/// entry boxes) must use the same interval, which Bvh2/WideBvh::cull_interval(ray) give.
 struct CullInterval {
   float abs_slack;
 
@@ -28,4 +31,4 @@ struct CullInterval {
   float near(float tmin) const { return tmin - (tmin < 0 ? -tmin : tmin) * (1.0f / 131072.0f) - abs_slack; }
 };
 
-}  // namespace rayscout::detail
+}  // namespace rayscout
