@@ -60,19 +60,61 @@ size_t ShaftsAccelerator::bvh_memory_bytes() const {
   return base_ == Base::Binary ? bvh2_.memory_bytes() : wide_.memory_bytes();
 }
 
-template <bool Stats, bool Any>
-void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits,
-                                    std::vector<uint8_t>* occ, TraceStats& local) const {
+namespace {
+
+/// The seeded traversal of either BVH behind the same calls, so that the tracing loop is
+/// written once: closest or any hit from start entries (empty = the root), with the ray's
+/// RayPrecomp when the caller has made one (nullptr: the BVH makes it), and the interval
+/// the traversal box-tests with.
+class SeededBvh2 {
+ public:
+  SeededBvh2(const Bvh2& bvh, std::span<const Triangle> tris) : bvh_(bvh), tris_(tris) {}
+  template <bool Stats>  // Bvh2 makes its own RayPrecomp
+  Hit intersect(const Ray& ray, const RayPrecomp*, std::span<const uint32_t> start, TraceStats* stats) const {
+    return bvh_.intersect<Stats>(ray, tris_, start, stats);
+  }
+  template <bool Stats>
+  bool occluded(const Ray& ray, const RayPrecomp*, std::span<const uint32_t> start, TraceStats* stats) const {
+    return bvh_.occluded<Stats>(ray, tris_, start, stats);
+  }
+  CullInterval cull_interval(const Ray& ray) const { return bvh_.cull_interval(ray); }
+
+ private:
+  const Bvh2& bvh_;
+  std::span<const Triangle> tris_;
+};
+
+class SeededWide {
+ public:
+  explicit SeededWide(const WideBvh& bvh) : bvh_(bvh) {}
+  template <bool Stats>
+  Hit intersect(const Ray& ray, const RayPrecomp* rp, std::span<const uint32_t> start, TraceStats* stats) const {
+    return rp ? bvh_.intersect<Stats>(ray, *rp, start, stats) : bvh_.intersect<Stats>(ray, start, stats);
+  }
+  template <bool Stats>
+  bool occluded(const Ray& ray, const RayPrecomp* rp, std::span<const uint32_t> start, TraceStats* stats) const {
+    return rp ? bvh_.occluded<Stats>(ray, *rp, start, stats) : bvh_.occluded<Stats>(ray, start, stats);
+  }
+  CullInterval cull_interval(const Ray& ray) const { return bvh_.cull_interval(ray); }
+
+ private:
+  const WideBvh& bvh_;
+};
+
+/// A ray whose list has entry boxes: filter the entries, then one seeded traversal.
+template <bool Stats, bool Any, class Seeded>
+void trace_boxed(const detail::EntryBoxCodec& codec, const Seeded& bvh, const Ray& ray, const Candidates& c, size_t i,
+                 HitBatch* hits, std::vector<uint8_t>* occ, TraceStats& local) {
   // Box-test the entries on the BVH's own widened interval (box distances and watertight t
   // round differently) and keep the hit ones: sorted near first for a closest hit; in list
   // order (Algorithm 1's near first along the shaft) for an any hit, which has no use for
   // the exact order (session 6: fewer steps and 1-10 % less time than sorting). rp is made
   // once here and handed to the traversal.
   const RayPrecomp rp(ray.dir);
-  const CullInterval cull = base_ == Base::Binary ? bvh2_.cull_interval(ray) : wide_.cull_interval(ray);
+  const CullInterval cull = bvh.cull_interval(ray);
   uint32_t refs[32];
   float dist[32];
-  const int n = detail::filter_entries<!Any>(*collection_.entry_codec(), c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
+  const int n = detail::filter_entries<!Any>(codec, c, ray.org, rp.inv_dir, cull.near(ray.tmin), cull.far(ray.tmax),
                                        refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
@@ -80,19 +122,17 @@ void ShaftsAccelerator::trace_boxed(const Ray& ray, const Candidates& c, size_t 
   // time and skipping entries beyond the current hit was measured slower: per-call overhead.)
   const std::span<const uint32_t> start(refs, size_t(n));
   if constexpr (Any) {
-    const bool o = base_ == Base::Binary ? bvh2_.occluded<Stats>(ray, triangles_, start, &local)
-                                         : wide_.occluded<Stats>(ray, rp, start, &local);
-    (*occ)[i] = o ? 1 : 0;
+    (*occ)[i] = bvh.template occluded<Stats>(ray, &rp, start, &local) ? 1 : 0;
   } else {
-    const Hit h = base_ == Base::Binary ? bvh2_.intersect<Stats>(ray, triangles_, start, &local)
-                                        : wide_.intersect<Stats>(ray, rp, start, &local);
+    const Hit h = bvh.template intersect<Stats>(ray, &rp, start, &local);
     if (h.hit()) hits->set(i, h);
   }
 }
 
-template <bool Stats, bool Any>
-void ShaftsAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occ,
-                              TraceStats* stats, bool use_lists) const {
+/// Every ray of the batch: classified and looked up (use_lists), then traced from its list.
+template <bool Stats, bool Any, class Seeded>
+void trace_rays(const ShaftCollection& collection, const Seeded& bvh, const RayBatch& rays, HitBatch* hits,
+                std::vector<uint8_t>* occ, TraceStats* stats, bool use_lists) {
   std::mutex mutex;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64), [&](const auto& range) {
     TraceStats local;
@@ -109,13 +149,13 @@ void ShaftsAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<
     const size_t end = range.end();
     auto classify_ahead = [&](size_t j) {
       Slot& s = ring[j % kRing];
-      s.classified = collection_.grid().classify(rays[j], s.coord);
+      s.classified = collection.grid().classify(rays[j], s.coord);
       if (s.classified)
-        if (const uint32_t* e = collection_.entry_address(s.coord)) __builtin_prefetch(e);
+        if (const uint32_t* e = collection.entry_address(s.coord)) __builtin_prefetch(e);
     };
     auto lookup_ahead = [&](size_t j) {
       Slot& s = ring[j % kRing];
-      s.c = s.classified ? collection_.lookup(s.coord) : Candidates{};
+      s.c = s.classified ? collection.lookup(s.coord) : Candidates{};
       if (!s.c.list.empty()) __builtin_prefetch(s.c.list.data());
       if (s.c.boxes) __builtin_prefetch(s.c.boxes);
     };
@@ -132,16 +172,13 @@ void ShaftsAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<
       const Candidates c = use_lists ? ring[i % kRing].c : Candidates{};
       if (c.nothing) continue;  // the shaft reaches no geometry: a miss
       if (c.boxes && !c.list.empty()) {
-        trace_boxed<Stats, Any>(ray, c, i, hits, occ, local);
+        trace_boxed<Stats, Any>(*collection.entry_codec(), bvh, ray, c, i, hits, occ, local);
         continue;
       }
       if constexpr (Any) {
-        const bool o = base_ == Base::Binary ? bvh2_.occluded<Stats>(ray, triangles_, c.list, &local)
-                                             : wide_.occluded<Stats>(ray, c.list, &local);
-        (*occ)[i] = o ? 1 : 0;
+        (*occ)[i] = bvh.template occluded<Stats>(ray, nullptr, c.list, &local) ? 1 : 0;
       } else {
-        const Hit h = base_ == Base::Binary ? bvh2_.intersect<Stats>(ray, triangles_, c.list, &local)
-                                            : wide_.intersect<Stats>(ray, c.list, &local);
+        const Hit h = bvh.template intersect<Stats>(ray, nullptr, c.list, &local);
         if (h.hit()) hits->set(i, h);
       }
     }
@@ -153,18 +190,27 @@ void ShaftsAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<
   if constexpr (Stats) stats->rays += rays.size();
 }
 
+template <bool Any, class Seeded>
+void trace(const ShaftCollection& collection, const Seeded& bvh, const RayBatch& rays, HitBatch* hits,
+           std::vector<uint8_t>* occ, TraceStats* stats, bool use_lists) {
+  if (stats) trace_rays<true, Any>(collection, bvh, rays, hits, occ, stats, use_lists);
+  else trace_rays<false, Any>(collection, bvh, rays, hits, occ, nullptr, use_lists);
+}
+
+}  // namespace
+
 void ShaftsAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats,
                                   bool use_lists) const {
   hits.reset(rays.size());
-  if (stats) trace<true, false>(rays, &hits, nullptr, stats, use_lists);
-  else trace<false, false>(rays, &hits, nullptr, nullptr, use_lists);
+  if (base_ == Base::Binary) trace<false>(collection_, SeededBvh2(bvh2_, triangles_), rays, &hits, nullptr, stats, use_lists);
+  else trace<false>(collection_, SeededWide(wide_), rays, &hits, nullptr, stats, use_lists);
 }
 
 void ShaftsAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
                                  bool use_lists) const {
   occluded.assign(rays.size(), 0);
-  if (stats) trace<true, true>(rays, nullptr, &occluded, stats, use_lists);
-  else trace<false, true>(rays, nullptr, &occluded, nullptr, use_lists);
+  if (base_ == Base::Binary) trace<true>(collection_, SeededBvh2(bvh2_, triangles_), rays, nullptr, &occluded, stats, use_lists);
+  else trace<true>(collection_, SeededWide(wide_), rays, nullptr, &occluded, stats, use_lists);
 }
 
 void ShaftsAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {

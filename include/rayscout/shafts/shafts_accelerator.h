@@ -56,14 +56,6 @@ class ShaftsAccelerator final : public Accelerator {
   const WideBvh& wide_bvh() const { return wide_; }
 
  private:
-  template <bool Stats, bool Any>
-  void trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occ, TraceStats* stats,
-             bool use_lists) const;
-
-  template <bool Stats, bool Any>
-  void trace_boxed(const Ray& ray, const Candidates& c, size_t i, HitBatch* hits, std::vector<uint8_t>* occ,
-                   TraceStats& local) const;
-
   std::span<const Triangle> triangles_;
   Base base_;
   Bvh2 bvh2_;
