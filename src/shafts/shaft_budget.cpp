@@ -44,7 +44,7 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   list.clear();
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
-  samples.resize(size_t(config.samples));
+  samples.resize(size_t(config.samples.value()));
   detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace,
                     config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
   build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
@@ -106,7 +106,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     mean = pilots ? mean / double(pilots) : 0.0;
     const size_t listed_voxels = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1));
     return 4.0 * double(grid.voxel_count()) + 4.0 * double(listed_voxels) * cells +
-           (config.entry_boxes > 0 ? 10.0 : 4.0) * 0.95 * mean * double(sel.shafts);
+           (config.entry_boxes.value() ? 10.0 : 4.0) * 0.95 * mean * double(sel.shafts);
   };
   // Secant search in log-log space for the voxel count whose predicted memory is 80-97 % of
   // the budget. Memory grows like n (entry tables) when most voxels are listed and like n^(2/3)

@@ -103,7 +103,7 @@ class VoxelListMaker {
   void make(uint32_t voxel, SamplesOf&& samples_of, detail::VoxelLists& vl) {
     const TreeView& tree = c_.tree;
     const uint32_t cells = c_.grid.cells_per_voxel();
-    const size_t per = size_t(c_.config.samples);
+    const size_t per = size_t(c_.config.samples.value());
     vl.status.assign(cells, 0);
     vl.len.assign(cells, 0);
     vl.begin.assign(cells, 0);
@@ -131,7 +131,7 @@ class VoxelListMaker {
       }
       const uint64_t all = members_.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members_.size()) - 1;
       if (tree.size() > 0) {
-        detail::GroupListBuilder builder(tree, group, members_, samples_, c_.config.samples, scratch_);
+        detail::GroupListBuilder builder(tree, group, members_, samples_, int(per), scratch_);
         uint64_t failed = all & ~builder.build(c_.min_prob, c_.config.max_list, all, lists_.data());
         // Overflowing members retry together with raised thresholds (Algorithm 1 retries),
         // then fall back to cullNodeSubtree(root).
@@ -316,7 +316,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   const ShaftConfig config = config_in.resolved(tree.arity);
   ShaftCollection col;
   col.grid_ = grid;
-  if (config.entry_boxes > 0) col.entry_codec_ = std::make_shared<const detail::EntryBoxCodec>(grid.box());
+  if (config.entry_boxes.value()) col.entry_codec_ = std::make_shared<const detail::EntryBoxCodec>(grid.box());
   const uint32_t cells = grid.cells_per_voxel();
   const size_t nvox = grid.voxel_count();
   if (nvox * cells >= (size_t(1) << 32) - 64)
@@ -342,10 +342,10 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   const std::vector<CellGroup> groups = cell_groups(grid, tree.split_order);
   std::vector<Shaft> group_shafts;
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
-  const size_t per = size_t(config.samples);
+  const size_t per = size_t(config.samples.value());
   std::vector<PooledSample> pool;
   const auto t_samples = SteadyClock::now();
-  if (config.reuse_rays > 0 && tree.size() > 0) {
+  if (config.reuse_rays.value() && tree.size() > 0) {
     std::vector<int32_t> listed_index(nvox, -1);
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
     pool.resize(listed.size() * cells * per);

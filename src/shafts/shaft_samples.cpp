@@ -14,7 +14,7 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
                       const std::vector<Shaft>& cell_shafts, const ShaftCollection::TraceFn& trace,
                       const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint8_t>& count) {
   const uint32_t cells = grid.cells_per_voxel();
-  const int per = config.samples;
+  const int per = config.samples.value();
   const auto res = grid.res();
   const Bounds3& box = grid.box();
   Vec3 size;
@@ -102,7 +102,7 @@ void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& list
                         const std::vector<uint8_t>& shaft_selected, const ShaftCollection::TraceFn& trace,
                         const ShaftConfig& config, std::vector<PooledSample>& pool) {
   const uint32_t cells = grid.cells_per_voxel();
-  const size_t per = size_t(config.samples), n = l1 - l0;
+  const size_t per = size_t(config.samples.value()), n = l1 - l0;
   pool.resize(size_t(cells) * n * per);
   for (uint32_t cell = 0; cell < cells; ++cell) {
     const ShaftGrid::CellRange crange = grid.cell_range(cell);

@@ -18,7 +18,7 @@ namespace rayscout::detail {
 class SampleStream {
  public:
   SampleStream(uint64_t sid, const ShaftConfig& config)
-      : rng_{(uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull)}, n_(config.samples),
+      : rng_{(uint64_t(config.seed) << 40) ^ (sid * 0x2545F4914F6CDD1Dull)}, n_(config.samples.value()),
         stratified_(config.stratified) {
     if (stratified_)
       for (auto& p : perm_) {
@@ -54,7 +54,8 @@ template <class Out>
 void trace_own_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, uint64_t sid,
                        const ShaftCollection::TraceFn& trace, const ShaftConfig& config, Out&& out) {
   SampleStream stream(sid, config);
-  for (int s = 0; s < config.samples; ++s) {
+  const int samples = config.samples.value();
+  for (int s = 0; s < samples; ++s) {
     float rnd[5];
     stream.next(s, rnd);
     const Ray ray = Shaft::sample_ray(voxel, cell, rnd);

@@ -56,10 +56,10 @@ Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, c
   const size_t nvox = grid.voxel_count();
   Selection sel;
   sel.voxel_listed.assign(nvox, 0);
-  if (config.select == "occupied") {
+  if (config.select == ShaftSelect::Occupied) {
     sel.voxel_listed = occupied_voxels(grid, tris);
     sel.shafts = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1)) * cells;
-  } else if (config.select == "camera") {
+  } else {  // ShaftSelect::Camera
     std::unordered_map<uint64_t, uint32_t> counts;
     size_t classified = 0;
     for (size_t i = 0; i < sample_rays.size(); ++i) {
@@ -82,8 +82,6 @@ Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, c
       sel.voxel_listed[id / cells] = 1;
       ++sel.shafts;
     }
-  } else {
-    throw InputError("shafts: select must be 'occupied' or 'camera' (got '" + config.select + "')");
   }
   return sel;
 }

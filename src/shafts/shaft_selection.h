@@ -12,16 +12,15 @@
 
 namespace rayscout::detail {
 
-/// Which shafts get lists (paper sec. 4.4): voxel flags, and per shaft flags for "camera"
+/// Which shafts get lists (paper sec. 4.4): voxel flags, and per shaft flags for Camera
 /// (empty = every cell of a listed voxel).
 struct Selection {
   std::vector<uint8_t> voxel_listed, shaft_selected;
   size_t shafts = 0;
 };
 
-/// `occupied`: every cell of every voxel a triangle touches; `camera`: the most used shafts of
-/// the pre-pass rays sample_rays until config.coverage of them is covered. Throws InputError
-/// for another config.select.
+/// Occupied: every cell of every voxel a triangle touches; Camera: the most used shafts of
+/// the pre-pass rays sample_rays until config.coverage of them is covered.
 Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, const RayBatch& sample_rays,
                         const ShaftConfig& config);
 

@@ -30,7 +30,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   if (base_ == Base::Binary) {
     bvh2_ = Bvh2::build(triangles_, bvh_config);
     bvh_build_ms_ = ms_since(t0);
-    tree = TreeView::from_bvh2(bvh2_, config.collapse);
+    tree = TreeView::from_bvh2(bvh2_, config.walk_levels);
     if (!bvh2_.nodes.empty()) box = bvh2_.nodes[0].bounds;
   } else {
     wide_ = WideBvh::build(triangles_, bvh_config);
@@ -49,7 +49,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   };
   if (box.empty()) box = Bounds3{Vec3{0.0f}, Vec3{0.0f}};
   RayBatch prepass;
-  if (config.select == "camera") prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
+  if (config.select == ShaftSelect::Camera) prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
   info_.build_ms = ms_since(t0);

@@ -210,7 +210,7 @@ TEST_P(ShaftsBoth, CameraSelectionListsOnlyTheUsedShafts) {
   const Base base = GetParam();
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 500 : 2000, 2));
   ShaftConfig c = fine_config(512, 3);
-  c.select = "camera";
+  c.select = ShaftSelect::Camera;
   c.coverage = 0.9;
   c.prepass_width = 32;
   const ShaftsAccelerator acc(scene, base, c);
@@ -246,6 +246,10 @@ TEST(ShaftsOptions, BadValuesAreInputErrors) {
   AcceleratorOptions s;
   s.set("select=everything");
   EXPECT_THROW(ShaftConfig::from_options(s, 2), InputError);
+  // A config made in code meets the same rules when a builder resolves it.
+  ShaftConfig zero_samples;
+  zero_samples.samples = 0;
+  EXPECT_THROW(zero_samples.resolved(2), InputError);
   // The Bvh2-only keys are not read for the wide BVH, so the registry reports them.
   const Scene scene = testing::scene_from_triangles(testing::grid(2));
   for (const char* key : {"walk_levels=2", "wide_sampling=0"}) {
@@ -254,6 +258,32 @@ TEST(ShaftsOptions, BadValuesAreInputErrors) {
     EXPECT_THROW(make_accelerator("shafts-wide", scene, kv), InputError) << key;
     EXPECT_NO_THROW(make_accelerator("shafts", scene, kv)) << key;
   }
+}
+
+// "auto" (or -1 for samples, or no key) leaves a tri-state unset; resolved() fills it per arity.
+TEST(ShaftsOptions, AutoValuesResolvePerArity) {
+  AcceleratorOptions o;
+  o.set("samples=auto");
+  o.set("reuse_rays=auto");
+  o.set("select=camera");
+  const ShaftConfig c = ShaftConfig::from_options(o, 2);
+  EXPECT_FALSE(c.samples.has_value());
+  EXPECT_FALSE(c.reuse_rays.has_value());
+  EXPECT_FALSE(c.entry_boxes.has_value());
+  EXPECT_EQ(c.select, ShaftSelect::Camera);
+  const ShaftConfig binary = c.resolved(2), wide = c.resolved(kWideWidth);
+  EXPECT_EQ(binary.samples, 4);
+  EXPECT_EQ(wide.samples, 3);
+  EXPECT_EQ(binary.reuse_rays, false);
+  EXPECT_EQ(wide.reuse_rays, true);
+  EXPECT_EQ(binary.entry_boxes, false);
+  EXPECT_EQ(wide.entry_boxes, true);
+  AcceleratorOptions m;
+  m.set("samples=-1");
+  m.set("entry_boxes=1");
+  const ShaftConfig d = ShaftConfig::from_options(m, 2);
+  EXPECT_FALSE(d.samples.has_value());
+  EXPECT_EQ(d.entry_boxes, true);
 }
 
 // Sibenik: shadow and diffuse rays from surface points, shafts vs the plain binary BVH.
@@ -299,7 +329,7 @@ TEST(ShaftsOptions, EntryBoxesEitherWayMatchBruteForce) {
   const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
   for (auto [base, boxes] : {std::pair{Base::Binary, 1}, std::pair{Base::Wide, 0}}) {
     ShaftConfig c = fine_config(512, 3);
-    c.entry_boxes = boxes;
+    c.entry_boxes = boxes != 0;
     const ShaftsAccelerator acc(scene, base, c);
     HitBatch got;
     std::vector<uint8_t> ogot;
@@ -318,15 +348,15 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 37));
   const RayBatch rays = testing::nasty_rays(scene.triangles, 6);
   const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
-  for (auto [base, samples, stratified, reuse, collapse] :
+  for (auto [base, samples, stratified, reuse, walk_levels] :
        {std::tuple{Base::Binary, 8, false, false, 1}, std::tuple{Base::Binary, 4, true, true, 1},
         std::tuple{Base::Binary, 4, true, false, 2}, std::tuple{Base::Wide, 5, true, true, 1},
         std::tuple{Base::Wide, 3, false, false, 1}}) {
     ShaftConfig c = fine_config(512, 3);
-    c.collapse = collapse;
+    c.walk_levels = walk_levels;
     c.samples = samples;
     c.stratified = stratified;
-    c.reuse_rays = reuse ? 1 : 0;
+    c.reuse_rays = reuse;
     const ShaftsAccelerator acc(scene, base, c);
     HitBatch got;
     std::vector<uint8_t> ogot;

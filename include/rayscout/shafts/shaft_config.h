@@ -1,11 +1,17 @@
 // ShaftConfig: the tunables of a shaft collection (ray classification, Hendrich et al. 2019).
 #pragma once
 
-#include <string>
+#include <optional>
 
 #include "rayscout/core/accelerator_options.h"
 
 namespace rayscout {
+
+/// Which shafts get candidate lists (the option key `select`).
+enum class ShaftSelect {
+  Occupied,  ///< "occupied": every direction of each voxel holding geometry
+  Camera,    ///< "camera": the most used shafts of a ray-sampling pre-pass (paper sec. 4.4)
+};
 
 /// Tunables of a shaft collection. Defaults follow the authors' reference implementation
 /// (PBRT-v3 fork, branch frustum_shafts) where it has one; see docs/shafts.md.
@@ -19,20 +25,21 @@ struct ShaftConfig {
   long voxels = 0;
   /// Direction cells per cube-map face edge: 6 d^2 direction cells per voxel.
   int dir_res = 4;
-  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). -1 (default) = 4
-  /// for shafts, 3 for shafts-wide: stratified, they save as many or more steps than 8
+  /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). Unset (default) =
+  /// 4 for shafts, 3 for shafts-wide: stratified, they save as many or more steps than 8
   /// independent ones on Sibenik, Sponza and Conference, and build faster (docs/shafts.md,
-  /// run 4). With the wide threshold 7/8 both 3 and 4 mean "all sample rays enter the box".
-  int samples = -1;
+  /// Options and History). With the wide threshold 7/8 both 3 and 4 mean "all sample rays
+  /// enter the box".
+  std::optional<int> samples;
   /// Latin-hypercube sample rays: each of the 5 dimensions (origin x, y, z; direction u, v)
   /// is split into `samples` strata, one sample per stratum (random pairing); off = independent
   /// uniform samples.
   bool stratified = true;
   /// Share sample rays along their paths: a traced sample ray also serves every later listed
   /// voxel it crosses before its hit (same direction cell), so ~3x fewer rays are traced.
-  /// -1 (default) = on for shafts-wide (same steps saved, build ~15 % faster), off for shafts
-  /// (there it saves 1-3 points fewer steps); 0 = off, 1 = on.
-  int reuse_rays = -1;
+  /// Unset (default) = on for shafts-wide (same steps saved, build ~15 % faster), off for
+  /// shafts (there it saves 1-3 points fewer steps).
+  std::optional<bool> reuse_rays;
   /// Expand a node when its hit probability is >= this; < 0 = (k-1)/k for a k-ary BVH.
   double min_prob = -1.0;
   /// Maximum candidate list length (at most 31: the length is packed into 5 bits).
@@ -40,12 +47,11 @@ struct ShaftConfig {
   /// On overflow the threshold becomes min_prob + (i+1)/20 for i < retries; after that the
   /// list is the single node cullNodeSubtree(root).
   int retries = 10;
-  /// Which shafts get lists: "occupied" (every direction of each voxel holding geometry) or
-  /// "camera" (most used shafts of a ray-sampling pre-pass from scene.camera, paper sec. 4.4).
-  std::string select = "occupied";
-  /// "camera": fraction of the pre-pass rays whose shafts get lists.
+  /// Which shafts get lists; Camera samples from scene.camera.
+  ShaftSelect select = ShaftSelect::Occupied;
+  /// Camera: fraction of the pre-pass rays whose shafts get lists.
   double coverage = 0.95;
-  /// "camera": pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
+  /// Camera: pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
   /// plus one diffuse bounce and one shadow ray per point light at each hit.
   int prepass_width = 96;
   /// Trace the sample rays with a temporary 8-wide BVH collapsed from the binary one (same
@@ -54,35 +60,27 @@ struct ShaftConfig {
   /// Store a 6-byte quantised box per list entry; the traversal then box-tests the entries,
   /// drops the missed ones and visits the rest near first, skipping those beyond the current
   /// hit. Needed for the wide BVH, whose start entries are entered without a box test.
-  /// -1 (default) = on for shafts-wide, off for shafts (Bvh2 tests its start entries itself);
-  /// 0 = off, 1 = on.
-  int entry_boxes = -1;
+  /// Unset (default) = on for shafts-wide, off for shafts (Bvh2 tests its start entries itself).
+  std::optional<bool> entry_boxes;
   /// shafts (Bvh2): Algorithm 1 walks the Bvh2 collapsed by this many levels per step (1 =
-  /// the binary tree itself; 2 = 4-ary, 3 = 8-ary view of the same nodes).
-  int collapse = 1;
+  /// the binary tree itself; 2 = 4-ary, 3 = 8-ary view of the same nodes), 1..4.
+  int walk_levels = 1;
   /// Store identical lists once (paper sec. 4.1); off = every list on its own, to measure what
   /// deduplication saves.
   bool dedup = true;
   /// Seed of the sample rays (the result is the same for any thread count).
   unsigned seed = 1;
 
-  /// The automatic values (-1) resolved for a BVH of the given arity (2 = Bvh2): samples,
-  /// reuse_rays, entry_boxes. Throws InputError for a structural value out of range (dir_res,
-  /// max_list), so that every builder checks a config it was handed in this one place.
-  ShaftConfig resolved(int arity) const {
-    if (dir_res < 1 || dir_res > 64)
-      throw InputError("shafts: dir_res must be in 1..64 (got " + std::to_string(dir_res) + ")");
-    if (max_list < 1 || max_list > 31)
-      throw InputError("shafts: max_list must be in 1..31 (got " + std::to_string(max_list) + ")");
-    ShaftConfig c = *this;
-    if (c.samples < 0) c.samples = arity == 2 ? 4 : 3;
-    if (c.reuse_rays < 0) c.reuse_rays = arity == 2 ? 0 : 1;
-    if (c.entry_boxes < 0) c.entry_boxes = arity == 2 ? 0 : 1;
-    return c;
-  }
+  /// The unset (automatic) values filled in for a BVH of the given arity (2 = Bvh2): samples,
+  /// reuse_rays, entry_boxes. Validates first, so that every builder checks the config it
+  /// was handed.
+  ShaftConfig resolved(int arity) const;
+  /// Throws InputError naming the first value out of range: the one place of the rules.
+  void validate() const;
   /// Reads the keys above from options (--accel-opt key=value) for a BVH of the given arity
-  /// (2 = Bvh2); the Bvh2-only keys walk_levels and wide_sampling are left unread otherwise,
-  /// so that check_all_used() reports them. Throws InputError on a bad value.
+  /// (2 = Bvh2; "auto" or a left-out key leaves samples, reuse_rays and entry_boxes unset);
+  /// the Bvh2-only keys walk_levels and wide_sampling are left unread otherwise, so that
+  /// check_all_used() reports them. Throws InputError on a bad value (validate()).
   static ShaftConfig from_options(const AcceleratorOptions& options, int arity);
 };
 
