@@ -121,8 +121,6 @@ class Shaft {
   const ShaftGrid::CellRange& cell() const { return cell_; }
   /// Direction of the cell centre (orders children near-first, Algorithm 1 lines 9-14).
   const Vec3& center_dir() const { return center_dir_; }
-  /// Number of separating axes kept (for tests).
-  size_t axis_count() const { return size_t(axis_count_); }
   /// The (unpadded) voxel box; sample ray origins lie in it.
   const Bounds3& voxel() const { return voxel_; }
 

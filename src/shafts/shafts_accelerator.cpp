@@ -40,7 +40,8 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   }
   // Sample rays only need their hit distance: trace them with the SIMD wide BVH, also when
   // the lists index the binary one (a temporary collapse of it; same hits). Greedy collapse:
-  // the SAH collapse traces them ~10 % faster but takes as much longer to build (run 5).
+  // the SAH collapse traces them ~10 % faster, but its 26-33 ms collapse cancels that
+  // (Conference collection: 692-724 ms with it, 712-722 ms greedy; docs/shafts.md, History).
   WideBvh sampling_bvh;
   if (base_ == Base::Binary && config.wide_sampling) sampling_bvh = WideBvh::from_bvh2(bvh2_, triangles_);
   const WideBvh* sampler = base_ == Base::Wide ? &wide_ : (config.wide_sampling ? &sampling_bvh : nullptr);
@@ -108,8 +109,9 @@ void trace_boxed(const detail::EntryBoxCodec& codec, const Seeded& bvh, const Ra
   // Box-test the entries on the BVH's own widened interval (box distances and watertight t
   // round differently) and keep the hit ones: sorted near first for a closest hit; in list
   // order (Algorithm 1's near first along the shaft) for an any hit, which has no use for
-  // the exact order (session 6: fewer steps and 1-10 % less time than sorting). rp is made
-  // once here and handed to the traversal.
+  // the exact order (measured: fewer steps and 1-10 % less time than sorting; docs/shafts.md,
+  // History, "any hit without the per-ray sort"). rp is made once here and handed to the
+  // traversal.
   const RayPrecomp rp(ray.dir);
   const CullInterval cull = bvh.cull_interval(ray);
   uint32_t refs[32];

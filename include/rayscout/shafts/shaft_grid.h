@@ -41,7 +41,6 @@ class ShaftGrid {
   int dir_res() const { return dir_res_; }
   size_t voxel_count() const { return size_t(res_[0]) * res_[1] * res_[2]; }
   uint32_t cells_per_voxel() const { return uint32_t(6 * dir_res_ * dir_res_); }
-  size_t shaft_count() const { return voxel_count() * cells_per_voxel(); }
 
   /// Box of a voxel (exact grid planes lo + i * size, the last one ends at box.hi).
   Bounds3 voxel_box(uint32_t voxel) const;
