@@ -172,7 +172,7 @@ void trace_rays(const ShaftCollection& collection, const Seeded& bvh, const RayB
         if (i + kNear < end) lookup_ahead(i + kNear);
       }
       const Candidates c = use_lists ? ring[i % kRing].c : Candidates{};
-      if (c.nothing) continue;  // the shaft reaches no geometry: a miss
+      if (c.reaches_nothing) continue;  // a miss without traversal
       if (c.boxes && !c.list.empty()) {
         trace_boxed<Stats, Any>(*collection.entry_codec(), bvh, ray, c, i, hits, occ, local);
         continue;

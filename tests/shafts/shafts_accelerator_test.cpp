@@ -64,13 +64,13 @@ void expect_covered(const ShaftsAccelerator& acc, Base base, std::span<const Tri
                     const Ray& ray, const Candidates& c, size_t& checked_hits) {
   const RayPrecomp rp(ray.dir);
   std::set<uint32_t> under;
-  if (!c.nothing)
+  if (!c.reaches_nothing)
     for (uint32_t ref : c.list) collect(acc, base, ref, under);
   for (uint32_t p = 0; p < tris.size(); ++p) {
     float t, u, v;
     if (!intersect_triangle(ray.org, rp, tris[p], ray.tmin, ray.tmax, t, u, v)) continue;
     ++checked_hits;
-    ASSERT_FALSE(c.nothing) << "shaft marked unreachable but triangle " << p << " is hit";
+    ASSERT_FALSE(c.reaches_nothing) << "shaft marked unreachable but triangle " << p << " is hit";
     ASSERT_TRUE(c.list.empty() || under.count(p)) << "triangle " << p << " hit at t=" << t
                                                   << " is culled from the list";
   }
@@ -92,7 +92,7 @@ TEST_P(ShaftsBoth, CandidateListsCoverEveryHitInTheShaft) {
   for (int s = 0; s < shafts; ++s) {
     const ShaftCoord coord{uint32_t(rng() % g.voxel_count()), uint32_t(rng() % g.cells_per_voxel())};
     const Candidates c = acc.collection().lookup(coord);
-    with_list += !c.list.empty() || c.nothing;
+    with_list += !c.list.empty() || c.reaches_nothing;
     const Shaft shaft(g, coord);
     for (int i = 0; i < 12; ++i) {
       float rnd[5];
@@ -179,7 +179,7 @@ TEST_P(ShaftsBoth, DeduplicationKeepsListsEqual) {
   for (uint32_t v = 0; v < g.voxel_count(); ++v)
     for (uint32_t c = 0; c < g.cells_per_voxel(); ++c) {
       const Candidates a = shared.collection().lookup({v, c}), b = own.collection().lookup({v, c});
-      ASSERT_EQ(a.nothing, b.nothing);
+      ASSERT_EQ(a.reaches_nothing, b.reaches_nothing);
       ASSERT_TRUE(std::equal(a.list.begin(), a.list.end(), b.list.begin(), b.list.end())) << v << " " << c;
       if (!a.list.empty()) {
         stored.insert(a.list.data());

@@ -53,14 +53,14 @@ struct ShaftStats {
   std::string summary() const;
 };
 
-/// What a lookup gives: a candidate list (empty = start at the root) or "nothing reachable".
+/// What a lookup gives: a candidate list (empty = start at the root) or reaches_nothing.
 struct Candidates {
   std::span<const uint32_t> list;
   /// Boxes of the list entries (collections built with entry_boxes), quantised outward to
   /// 1/255 of the grid box per axis (ShaftCollection::entry_codec()) and laid out per list as 6 byte rows: lo.x of every entry, then lo.y, lo.z, hi.x, hi.y, hi.z.
   /// At least 8 readable bytes follow every row (SIMD loads).
   const uint8_t* boxes = nullptr;
-  bool nothing = false;         ///< the shaft provably reaches no geometry: the ray misses
+  bool reaches_nothing = false;  ///< the shaft provably reaches no geometry: the ray misses
 };
 
 /// The collection (paper sec. 4.1, fig. 4): a per-voxel table (base index into the entry
