@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "../../src/shafts/group_list_builder.h"
 #include "generated_scenes.h"
+#include "group_list_builder.h"
 #include "rayscout/bvh/bvh2.h"
 
 namespace rayscout {

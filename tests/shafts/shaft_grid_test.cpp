@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "../../src/shafts/shaft.h"
 #include "rayscout/shafts/shaft_grid.h"
+#include "shaft.h"
 
 namespace rayscout {
 namespace {

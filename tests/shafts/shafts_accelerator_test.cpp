@@ -11,8 +11,8 @@
 #include "rayscout/core/hit_compare.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/scene/load_scene.h"
-#include "../../src/shafts/shaft.h"
 #include "rayscout/shafts/shafts_accelerator.h"
+#include "shaft.h"
 
 namespace rayscout {
 namespace {
