@@ -77,6 +77,65 @@ void generate_camera_rays(const Scene& scene, int width, int height, int spp, ui
   });
 }
 
+// The batches of one bounce. They live across bounces and passes: their capacity is reused,
+// so later bounces do not page-fault.
+struct WavefrontIntegrator::Bounce {
+  RayBatch rays;                   // this bounce's rays ...
+  std::vector<PathState> paths;    // ... and their paths
+  HitBatch hits;
+  std::vector<ShadeOutput> outs;   // shading output per chunk of kShadeChunk paths
+  RayBatch occlusion_rays;         // merged: shadow / AO rays ...
+  std::vector<ShadeOutput::Contribution> occlusion;  // ... and what each adds if unoccluded
+  std::vector<uint8_t> occluded;
+  RayBatch next_rays;              // merged: the next bounce's rays and paths
+  std::vector<PathState> next_paths;
+};
+
+// Shades every hit (or miss) of the bounce, chunks in parallel, into b.outs.
+void WavefrontIntegrator::shade_bounce(const ShadeContext& ctx, Bounce& b) const {
+  const size_t n = b.paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
+  b.outs.resize(chunks);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    ShadeOutput& out = b.outs[c];
+    for (size_t i = c * kShadeChunk, end = std::min(n, i + kShadeChunk); i < end; ++i) {
+      const Ray ray = b.rays[i];
+      const Hit hit = b.hits[i];
+      if (!hit.hit()) { miss(ctx, b.paths[i], ray, out); continue; }
+      const Hit refined = refine_hit(*ctx.scene, ray, hit);
+      shade(ctx, b.paths[i], ray, surface_point(*ctx.scene, ray, refined), out);
+    }
+  });
+}
+
+// Merges the chunks' outputs in chunk order, the fixed order of every per-pixel sum: radiance
+// into the film, occlusion rays and next paths into flat batches. Chunk offsets first, so the
+// copies can run in parallel.
+void WavefrontIntegrator::merge_bounce(Bounce& b, std::vector<Vec3>& film) {
+  const size_t chunks = b.outs.size();
+  std::vector<size_t> occ_at(chunks + 1, 0), next_at(chunks + 1, 0);
+  for (size_t c = 0; c < chunks; ++c) {
+    occ_at[c + 1] = occ_at[c] + b.outs[c].occlusion_.size();
+    next_at[c + 1] = next_at[c] + b.outs[c].next_.size();
+    for (const auto& r : b.outs[c].radiance_) film[r.pixel] += r.value;
+  }
+  b.occlusion.resize(occ_at[chunks]);
+  b.next_paths.resize(next_at[chunks]);
+  b.occlusion_rays.resize(occ_at[chunks]);
+  b.next_rays.resize(next_at[chunks]);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    ShadeOutput& out = b.outs[c];
+    for (size_t k = 0; k < out.occlusion_.size(); ++k) {
+      b.occlusion_rays.set(occ_at[c] + k, out.occlusion_rays_[k]);
+      b.occlusion[occ_at[c] + k] = out.occlusion_[k];
+    }
+    for (size_t k = 0; k < out.next_.size(); ++k) {
+      b.next_rays.set(next_at[c] + k, out.next_rays_[k]);
+      b.next_paths[next_at[c] + k] = out.next_[k];
+    }
+    out.clear();
+  });
+}
+
 Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, const RenderConfig& config,
                                   RenderStats* stats_out) const {
   check_config(config);
@@ -97,8 +156,6 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   const size_t max_rays = config.max_batch_rays > 0 ? size_t(config.max_batch_rays) : size_t(1) << 24;
   const int per_pass = int(std::clamp<size_t>(max_rays / n_pixels, 1, size_t(config.spp)));
   const int passes = (config.spp + per_pass - 1) / per_pass;
-  RayBatch rays;
-  std::vector<PathState> paths;
   auto t0 = SteadyClock::now();
 
   uint64_t rays_traced = 0;
@@ -121,69 +178,27 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
                           ms_since(start) / 1000.0});
   };
 
-  // Buffers live across bounces: their capacity is reused, so later bounces do not page-fault.
-  HitBatch hits;
-  std::vector<uint8_t> occluded;
-  std::vector<ShadeOutput> outs;
-  RayBatch occlusion_rays, next_rays;
-  std::vector<ShadeOutput::Contribution> occlusion;
-  std::vector<PathState> next_paths;
+  Bounce b;
   for (pass = 0; pass < passes; ++pass) {
     t0 = SteadyClock::now();
-    generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, rays, &paths, pass * per_pass,
-                         std::min(config.spp, (pass + 1) * per_pass));
+    generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, b.rays, &b.paths,
+                         pass * per_pass, std::min(config.spp, (pass + 1) * per_pass));
     stats.raygen_ms += ms_since(t0);
-    for (int bounce = 0; !paths.empty(); ++bounce) {
+    for (int bounce = 0; !b.paths.empty(); ++bounce) {
       ctx.bounce = bounce;
-      trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, rays, &hits, nullptr);
-
+      trace({bounce, bounce == 0 ? "primary" : continuation_kind(), false}, b.rays, &b.hits, nullptr);
       t0 = SteadyClock::now();
-      const size_t n = paths.size(), chunks = (n + kShadeChunk - 1) / kShadeChunk;
-      outs.resize(chunks);
-      tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-        ShadeOutput& out = outs[c];
-        for (size_t i = c * kShadeChunk, end = std::min(n, i + kShadeChunk); i < end; ++i) {
-          const Ray ray = rays[i];
-          const Hit hit = hits[i];
-          if (!hit.hit()) { miss(ctx, paths[i], ray, out); continue; }
-          const Hit refined = refine_hit(scene, ray, hit);
-          shade(ctx, paths[i], ray, surface_point(scene, ray, refined), out);
-        }
-      });
-      // Merge in chunk order: the fixed order of every per-pixel sum. Chunk offsets first, so
-      // the copies can run in parallel.
-      std::vector<size_t> occ_at(chunks + 1, 0), next_at(chunks + 1, 0);
-      for (size_t c = 0; c < chunks; ++c) {
-        occ_at[c + 1] = occ_at[c] + outs[c].occlusion_.size();
-        next_at[c + 1] = next_at[c] + outs[c].next_.size();
-        for (const auto& r : outs[c].radiance_) film[r.pixel] += r.value;
-      }
-      occlusion.resize(occ_at[chunks]);
-      next_paths.resize(next_at[chunks]);
-      occlusion_rays.resize(occ_at[chunks]);
-      next_rays.resize(next_at[chunks]);
-      tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-        ShadeOutput& out = outs[c];
-        for (size_t k = 0; k < out.occlusion_.size(); ++k) {
-          occlusion_rays.set(occ_at[c] + k, out.occlusion_rays_[k]);
-          occlusion[occ_at[c] + k] = out.occlusion_[k];
-        }
-        for (size_t k = 0; k < out.next_.size(); ++k) {
-          next_rays.set(next_at[c] + k, out.next_rays_[k]);
-          next_paths[next_at[c] + k] = out.next_[k];
-        }
-        out.clear();
-      });
+      shade_bounce(ctx, b);
+      merge_bounce(b, film);
       stats.shading_ms += ms_since(t0);
-
-      if (!occlusion_rays.empty()) {
-        trace({bounce, occlusion_kind(), true}, occlusion_rays, nullptr, &occluded);
+      if (!b.occlusion_rays.empty()) {
+        trace({bounce, occlusion_kind(), true}, b.occlusion_rays, nullptr, &b.occluded);
         t0 = SteadyClock::now();
-        accumulate(film, occlusion, &occluded);
+        accumulate(film, b.occlusion, &b.occluded);
         stats.shading_ms += ms_since(t0);
       }
-      std::swap(rays, next_rays);
-      std::swap(paths, next_paths);
+      std::swap(b.rays, b.next_rays);
+      std::swap(b.paths, b.next_paths);
     }
   }
 

@@ -82,6 +82,11 @@ class WavefrontIntegrator : public Integrator {
                      const SurfacePoint& sp, ShadeOutput& out) const = 0;
   /// A ray that hit nothing (default: black background).
   virtual void miss(const ShadeContext&, const PathState&, const Ray&, ShadeOutput&) const {}
+
+ private:
+  struct Bounce;  // one bounce's batches, reused across bounces (wavefront.cpp)
+  void shade_bounce(const ShadeContext& ctx, Bounce& b) const;
+  static void merge_bounce(Bounce& b, std::vector<Vec3>& film);
 };
 
 /// Camera rays of samples [sample_begin, sample_end) of spp (sample_end < 0: to spp) of every
