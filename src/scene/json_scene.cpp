@@ -226,11 +226,49 @@ class JsonSceneLoader {
   explicit JsonSceneLoader(const std::filesystem::path& path) : path_(path), f_(display_name(path)) {}
 
   Scene load() {
-    const std::string text = read_file(path_);
+    const Json root = parse_root(read_file(path_));
+    f_.check_keys(root, "", {"meshes", "camera", "lights", "materials"});
+    std::optional<CameraFields> camera;
+    if (root.contains("camera")) camera = parse_camera(root["camera"]);
+
+    std::vector<Placement> placements;
+    for_each_in_array(root, "meshes", [&](const Json& j, const std::string& field) {
+      placements.push_back(parse_mesh(j, field));
+    });
+    Scene scene;
+    detail::SceneBuilder builder(scene);
+    // Area lights are placed after all meshes (their triangles come last).
+    for_each_in_array(root, "lights", [&](const Json& j, const std::string& field) {
+      parse_light(j, field, scene, placements);
+    });
+    const auto maps = material_maps(root, placements, builder, scene);
+
+    size_t total = 0;
+    for (const auto& pl : placements) total += pl.mesh->faces.size();
+    builder.reserve(total);
+    for (size_t i = 0; i < placements.size(); ++i) {
+      const auto& pl = placements[i];
+      for (const auto& w : pl.mesh->warnings) add_warning_once(scene, w);
+      builder.add(*pl.mesh, pl.transform, maps[i], f_.file() + ": " + pl.field + " (" + pl.source + ")");
+    }
+    builder.finish(f_.file());
+    warn_unused_materials(root, builder, scene);
+
+    const Bounds3 bounds = scene.bounds();
+    scene.camera = framing_camera(bounds, camera && camera->fov_deg ? *camera->fov_deg : 60.0f);
+    apply_camera(camera.value_or(CameraFields{}), scene.camera);
+    if (scene.point_lights.empty() && scene.emissive_triangles.empty()) {
+      scene.point_lights.push_back(framing_light(bounds, scene.camera));
+      scene.warnings.push_back(f_.file() + ": no lights; added a point light near the camera");
+    }
+    return scene;
+  }
+
+ private:
+  // The document, with duplicate keys rejected: nlohmann keeps the last of two equal keys,
+  // and a duplicate is a typo or a merge left over (unknown keys are errors for the same reason).
+  Json parse_root(const std::string& text) const {
     check_json_nesting(text, f_.file());
-    Json root;
-    // nlohmann keeps the last of two equal keys; a duplicate is a typo or a merge left over,
-    // and unknown keys are errors here for the same reason.
     std::vector<std::set<std::string>> keys;
     auto no_duplicate_keys = [&](int, Json::parse_event_t event, Json& parsed) {
       if (event == Json::parse_event_t::object_start) keys.emplace_back();
@@ -240,30 +278,26 @@ class JsonSceneLoader {
       return true;
     };
     try {
-      root = Json::parse(text, no_duplicate_keys);
+      return Json::parse(text, no_duplicate_keys);
     } catch (const Json::exception& e) {  // parse_error, or out_of_range for a number like 1e400
       throw InputError(f_.file() + ": " + invalid_json(e.what()));
     }
-    f_.check_keys(root, "", {"meshes", "camera", "lights", "materials"});
-    std::optional<CameraFields> camera;
-    if (root.contains("camera")) camera = parse_camera(root["camera"]);
+  }
 
-    std::vector<Placement> placements;
-    if (root.contains("meshes")) {
-      const Json& meshes = root["meshes"];
-      if (!meshes.is_array()) f_.fail("meshes", std::string("expected an array, found ") + meshes.type_name());
-      for (size_t i = 0; i < meshes.size(); ++i) placements.push_back(parse_mesh(meshes[i], Fields::index("meshes", i)));
-    }
-    Scene scene;
-    detail::SceneBuilder builder(scene);
-    // Area lights are placed after all meshes (their triangles come last).
-    if (root.contains("lights")) {
-      const Json& lights = root["lights"];
-      if (!lights.is_array()) f_.fail("lights", std::string("expected an array, found ") + lights.type_name());
-      for (size_t i = 0; i < lights.size(); ++i) parse_light(lights[i], Fields::index("lights", i), scene, placements);
-    }
+  // Calls fn(element, field) for each element of the array root[key], if present.
+  template <class Fn>
+  void for_each_in_array(const Json& root, const char* key, Fn&& fn) const {
+    if (!root.contains(key)) return;
+    const Json& a = root[key];
+    if (!a.is_array()) f_.fail(key, std::string("expected an array, found ") + a.type_name());
+    for (size_t i = 0; i < a.size(); ++i) fn(a[i], Fields::index(key, i));
+  }
 
-    // Materials: the meshes' own (first definition of a name wins), then the overrides.
+  // Per placement, the scene material of each of its mesh's materials: the meshes' own (first
+  // definition of a name wins), then the "materials" overrides, then a placement's own
+  // "material" (a name, or an inline object) for all of its triangles.
+  std::vector<std::vector<uint32_t>> material_maps(const Json& root, const std::vector<Placement>& placements,
+                                                   detail::SceneBuilder& builder, Scene& scene) {
     std::vector<std::vector<uint32_t>> maps(placements.size());
     for (size_t i = 0; i < placements.size(); ++i)
       if (!placements[i].material) maps[i] = builder.intern_all(*placements[i].mesh, placements[i].source, &scene.warnings);
@@ -281,7 +315,7 @@ class JsonSceneLoader {
     }
     std::set<std::string> inline_names;
     for (size_t i = 0; i < placements.size(); ++i) {
-      auto& pl = placements[i];
+      const auto& pl = placements[i];
       if (!pl.material) continue;
       const std::string field = Fields::join(pl.field, "material");
       uint32_t index;
@@ -303,37 +337,20 @@ class JsonSceneLoader {
       }
       maps[i].assign(pl.mesh->materials.size(), index);
     }
-
-    size_t total = 0;
-    for (const auto& pl : placements) total += pl.mesh->faces.size();
-    builder.reserve(total);
-    for (size_t i = 0; i < placements.size(); ++i) {
-      const auto& pl = placements[i];
-      for (const auto& w : pl.mesh->warnings) add_warning_once(scene, w);
-      builder.add(*pl.mesh, pl.transform, maps[i], f_.file() + ": " + pl.field + " (" + pl.source + ")");
-    }
-    builder.finish(f_.file());
-    if (root.contains("materials")) {
-      // A material no triangle uses is most likely a misspelt override ("defualt").
-      std::vector<uint8_t> used(scene.materials.size(), 0);
-      for (uint32_t id : scene.material_ids) used[id] = 1;
-      for (const auto& [name, value] : root["materials"].items())
-        if (auto index = builder.find(name); index && !used[*index])
-          scene.warnings.push_back(f_.file() + ": " + Fields::join("materials", name) +
-                                   ": no triangle uses this material (a misspelt name?)");
-    }
-
-    const Bounds3 bounds = scene.bounds();
-    scene.camera = framing_camera(bounds, camera && camera->fov_deg ? *camera->fov_deg : 60.0f);
-    apply_camera(camera.value_or(CameraFields{}), scene.camera);
-    if (scene.point_lights.empty() && scene.emissive_triangles.empty()) {
-      scene.point_lights.push_back(framing_light(bounds, scene.camera));
-      scene.warnings.push_back(f_.file() + ": no lights; added a point light near the camera");
-    }
-    return scene;
+    return maps;
   }
 
- private:
+  // A "materials" entry no triangle uses is most likely a misspelt override ("defualt").
+  void warn_unused_materials(const Json& root, detail::SceneBuilder& builder, Scene& scene) const {
+    if (!root.contains("materials")) return;
+    std::vector<uint8_t> used(scene.materials.size(), 0);
+    for (uint32_t id : scene.material_ids) used[id] = 1;
+    for (const auto& [name, value] : root["materials"].items())
+      if (auto index = builder.find(name); index && !used[*index])
+        scene.warnings.push_back(f_.file() + ": " + Fields::join("materials", name) +
+                                 ": no triangle uses this material (a misspelt name?)");
+  }
+
   static void add_warning_once(Scene& scene, const std::string& w) {
     for (const auto& x : scene.warnings)
       if (x == w) return;
