@@ -15,7 +15,7 @@
 namespace rayscout {
 namespace {
 
-TEST(Clustering, EveryItemExactlyOnceInBalancedClusters) {
+TEST(ManylightClustering, EveryItemExactlyOnceInBalancedClusters) {
   std::vector<Vec3> pos, nrm;
   for (int i = 0; i < 1000; ++i) {
     pos.push_back(Vec3(float(i % 10), float((i / 10) % 10), float(i / 100)));
@@ -32,7 +32,7 @@ TEST(Clustering, EveryItemExactlyOnceInBalancedClusters) {
   }
 }
 
-TEST(Clustering, NormalsSeparateCoincidentPoints) {
+TEST(ManylightClustering, NormalsSeparateCoincidentPoints) {
   // Two coincident sheets facing opposite ways must never share a cluster.
   std::vector<Vec3> pos, nrm;
   for (int i = 0; i < 256; ++i) {
@@ -48,7 +48,7 @@ TEST(Clustering, NormalsSeparateCoincidentPoints) {
   }
 }
 
-TEST(Vpls, PowerIsConservedAndPathsAreCounted) {
+TEST(ManylightVpls, PowerIsConservedAndPathsAreCounted) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("brute", scene);
   ManylightConfig config;
@@ -72,7 +72,7 @@ TEST(Vpls, PowerIsConservedAndPathsAreCounted) {
 
 // "At least N, a few more": whole light paths are kept, but a small N is not rounded up to a
 // batch of hundreds of paths (--vpls 20 used to make 680 VPLs).
-TEST(Vpls, CountIsAtLeastTheTargetAndCloseToIt) {
+TEST(ManylightVpls, CountIsAtLeastTheTargetAndCloseToIt) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("bvh", scene);
   ManylightConfig config;
@@ -86,7 +86,7 @@ TEST(Vpls, CountIsAtLeastTheTargetAndCloseToIt) {
 
 // A dark point light carries no power: it is never chosen. Alone, it used to divide the
 // light cdf by 0 and make every VPL NaN (an all-NaN image with exit 0).
-TEST(Vpls, DarkPointLightsAreNeverChosen) {
+TEST(ManylightVpls, DarkPointLightsAreNeverChosen) {
   Scene scene = default_scene();
   scene.point_lights.push_back({scene.bounds().center(), Vec3(0.0f)});
   auto accel = make_accelerator("bvh", scene);
@@ -105,7 +105,7 @@ TEST(Vpls, DarkPointLightsAreNeverChosen) {
   EXPECT_TRUE(generate_vpls(scene, *accel, config).vpls.empty());
 }
 
-TEST(VisibilityClusters, PmfsArePositiveAndNormalised) {
+TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("brute", scene);
   ManylightConfig config;

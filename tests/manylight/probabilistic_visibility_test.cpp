@@ -9,7 +9,7 @@
 namespace rayscout {
 namespace {
 
-TEST(SkipProbability, ProposedMatchesHandComputedValue) {
+TEST(ManylightSkipProbability, ProposedMatchesHandComputedValue) {
   // t = 2, p = 0.5, r = 0.8: D = max(0.1, 0.8 * 0.2) = 0.16; t_hat = 1 / (1 - 0.2) - 0.25 = 1.
   // q = 1 - sqrt(4 * 0.16 / 0.25 * 1 / 16) = 1 - sqrt(0.16) = 0.6.
   const double th = t_hat(1.0, 0.2, 0.25);
@@ -17,7 +17,7 @@ TEST(SkipProbability, ProposedMatchesHandComputedValue) {
   EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 2.0, 0.5, 0.8, th, 16.0, 0.1), 0.6, 1e-12);
 }
 
-TEST(SkipProbability, EpsilonFloorAppliesNearZeroAndOne) {
+TEST(ManylightSkipProbability, EpsilonFloorAppliesNearZeroAndOne) {
   // r = 1: r(1 - r) = 0 -> D = eps = 0.1; sqrt(1 * 0.1 / 1 * 2.5 / 1) = 0.5 -> q = 0.5.
   EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 1.0, 1.0, 1.0, 2.5, 1.0, 0.1), 0.5, 1e-12);
   EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 1.0, 1.0, 0.0, 2.5, 1.0, 0.1), 0.5, 1e-12);
@@ -25,7 +25,7 @@ TEST(SkipProbability, EpsilonFloorAppliesNearZeroAndOne) {
   EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 1.0, 1.0, 1.0, 2.5, 1.0, 0.0), 1.0);
 }
 
-TEST(SkipProbability, VeachAndConservative) {
+TEST(ManylightSkipProbability, VeachAndConservative) {
   // Veach: D = 1 whatever r: q = 1 - sqrt(0.25 * 1 / 1 * 1 / 4) = 0.75 (sigma^2 = 4).
   EXPECT_NEAR(skip_probability(VisibilityMode::Veach, 0.5, 1.0, 0.9, 1.0, 4.0, 0.1), 0.75, 1e-12);
   // Conservative, r = 0.9: D = max(0.01, 0.81) = 0.81: q = 1 - sqrt(0.81 / 4) = 0.55.
@@ -35,7 +35,7 @@ TEST(SkipProbability, VeachAndConservative) {
   EXPECT_DOUBLE_EQ(visibility_prediction(VisibilityMode::Proposed, 0.9), 0.9);
 }
 
-TEST(SkipProbability, ClampsAndDegenerateInputs) {
+TEST(ManylightSkipProbability, ClampsAndDegenerateInputs) {
   EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Exact, 1, 1, 0.5, 1, 1, 0.1), 0.0);
   // Large contribution: negative q clamps to 0.
   EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 100, 0.01, 0.5, 1, 1, 0.1), 0.0);
@@ -47,7 +47,7 @@ TEST(SkipProbability, ClampsAndDegenerateInputs) {
   EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 0, 1, 0.5, 1, 1, 0.1), 1.0);
 }
 
-TEST(VisibilityEstimate, TracedValueMatchesEq8) {
+TEST(ManylightVisibilityEstimate, TracedValueMatchesEq8) {
   EXPECT_DOUBLE_EQ(visibility_estimate(false, 1.0, 0.8, 0.5), (1.0 - 0.4) / 0.5);
   EXPECT_DOUBLE_EQ(visibility_estimate(false, 0.0, 0.8, 0.5), -0.8);
   EXPECT_DOUBLE_EQ(visibility_estimate(true, 0.0, 0.8, 0.5), 0.8);
@@ -56,7 +56,7 @@ TEST(VisibilityEstimate, TracedValueMatchesEq8) {
   EXPECT_DOUBLE_EQ(visibility_estimate(false, 0.0, 0.3, 0.0), 0.0);
 }
 
-TEST(VisibilityEstimate, ExpectationIsTheTrueVisibilityAndVarianceIsEq9) {
+TEST(ManylightVisibilityEstimate, ExpectationIsTheTrueVisibilityAndVarianceIsEq9) {
   std::mt19937_64 gen(7);
   std::uniform_real_distribution<double> u(0, 1);
   for (double v : {0.0, 1.0})
@@ -77,7 +77,7 @@ TEST(VisibilityEstimate, ExpectationIsTheTrueVisibilityAndVarianceIsEq9) {
       }
 }
 
-TEST(ClusterSampleStats, MeansAndEq17Variance) {
+TEST(ManylightClusterSampleStats, MeansAndEq17Variance) {
   ClusterSampleStats st;
   EXPECT_DOUBLE_EQ(st.variance(), 0.0);
   st.add(0.5, 1.0);
