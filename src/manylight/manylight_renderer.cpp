@@ -49,7 +49,8 @@ std::string to_string(VisibilityMode mode) {
 struct ManylightRenderer::Sample {
   Vec3 value;         // t / p (colour), before V~
   float lum_t = 0;    // scalar t / p
-  float r = 0, q = 0;
+  float r = 0;
+  double q = 0;       // the skip coin's probability, exactly as eq. (8)'s weights use it
   uint32_t point = 0;
   uint32_t ray = 0;   // index into the round's ray batch when traced
   uint8_t state = 0;  // 0 = empty slot, 1 = zero contribution, 2 = skipped, 3 = traced
@@ -190,9 +191,10 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
           if (forced == Forced::One) q = 1;
           else if (forced == Forced::None)
             q = skip_probability(config_.mode, luminance(t), p, s.r, th, var, config_.epsilon);
-          s.q = float(q);
-          // q is stored as float: decide with the float value so eq. (8) uses what was sampled.
-          const bool skip = s.q >= 1.0f || (s.q > 0.0f && rng.uniform() < s.q);
+          s.q = q;
+          // skip_coin skips with probability exactly q (q is on its 2^-53 grid), and eq. (8)
+          // below weights with the same double q.
+          const bool skip = skip_coin(q, rng.bits64());
           if (skip) { s.state = 2; continue; }
           s.state = 3;
           ray_of[c * stride + (i - b) * spp_samples + j] = shadow_ray(sp, vpl, offset_);

@@ -26,6 +26,8 @@ class Rng {
     const uint32_t rot = uint32_t(old >> 59u);
     return (xorshifted >> rot) | (xorshifted << ((32 - rot) & 31));
   }
+  /// 64 uniform random bits (two outputs).
+  uint64_t bits64() { const uint64_t high = next(); return (high << 32) | next(); }
   /// Uniform in [0, 1).
   float uniform() { return float(next() >> 8) * (1.0f / 16777216.0f); }
   double uniform_double() { return double(next()) * (1.0 / 4294967296.0); }

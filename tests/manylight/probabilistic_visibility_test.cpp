@@ -47,6 +47,53 @@ TEST(ManylightSkipProbability, ClampsAndDegenerateInputs) {
   EXPECT_DOUBLE_EQ(skip_probability(VisibilityMode::Proposed, 0, 1, 0.5, 1, 1, 0.1), 1.0);
 }
 
+// A q just below 1 must leave the shadow ray a chance: q was once stored as float, so every
+// double q above 1 - 2^-25 became 1.0f and such samples were never traced (eq. 8 needs 1 - q > 0).
+TEST(ManylightSkipCoin, QJustBelowOneStaysTraceable) {
+  // s = 1e-9 in eq. (15): q = 1 - 1e-9 in exact arithmetic, float(q) == 1.
+  const double q = skip_probability(VisibilityMode::Veach, 1e-9, 1.0, 0.0, 1.0, 1.0, 0.1);
+  ASSERT_EQ(float(1.0 - 1e-9), 1.0f);
+  EXPECT_LT(q, 1.0);
+  EXPECT_GE(1.0 - q, 0x1p-24);
+  EXPECT_FALSE(skip_coin(q, ~uint64_t(0))) << "the largest random number must trace";
+  // Proposed with eps > 0 and r = 1 likewise (D = eps > 0).
+  const double qp = skip_probability(VisibilityMode::Proposed, 1e-9, 1.0, 1.0, 1.0, 1.0, 0.1);
+  EXPECT_LT(qp, 1.0);
+  EXPECT_FALSE(skip_coin(qp, ~uint64_t(0)));
+  // Exact skips keep q = 1: zero contribution, and D = 0 (proposed, eps = 0, r = 1).
+  EXPECT_EQ(skip_probability(VisibilityMode::Proposed, 0.0, 1.0, 0.5, 1.0, 1.0, 0.1), 1.0);
+  EXPECT_EQ(skip_probability(VisibilityMode::Proposed, 1e-9, 1.0, 1.0, 1.0, 1.0, 0.0), 1.0);
+  EXPECT_TRUE(skip_coin(1.0, ~uint64_t(0)));
+}
+
+// The coin skips for exactly the integers m < q 2^53 of the 53-bit m it draws, so
+// P(skip) = q, the value eq. (8)'s weights use. A float q against a 24-bit u skipped with
+// probability ceil(q 2^24) / 2^24 instead (up to 2^-24 more).
+TEST(ManylightSkipCoin, SkipProbabilityIsExactlyTheWeightsQ) {
+  for (double t : {0.3, 1.0 / 3.0, 0.01, 0.7654321, 1e-6, 1.5, 1.9}) {
+    const double q = skip_probability(VisibilityMode::Proposed, t, 1.0, 0.5, 1.0, 1.0, 0.1);
+    ASSERT_GT(q, 0.0);
+    ASSERT_LT(q, 1.0);
+    EXPECT_EQ(skip_coin_probability(q), q) << "q is on the coin's grid";
+    const uint64_t threshold = uint64_t(std::ldexp(q, 53));  // exact: q is a multiple of 2^-53
+    EXPECT_EQ(std::ldexp(double(threshold), -53), q);
+    EXPECT_TRUE(skip_coin(q, (threshold - 1) << 11)) << "t = " << t;
+    EXPECT_FALSE(skip_coin(q, threshold << 11)) << "t = " << t;
+  }
+  // Rounding an off-grid q up to the grid moves it by less than 2^-53.
+  const double q = 0.1234567890123456789;
+  EXPECT_GE(skip_coin_probability(q), q);
+  EXPECT_LT(skip_coin_probability(q) - q, 0x1p-53);
+  EXPECT_FALSE(skip_coin(0.0, 0));
+}
+
+TEST(ManylightSkipCoin, EpsilonZeroWithProposedIsWarnedAbout) {
+  EXPECT_NE(epsilon_bias_warning(VisibilityMode::Proposed, 0.0), "");
+  EXPECT_EQ(epsilon_bias_warning(VisibilityMode::Proposed, 0.1), "");
+  EXPECT_EQ(epsilon_bias_warning(VisibilityMode::Veach, 0.0), "");
+  EXPECT_EQ(epsilon_bias_warning(VisibilityMode::Conservative, 0.0), "");
+}
+
 TEST(ManylightVisibilityEstimate, TracedValueMatchesEq8) {
   EXPECT_DOUBLE_EQ(visibility_estimate(false, 1.0, 0.8, 0.5), (1.0 - 0.4) / 0.5);
   EXPECT_DOUBLE_EQ(visibility_estimate(false, 0.0, 0.8, 0.5), -0.8);
