@@ -2,7 +2,6 @@
 #include "rayscout/manylight/manylight_integrator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -12,13 +11,12 @@
 
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/output_path.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/image/image.h"
 #include "rayscout/manylight/manylight_renderer.h"
 
 namespace rayscout {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 class ManylightIntegrator final : public Integrator {
  public:
@@ -26,7 +24,7 @@ class ManylightIntegrator final : public Integrator {
   std::string name() const override { return "manylight"; }
 
   Image render(const Scene& scene, const Accelerator& accel, const RenderConfig& rc, RenderStats* stats) const override {
-    const auto start = Clock::now();
+    const auto start = SteadyClock::now();
     ManylightConfig config = o_.config;
     config.width = rc.width;
     config.height = rc.height;
@@ -79,7 +77,7 @@ class ManylightIntegrator final : public Integrator {
                  records.back().rmse >= 0 ? fmt::format(", RMSE {:.6g}", records.back().rmse) : std::string());
     }
     if (stats) {
-      stats->total_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      stats->total_ms = ms_since(start);
       stats->shading_ms = stats->total_ms;
     }
     return image;

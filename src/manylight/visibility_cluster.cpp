@@ -3,12 +3,12 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/discrete_distribution.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/brdf.h"
 #include "rng.h"
 
@@ -17,11 +17,6 @@ namespace rayscout {
 namespace {
 
 using Feature = std::array<float, 6>;
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 int ceil_log2(int n) {
   int d = 0;
@@ -100,7 +95,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
                                              std::span<const ShadingPoint> points,
                                              const VplSet& vpls, const ManylightConfig& config) {
   VisibilityClusters vc;
-  auto t0 = Clock::now();
+  auto t0 = SteadyClock::now();
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
 
@@ -127,7 +122,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   vc.lights = cluster_points(pos, nrm, diag, config.normal_weight, config.vpl_clusters);
   vc.cluster_ms = ms_since(t0);
 
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   const size_t ns = vc.shading.size(), nl = vc.lights.size();
   const size_t pairs = ns * nl;
   std::vector<double> sum_t(pairs, 0.0);
@@ -223,7 +218,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   }
   vc.visibility_ms = ms_since(t0);
 
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   vc.pmf.assign(pairs, 0.0f);
   vc.cdf.assign(pairs, 0.0f);
   const double n_vpl = double(vpls.vpls.size());

@@ -2,8 +2,8 @@
 #include "rayscout/manylight/vpl.h"
 
 #include <algorithm>
-#include <chrono>
 
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/brdf.h"
 #include "rng.h"
 
@@ -140,7 +140,7 @@ bool extend_path(const Scene& scene, const ManylightConfig& config, float offset
 }  // namespace
 
 VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const ManylightConfig& config) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   VplSet out;
   const std::vector<LightSource> lights = light_sources(scene);
   if (lights.empty() || config.vpl_count == 0) return out;
@@ -200,7 +200,7 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   }
   const float inv = 1.0f / float(out.light_paths);
   for (auto& v : out.vpls) v.power *= inv;
-  out.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  out.build_ms = ms_since(start);
   return out;
 }
 
