@@ -1,4 +1,93 @@
-// Options of `rayscout render --integrator manylight`: everything is inline in manylight_options.h
-// (the CLI compiles only cmd_*.cpp; integrators.cpp includes the header). This unit only checks
-// that the header compiles on its own when a build lists it.
+// Options of `rayscout render --integrator manylight`: parsed into statics that
+// make_manylight_cli_integrator() reads after parsing.
 #include "manylight_options.h"
+
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "rayscout/manylight/probabilistic_visibility.h"
+
+namespace rayscout::cli {
+namespace {
+
+/// The manylight options as parsed.
+ManylightRunOptions& parsed_options() {
+  static ManylightRunOptions options;
+  return options;
+}
+
+/// The --visibility string as parsed.
+std::string& parsed_visibility() {
+  static std::string visibility = "proposed";
+  return visibility;
+}
+
+/// The --costs values as parsed (microseconds per VPL sample with / without its shadow ray).
+std::vector<double>& parsed_costs() {
+  static std::vector<double> costs;
+  return costs;
+}
+
+}  // namespace
+
+const ManylightRunOptions& manylight_cli_options() { return parsed_options(); }
+
+void add_manylight_options(CLI::App& cmd) {
+  ManylightRunOptions& o = parsed_options();
+  ManylightConfig& c = o.config;
+  cmd.add_option("--vpls", c.vpl_count, "manylight: VPLs to make, at least this many (whole light paths are kept, so a few more)")
+      ->capture_default_str()
+      ->transform(in_range<size_t>(1, 4294967295));
+  cmd.add_option("--visibility", parsed_visibility(), "manylight: exact, veach, conservative or proposed")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"exact", "veach", "conservative", "proposed"}));
+  cmd.add_option("--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)")
+      ->capture_default_str()
+      ->transform(in_range(0.0));
+  cmd.add_option("--passes", o.passes, "manylight: passes when there is no time budget")
+      ->capture_default_str()
+      ->transform(in_range<size_t>(1));
+  cmd.add_option("--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass")
+      ->capture_default_str()
+      ->transform(in_range(1));
+  cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass");
+  cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)");
+  cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)");
+  cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
+  cmd.add_option("--clamp-distance", c.clamp_distance, "manylight: geometry-term clamp distance (0 = off)")
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
+  cmd.add_option("--shading-clusters", c.shading_clusters, "manylight: shading-point clusters")
+      ->capture_default_str()
+      ->transform(in_range(1));
+  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters")->capture_default_str()->transform(in_range(1));
+  cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")
+      ->capture_default_str()
+      ->transform(in_range(1));
+  cmd.add_flag("--cpu-clock", c.cpu_clock, "manylight: time budget and calibration in process CPU time");
+  cmd.add_option("--costs", parsed_costs(),
+                 "manylight: EVAL,SKIP microseconds per VPL sample with / without its shadow ray, instead of "
+                 "measuring them (a run prints both); fixed costs make the skipping modes repeatable")
+      ->expected(2)
+      ->delimiter(',')
+      ->transform(in_range(0.001));
+}
+
+std::unique_ptr<Integrator> make_manylight_cli_integrator() {
+  ManylightRunOptions o = parsed_options();
+  o.config.mode = parse_visibility_mode(parsed_visibility());
+  if (const auto& costs = parsed_costs(); costs.size() == 2) {
+    o.config.t_eval = costs[0] * 1e-6;
+    o.config.t_skip = costs[1] * 1e-6;
+  }
+  if (const std::string w = epsilon_bias_warning(o.config.mode, o.config.epsilon); !w.empty())
+    fmt::print(stderr, "rayscout: warning: {}\n", w);
+  return make_manylight_integrator(o);
+}
+
+}  // namespace rayscout::cli

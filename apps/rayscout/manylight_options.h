@@ -1,89 +1,23 @@
-// Options of `rayscout render --integrator manylight` (VPLs, visibility mode, time budget, RMSE log).
-// Header-only (inline) so that the CLI needs no build change: integrators.cpp includes it.
+// Options of `rayscout render --integrator manylight` (VPLs, visibility mode, time budget, RMSE
+// log): cmd_render.cpp adds them to its option group, integrators.cpp builds the integrator.
 #pragma once
 
 #include <memory>
-#include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include "commands.h"
 #include "rayscout/manylight/manylight_integrator.h"
 
 namespace rayscout::cli {
 
-/// The manylight options as parsed; read by make_manylight_cli_integrator() after parsing.
-inline ManylightRunOptions& manylight_cli_options() {
-  static ManylightRunOptions options;
-  return options;
-}
-
-/// The --visibility string as parsed.
-inline std::string& manylight_cli_visibility() {
-  static std::string visibility = "proposed";
-  return visibility;
-}
-
-/// The --costs values as parsed (microseconds per VPL sample with / without its shadow ray).
-inline std::vector<double>& manylight_cli_costs() {
-  static std::vector<double> costs;
-  return costs;
-}
-
 /// Adds the manylight options to `rayscout render` (called from cmd_render.cpp's hook).
-inline void add_manylight_options(CLI::App& cmd) {
-  ManylightRunOptions& o = manylight_cli_options();
-  ManylightConfig& c = o.config;
-  cmd.add_option("--vpls", c.vpl_count, "manylight: VPLs to make, at least this many (whole light paths are kept, so a few more)")
-      ->capture_default_str()
-      ->transform(in_range<size_t>(1, 4294967295));
-  cmd.add_option("--visibility", manylight_cli_visibility(), "manylight: exact, veach, conservative or proposed")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"exact", "veach", "conservative", "proposed"}));
-  cmd.add_option("--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)")
-      ->capture_default_str()
-      ->transform(in_range(0.0));
-  cmd.add_option("--passes", o.passes, "manylight: passes when there is no time budget")
-      ->capture_default_str()
-      ->transform(in_range<size_t>(1));
-  cmd.add_option("--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass")
-      ->capture_default_str()
-      ->transform(in_range(1));
-  cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass");
-  cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)");
-  cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)");
-  cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
-  cmd.add_option("--clamp-distance", c.clamp_distance, "manylight: geometry-term clamp distance (0 = off)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
-  cmd.add_option("--shading-clusters", c.shading_clusters, "manylight: shading-point clusters")
-      ->capture_default_str()
-      ->transform(in_range(1));
-  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters")->capture_default_str()->transform(in_range(1));
-  cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")
-      ->capture_default_str()
-      ->transform(in_range(1));
-  cmd.add_flag("--cpu-clock", c.cpu_clock, "manylight: time budget and calibration in process CPU time");
-  cmd.add_option("--costs", manylight_cli_costs(),
-                 "manylight: EVAL,SKIP microseconds per VPL sample with / without its shadow ray, instead of "
-                 "measuring them (a run prints both); fixed costs make the skipping modes repeatable")
-      ->expected(2)
-      ->delimiter(',')
-      ->transform(in_range(0.001));
-}
+void add_manylight_options(CLI::App& cmd);
 
-/// The integrator of the table entry "manylight", configured by the parsed options.
-inline std::unique_ptr<Integrator> make_manylight_cli_integrator() {
-  ManylightRunOptions o = manylight_cli_options();
-  o.config.mode = parse_visibility_mode(manylight_cli_visibility());
-  if (const auto& costs = manylight_cli_costs(); costs.size() == 2) {
-    o.config.t_eval = costs[0] * 1e-6;
-    o.config.t_skip = costs[1] * 1e-6;
-  }
-  return make_manylight_integrator(o);
-}
+/// The manylight options as parsed (width, height, spp and seed come from RenderConfig).
+const ManylightRunOptions& manylight_cli_options();
+
+/// The integrator of the table entry "manylight", configured by the parsed options; warns
+/// (stderr) about a biased configuration (epsilon_bias_warning).
+std::unique_ptr<Integrator> make_manylight_cli_integrator();
 
 }  // namespace rayscout::cli
