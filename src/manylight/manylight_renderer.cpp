@@ -45,6 +45,16 @@ std::string to_string(VisibilityMode mode) {
   return "?";
 }
 
+namespace {
+/// What became of one slot of a round's sample buffer.
+enum class SampleState : uint8_t {
+  Empty,             ///< no point in this slot this round
+  ZeroContribution,  ///< t = 0: V~ is irrelevant, no ray (exact, not a skip)
+  Skipped,           ///< the coin skipped: V~ = r (eq. 8)
+  Traced,            ///< the shadow ray is in the round's batch: V~ = (v - r q) / (1 - q)
+};
+}  // namespace
+
 /// One VPL sample in a round's buffer.
 struct ManylightRenderer::Sample {
   Vec3 value;         // t / p (colour), before V~
@@ -53,7 +63,7 @@ struct ManylightRenderer::Sample {
   double q = 0;       // the skip coin's probability, exactly as eq. (8)'s weights use it
   uint32_t point = 0;
   uint32_t ray = 0;   // index into the round's ray batch when traced
-  uint8_t state = 0;  // 0 = empty slot, 1 = zero contribution, 2 = skipped, 3 = traced
+  SampleState state = SampleState::Empty;
 };
 
 ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& accel, const ManylightConfig& config)
@@ -168,7 +178,7 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
       const double var = st.variance();
       const float* cdf = &clusters_.cdf[c * nl];
       const float* rr = &clusters_.r[c * nl];
-      for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = 0;
+      for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = SampleState::Empty;
       for (size_t i = b; i < e; ++i) {
         const uint32_t pid = list[i];
         const ShadingPoint& sp = points_[pid];
@@ -183,7 +193,7 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
           const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
           const double p = pmf_cluster / double(members);
           const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
-          if (max_component(t) <= 0.0f) { s.state = 1; s.value = Vec3(0.0f); s.q = 1; s.r = 0; s.lum_t = 0; continue; }
+          if (max_component(t) <= 0.0f) { s.state = SampleState::ZeroContribution; s.value = Vec3(0.0f); s.q = 1; s.r = 0; s.lum_t = 0; continue; }
           s.value = t * float(1.0 / p);
           s.lum_t = luminance(s.value);
           s.r = float(visibility_prediction(config_.mode, rr[l]));
@@ -195,16 +205,17 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
           // skip_coin skips with probability exactly q (q is on its 2^-53 grid), and eq. (8)
           // below weights with the same double q.
           const bool skip = skip_coin(q, rng.bits64());
-          if (skip) { s.state = 2; continue; }
-          s.state = 3;
+          if (skip) { s.state = SampleState::Skipped; continue; }
+          s.state = SampleState::Traced;
           ray_of[c * stride + (i - b) * spp_samples + j] = shadow_ray(sp, vpl, offset_);
         }
       }
     });
     rays.clear();
     for (size_t k = 0; k < samples.size(); ++k) {
-      nonzero += samples[k].state >= 2 ? 1 : 0;
-      if (samples[k].state == 3) { samples[k].ray = uint32_t(rays.size()); rays.push_back(ray_of[k]); }
+      const SampleState state = samples[k].state;
+      nonzero += state == SampleState::Skipped || state == SampleState::Traced ? 1 : 0;
+      if (state == SampleState::Traced) { samples[k].ray = uint32_t(rays.size()); rays.push_back(ray_of[k]); }
     }
     if (!rays.empty()) accel_.occluded(rays, occ);
     rays_traced_ += accumulate ? rays.size() : 0;
@@ -213,17 +224,17 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
       ClusterSampleStats& st = stats_[c];
       for (size_t k = c * stride; k < (c + 1) * stride; ++k) {
         const Sample& s = samples[k];
-        if (s.state == 0) continue;
+        if (s.state == SampleState::Empty) continue;
         double vt = 0;
-        if (s.state == 2) vt = s.r;
-        else if (s.state == 3) vt = visibility_estimate(false, occ[s.ray] ? 0.0 : 1.0, s.r, s.q);
-        if (s.state != 1) st.add(s.q, s.lum_t * vt);
+        if (s.state == SampleState::Skipped) vt = s.r;
+        else if (s.state == SampleState::Traced) vt = visibility_estimate(false, occ[s.ray] ? 0.0 : 1.0, s.r, s.q);
+        if (s.state != SampleState::ZeroContribution) st.add(s.q, s.lum_t * vt);
         else st.add(1.0, 0.0);
         if (!accumulate) continue;
         point_sum_[s.point] += s.value * float(vt / spp_samples);
-        if (s.state != 1) {
+        if (s.state != SampleState::ZeroContribution) {
           point_samples_[s.point]++;
-          point_skipped_[s.point] += s.state == 2 ? 1u : 0u;
+          point_skipped_[s.point] += s.state == SampleState::Skipped ? 1u : 0u;
         }
       }
     });
