@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/input_error.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
 #include "rng.h"
 
 namespace rayscout {
@@ -195,12 +195,12 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
           const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
           if (max_component(t) <= 0.0f) { s.state = SampleState::ZeroContribution; s.value = Vec3(0.0f); s.q = 1; s.r = 0; s.lum_t = 0; continue; }
           s.value = t * float(1.0 / p);
-          s.lum_t = luminance(s.value);
+          s.lum_t = channel_mean(s.value);
           s.r = float(visibility_prediction(config_.mode, rr[l]));
           double q = 0;
           if (forced == Forced::One) q = 1;
           else if (forced == Forced::None)
-            q = skip_probability(config_.mode, luminance(t), p, s.r, th, var, config_.epsilon);
+            q = skip_probability(config_.mode, channel_mean(t), p, s.r, th, var, config_.epsilon);
           s.q = q;
           // skip_coin skips with probability exactly q (q is on its 2^-53 grid), and eq. (8)
           // below weights with the same double q.

@@ -2,7 +2,7 @@
 #include "rayscout/manylight/shading_points.h"
 
 #include "rayscout/core/input_error.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/render/surface.h"
 #include "rng.h"
 
 namespace rayscout {

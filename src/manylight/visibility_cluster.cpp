@@ -9,7 +9,8 @@
 
 #include "rayscout/core/discrete_distribution.h"
 #include "rayscout/core/stopwatch.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
+#include "rayscout/render/bsdf.h"
 #include "rng.h"
 
 namespace rayscout {
@@ -145,7 +146,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
             const auto& sp = points[vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))]];
             const auto& vpl = vpls.vpls[vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))]];
             const size_t slot = (k - c0) * count + j;
-            lum[slot] = luminance(tentative_contribution(scene, sp, vpl, config.clamp_distance));
+            lum[slot] = channel_mean(tentative_contribution(scene, sp, vpl, config.clamp_distance));
             ray_of[slot] = shadow_ray(sp, vpl, offset);
           }
         }
@@ -181,7 +182,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
       for (int j = 0; j < config.contribution_samples; ++j) {
         const auto& sp = points[vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))]];
         const auto& vpl = vpls.vpls[vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))]];
-        sum += luminance(tentative_contribution(scene, sp, vpl, config.clamp_distance));
+        sum += channel_mean(tentative_contribution(scene, sp, vpl, config.clamp_distance));
       }
       sum_t[pid] += sum;
       n_t[pid] += uint32_t(config.contribution_samples);

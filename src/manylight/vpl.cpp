@@ -2,14 +2,20 @@
 #include "rayscout/manylight/vpl.h"
 
 #include <algorithm>
+#include <numbers>
 
 #include "rayscout/core/stopwatch.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
+#include "rayscout/render/bsdf.h"
 #include "rng.h"
 
 namespace rayscout {
 
 using manylight_detail::Rng;
+
+namespace {
+constexpr float kPi = std::numbers::pi_v<float>;
+}  // namespace
 
 Vec3 vpl_intensity(const Vpl& vpl, const Scene& scene, const Vec3& w) {
   switch (vpl.kind) {
@@ -45,12 +51,12 @@ std::vector<LightSource> light_sources(const Scene& scene) {
   std::vector<LightSource> lights;
   for (uint32_t i = 0; i < scene.point_lights.size(); ++i) {
     // A dark light would get probability 0 (or, alone, divide the cdf by 0: NaN VPLs).
-    const float p = 4.0f * kPi * luminance(scene.point_lights[i].intensity);
+    const float p = 4.0f * kPi * channel_mean(scene.point_lights[i].intensity);
     if (p > 0) lights.push_back({true, i, p});
   }
   for (uint32_t id : scene.emissive_triangles) {
     // One-sided emitters (the side of the geometric normal, as in the render module): pi Le A.
-    const float p = kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
+    const float p = kPi * channel_mean(scene.material_of(id).emission) * scene.triangles[id].area();
     if (p > 0) lights.push_back({false, id, p});
   }
   return lights;

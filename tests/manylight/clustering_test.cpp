@@ -3,10 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "rayscout/accelerators.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/manylight_renderer.h"
 #include "rayscout/manylight/visibility_cluster.h"
 #include "rayscout/manylight/vpl.h"
@@ -58,12 +59,12 @@ TEST(ManylightVpls, PowerIsConservedAndPathsAreCounted) {
   ASSERT_GT(set.light_paths, 0u);
   // The path starts carry the lights' total power (point: 4 pi I; one-sided area: pi Le A).
   double expected = 0, got = 0;
-  for (const auto& pl : scene.point_lights) expected += 4 * kPi * luminance(pl.intensity);
+  for (const auto& pl : scene.point_lights) expected += 4 * std::numbers::pi_v<float> * channel_mean(pl.intensity);
   for (uint32_t id : scene.emissive_triangles)
-    expected += kPi * luminance(scene.material_of(id).emission) * scene.triangles[id].area();
+    expected += std::numbers::pi_v<float> * channel_mean(scene.material_of(id).emission) * scene.triangles[id].area();
   for (const auto& v : set.vpls) {
-    if (v.kind == Vpl::Kind::Point) got += 4 * kPi * luminance(v.power);
-    if (v.kind == Vpl::Kind::Emitter) got += luminance(v.power);
+    if (v.kind == Vpl::Kind::Point) got += 4 * std::numbers::pi_v<float> * channel_mean(v.power);
+    if (v.kind == Vpl::Kind::Emitter) got += channel_mean(v.power);
   }
   EXPECT_NEAR(got, expected, 1e-3 * expected);
   size_t surface = std::count_if(set.vpls.begin(), set.vpls.end(), [](const Vpl& v) { return v.kind == Vpl::Kind::Surface; });
@@ -97,7 +98,7 @@ TEST(ManylightVpls, DarkPointLightsAreNeverChosen) {
   for (const Vpl& v : set.vpls) {
     ASSERT_TRUE(is_finite(v.power));
     if (v.kind == Vpl::Kind::Point) {
-      EXPECT_GT(luminance(v.power), 0.0f);
+      EXPECT_GT(channel_mean(v.power), 0.0f);
     }
   }
   scene.emissive_triangles.clear();

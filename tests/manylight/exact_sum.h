@@ -5,7 +5,8 @@
 #include <vector>
 
 #include "rayscout/core/accelerator.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
+#include "rayscout/render/bsdf.h"
 #include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/visibility_cluster.h"
 #include "rayscout/manylight/vpl.h"

@@ -10,7 +10,7 @@
 #include "exact_sum.h"
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/vpl.h"
 #include "rayscout/render/renderer.h"
@@ -32,7 +32,7 @@ MeanSe mean_se(const std::vector<double>& v) {
 
 double image_mean(const std::vector<Vec3>& img) {
   double sum = 0;
-  for (const Vec3& p : img) sum += luminance(p);
+  for (const Vec3& p : img) sum += channel_mean(p);
   return sum / double(img.size());
 }
 

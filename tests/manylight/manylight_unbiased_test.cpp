@@ -7,7 +7,7 @@
 #include "exact_sum.h"
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
-#include "rayscout/manylight/brdf.h"
+#include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/manylight_renderer.h"
 #include "rayscout/scene/load_scene.h"
 
@@ -45,7 +45,7 @@ std::vector<double> regions(const std::vector<Vec3>& img, int w, int h) {
   const int bw = 8, nx = w / bw, ny = h / bw;
   std::vector<double> out(size_t(nx) * ny, 0.0);
   for (int y = 0; y < ny * bw; ++y)
-    for (int x = 0; x < nx * bw; ++x) out[(y / bw) * nx + x / bw] += luminance(img[size_t(y) * w + x]) / (bw * bw);
+    for (int x = 0; x < nx * bw; ++x) out[(y / bw) * nx + x / bw] += channel_mean(img[size_t(y) * w + x]) / (bw * bw);
   return out;
 }
 
@@ -86,7 +86,7 @@ Scene glossy_cornell_box() {
 
 double image_mean(const std::vector<Vec3>& img) {
   double sum = 0;
-  for (const Vec3& p : img) sum += luminance(p);
+  for (const Vec3& p : img) sum += channel_mean(p);
   return sum / double(img.size());
 }
 
@@ -213,7 +213,7 @@ TEST_F(ManylightUnbiased, ExactModeConvergesPerPixelToTheSum) {
   const double early = records[records.size() / 4 - 1].rmse, late = records.back().rmse;
   EXPECT_LT(late, 0.7 * early) << "early " << early << " late " << late;
   double ref_rms = 0;
-  for (const Vec3& v : ref) ref_rms += luminance(v) * luminance(v);
+  for (const Vec3& v : ref) ref_rms += channel_mean(v) * channel_mean(v);
   ref_rms = std::sqrt(ref_rms / ref.size());
   EXPECT_LT(late, 0.1 * ref_rms);
 }
