@@ -176,7 +176,7 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
       const ClusterSampleStats& st = stats_[c];
       const double th = t_hat(t_hat_base_eval, t_hat_base_skip, st.mean_q());
       const double var = st.variance();
-      const float* cdf = &clusters_.cdf[c * nl];
+      const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
       const float* rr = &clusters_.r[c * nl];
       for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = SampleState::Empty;
       for (size_t i = b; i < e; ++i) {
@@ -186,9 +186,8 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
           manylight_detail::Rng rng(seed_ + passes_ * kGolden64, pid, uint64_t(j) | (uint64_t(forced) << 32));
           Sample& s = samples[c * stride + (i - b) * spp_samples + j];
           s.point = pid;
-          const float u = rng.uniform();
-          const size_t l = std::min(size_t(std::upper_bound(cdf, cdf + nl, u) - cdf), nl - 1);
-          const double pmf_cluster = double(cdf[l]) - (l ? double(cdf[l - 1]) : 0.0);
+          const size_t l = cluster_choice.sample_bits(rng.bits64());
+          const double pmf_cluster = cluster_choice.probability(l);
           const uint32_t members = clusters_.lights.count(l);
           const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
           const double p = pmf_cluster / double(members);

@@ -30,7 +30,6 @@ class Rng {
   uint64_t bits64() { const uint64_t high = next(); return (high << 32) | next(); }
   /// Uniform in [0, 1).
   float uniform() { return float(next() >> 8) * (1.0f / 16777216.0f); }
-  double uniform_double() { return double(next()) * (1.0 / 4294967296.0); }
   /// Uniform integer in [0, n).
   uint32_t below(uint32_t n) { return uint32_t((uint64_t(next()) * n) >> 32); }
 

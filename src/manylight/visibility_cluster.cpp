@@ -220,8 +220,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   vc.visibility_ms = ms_since(t0);
 
   t0 = SteadyClock::now();
-  vc.pmf.assign(pairs, 0.0f);
-  vc.cdf.assign(pairs, 0.0f);
+  vc.vpl_cluster_choice.resize(ns);
   const double n_vpl = double(vpls.vpls.size());
   const double mix = std::clamp(double(config.uniform_mix), 0.0, 1.0);
   tbb::parallel_for(size_t(0), ns, [&](size_t s) {
@@ -232,14 +231,9 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
       const double uniform = double(vc.lights.count(l)) / n_vpl;
       p[l] = row > 0 ? (1.0 - mix) * weight[s * nl + l] / row + mix * uniform : uniform;
     }
-    // The renderer draws u on the 2^-24 grid (Rng::uniform) and chooses the first cluster with
-    // u < cdf: quantised to that grid, each CDF step is exactly the probability of the choice
-    // (floats hold k 2^-24 exactly), and every cluster keeps at least one step.
-    const DiscreteDistribution d(p, 24);
-    for (size_t l = 0; l < nl; ++l) {
-      vc.pmf[s * nl + l] = float(d.probability(l));
-      vc.cdf[s * nl + l] = std::ldexp(float(d.cdf(l)), -24);
-    }
+    // Integer ranges of 53 random bits: the reported probability is the chance of the choice,
+    // and every cluster keeps at least one unit (p > 0 for every VPL: unbiased).
+    vc.vpl_cluster_choice[s] = DiscreteDistribution(p, 53);
   });
   if (config.override_r >= 0.0f && config.override_r <= 1.0f) std::fill(vc.r.begin(), vc.r.end(), config.override_r);
   vc.pmf_ms = ms_since(t0);

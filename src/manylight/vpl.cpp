@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <numbers>
 
+#include "rayscout/core/discrete_distribution.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/render/bsdf.h"
@@ -150,10 +151,10 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   VplSet out;
   const std::vector<LightSource> lights = light_sources(scene);
   if (lights.empty() || config.vpl_count == 0) return out;
-  std::vector<double> cdf(lights.size());
-  double total = 0;
-  for (size_t i = 0; i < lights.size(); ++i) cdf[i] = (total += lights[i].power);
-  for (auto& c : cdf) c /= total;
+  std::vector<double> powers(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) powers[i] = lights[i].power;
+  // Integer ranges of 53 random bits: pdf is exactly the chance of choosing the light.
+  const DiscreteDistribution light_choice(powers, 53);
 
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
@@ -171,9 +172,8 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
     for (size_t k = 0; k < batch_paths; ++k) {
       const uint32_t path = uint32_t(out.light_paths + k);
       Rng rng(config.seed, 0x11A7, path);
-      const double u = rng.uniform_double();
-      const size_t li = std::min(size_t(std::lower_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), lights.size() - 1);
-      const double pdf = (cdf[li] - (li ? cdf[li - 1] : 0.0));
+      const size_t li = light_choice.sample_bits(rng.bits64());
+      const double pdf = light_choice.probability(li);
       const PathStart s = start_path(scene, lights[li], pdf, offset, rng);
       out.vpls.push_back(s.vpl);
       if (config.max_vpl_bounces > 0) {

@@ -122,27 +122,21 @@ TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
   ASSERT_EQ(nl, 16u);
   bool some_occluded = false, some_visible = false;
   for (size_t s = 0; s < vc.shading.size(); ++s) {
+    const DiscreteDistribution& choice = vc.vpl_cluster_choice[s];
+    ASSERT_EQ(choice.size(), nl);
     double sum = 0;
     for (size_t l = 0; l < nl; ++l) {
-      EXPECT_GT(vc.pmf[s * nl + l], 0.0f);
-      sum += vc.pmf[s * nl + l];
+      EXPECT_GT(choice.probability(l), 0.0);
+      sum += choice.probability(l);
       const float r = vc.r[s * nl + l];
       EXPECT_GE(r, 0.0f);
       EXPECT_LE(r, 1.0f);
       some_occluded |= r < 1.0f;
       some_visible |= r > 0.0f;
     }
-    EXPECT_NEAR(sum, 1.0, 1e-5);
-    EXPECT_FLOAT_EQ(vc.cdf[s * nl + nl - 1], 1.0f);
-    // The renderer's u is k 2^-24 (k uniform) and picks the first l with u < cdf[l]: that is
-    // exact only when every CDF entry is on the same grid; then pmf is the number of k in
-    // [cdf[l - 1], cdf[l]) times 2^-24, the weight the renderer divides by.
-    for (size_t l = 0; l < nl; ++l) {
-      const double hi = std::ldexp(double(vc.cdf[s * nl + l]), 24), lo = l ? std::ldexp(double(vc.cdf[s * nl + l - 1]), 24) : 0.0;
-      ASSERT_EQ(hi, std::floor(hi)) << s << " " << l << ": cdf off the 2^-24 grid";
-      ASSERT_GE(hi - lo, 1.0);
-      ASSERT_EQ(double(vc.pmf[s * nl + l]), std::ldexp(hi - lo, -24));
-    }
+    // Integer ranges of 2^53 units: the probabilities (the renderer's weights) sum to 1 exactly.
+    EXPECT_EQ(sum, 1.0);
+    EXPECT_EQ(choice.bits(), 53);
   }
   EXPECT_TRUE(some_occluded);
   EXPECT_TRUE(some_visible);

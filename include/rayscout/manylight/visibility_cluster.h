@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rayscout/core/accelerator.h"
+#include "rayscout/core/discrete_distribution.h"
 #include "rayscout/manylight/config.h"
 #include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/vpl.h"
@@ -26,19 +27,17 @@ struct Clustering {
 Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3> normals,
                           float diagonal, float normal_weight, int clusters);
 
-/// Everything sampling needs: clusters, r per pair, and per shading cluster a CDF over VPL
-/// clusters proportional to (1 - uniform_mix) C r' + uniform_mix |V| / N, where C is the
+/// Everything sampling needs: clusters, r per pair, and per shading cluster a distribution over
+/// VPL clusters proportional to (1 - uniform_mix) C r' + uniform_mix |V| / N, where C is the
 /// estimated unoccluded contribution of the VPL cluster and r' = max(r, r_floor).
 struct VisibilityClusters {
   Clustering shading;               ///< over shading points (invalid points excluded)
   Clustering lights;                ///< over VPLs
   std::vector<uint32_t> shading_cluster_of;  ///< per shading point; kNoCluster for invalid ones
   std::vector<float> r;             ///< [s * lights.size() + v]: estimated average visibility
-  /// [s * lights.size() + v]: probability of VPL cluster v, a multiple of 2^-24 (at least one)
-  std::vector<float> pmf;
-  /// [s * lights.size() + v]: inclusive prefix sums of pmf, on the 2^-24 grid of the renderer's
-  /// u, so the first v with u < cdf is chosen with probability exactly pmf
-  std::vector<float> cdf;
+  /// [s]: the choice of a VPL cluster for the points of shading cluster s, on a 2^-53 grid:
+  /// sample_bits() picks v with probability exactly probability(v), the weight the renderer uses
+  std::vector<DiscreteDistribution> vpl_cluster_choice;
   size_t shadow_rays = 0;           ///< rays traced to estimate r (incl. refinement)
   size_t refined_pairs = 0;
   double cluster_ms = 0.0, visibility_ms = 0.0, pmf_ms = 0.0;
