@@ -1,4 +1,6 @@
 // VisibilityCluster: clustering, cluster-pair visibility and the VPL-cluster distributions.
+// After Wu & Chuang 2013 (ref. [5] of Nabata & Iwasaki 2019; the paper's sec. 3 and fig. 1(a)-(c)
+// use it); where ours differs, docs/manylight.md (VisibilityCluster, Parameters) says so.
 #include "rayscout/manylight/visibility_cluster.h"
 
 #include <algorithm>
@@ -19,6 +21,8 @@ namespace {
 
 using Feature = std::array<float, 6>;
 
+// rayscout's clustering (docs/manylight.md, VisibilityCluster): recursive median bisection of
+// 6-D features, a simplification of Wu & Chuang's clustering.
 int ceil_log2(int n) {
   int d = 0;
   while ((1 << d) < n) ++d;
@@ -68,6 +72,7 @@ Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3>
   return c;
 }
 
+// t_i = I f_r G of the paper's sec. 2.2 (eq. 1 without V), with rayscout's optional G clamp.
 Vec3 tentative_contribution(const Scene& scene, const ShadingPoint& sp, const Vpl& vpl, float clamp_distance) {
   const Vec3 d = vpl.position - sp.position;
   const float dist2 = dot(d, d);
@@ -96,6 +101,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
                                              std::span<const ShadingPoint> points,
                                              const VplSet& vpls, const ManylightConfig& config) {
   VisibilityClusters vc;
+  // Fig. 1(a): cluster the shading points and the VPLs.
   auto t0 = SteadyClock::now();
   const float diag = length(scene.bounds().diagonal());
   const float offset = 1e-4f * diag;
@@ -123,6 +129,8 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   vc.lights = cluster_points(pos, nrm, diag, config.normal_weight, config.vpl_clusters);
   vc.cluster_ms = ms_since(t0);
 
+  // Fig. 1(b), sec. 3: the average visibility r of every cluster pair from a few member pairs'
+  // shadow rays (Wu & Chuang 2013).
   t0 = SteadyClock::now();
   const size_t ns = vc.shading.size(), nl = vc.lights.size();
   const size_t pairs = ns * nl;
@@ -172,6 +180,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
       }
     }
   };
+  // rayscout addition (docs/manylight.md, VisibilityCluster: contribution_samples).
   // Contributions need no rays: estimate them from many more member pairs than visibility,
   // so that a VPL cluster is rarely left at the uniform floor while some members matter.
   if (config.contribution_samples > 0)
@@ -193,6 +202,8 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
 
   vc.r.assign(pairs, 0.5f);
   std::vector<float> weight(pairs, 0.0f);
+  // A pair's sampling weight C max(r, r_floor): the cluster's unoccluded contribution times its
+  // visibility (sec. 3), floored by rayscout's r_floor (docs/manylight.md, pmf).
   auto update = [&](size_t pid) {
     // Unknown (no pair faced each other): r = 0.5, the most uncertain prediction.
     vc.r[pid] = n_traced[pid] ? float(n_vis[pid]) / float(n_traced[pid]) : 0.5f;
@@ -201,6 +212,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   };
   for (size_t pid = 0; pid < pairs; ++pid) update(pid);
   if (config.refine_samples > 0) {
+    // rayscout's simplified stand-in for Wu & Chuang's refinement (docs/manylight.md, Refinement).
     // Refine pairs whose visibility is mixed and that carry an above-average share of their
     // row: only there does a better r change the pdf or the skip probability much.
     std::vector<uint32_t> refine;
@@ -219,6 +231,8 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   }
   vc.visibility_ms = ms_since(t0);
 
+  // Fig. 1(c): the distribution over VPL clusters, here per shading cluster (the paper: per
+  // shading point) with rayscout's r_floor and uniform_mix floors (docs/manylight.md, pmf).
   t0 = SteadyClock::now();
   vc.vpl_cluster_choice.resize(ns);
   const double n_vpl = double(vpls.vpls.size());
