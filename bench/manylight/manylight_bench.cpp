@@ -146,17 +146,17 @@ int main(int argc, char** argv) {
         r.reset(VisibilityMode::Exact);
         r.set_seed(0xFEF0 + uint64_t(h));
         r.render_for(ref_seconds / 2, {});
-        half[h] = r.image();
+        half[h] = r.image().pixels;
       }
-      std::vector<Vec3> ref(half[0].size());
+      Image ref(o.width, o.height);
       double mse_ref = 0;
-      for (size_t i = 0; i < ref.size(); ++i) {
-        ref[i] = (half[0][i] + half[1][i]) * 0.5f;
+      for (size_t i = 0; i < ref.pixels.size(); ++i) {
+        ref.pixels[i] = (half[0][i] + half[1][i]) * 0.5f;
         const Vec3 d = half[0][i] - half[1][i];
-        mse_ref += (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / (4.0 * 3.0 * double(ref.size()));
+        mse_ref += (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / (4.0 * 3.0 * double(ref.pixels.size()));
       }
-      write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
-      write_image(to_image(ref, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
+      write_image(to_image(ref.pixels, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
+      write_image(to_image(ref.pixels, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
 
       // Modes interleaved within each repetition, so a change of machine load hits all of them.
       std::map<VisibilityMode, std::vector<std::vector<ProgressRecord>>> runs;
@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
           runs[modes[m]].push_back(o.equal_passes > 0 ? r.render_for(1e300, ref, size_t(o.equal_passes))
                                                       : r.render_for(o.budget, ref));
           if (rep > 0) continue;
-          write_image(to_image(r.image(), o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
+          write_image(to_image(r.image().pixels, o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
           if (modes[m] != VisibilityMode::Exact)
             write_image(skip_to_image(r.skip_image(), o.width, o.height),
                         o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");

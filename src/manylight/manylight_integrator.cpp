@@ -30,13 +30,12 @@ class ManylightIntegrator final : public Integrator {
     config.height = rc.height;
     config.spp = rc.spp;
     config.seed = rc.seed;
-    std::vector<Vec3> reference;
+    Image reference;
     if (!o_.reference.empty()) {
-      Image ref = read_image(o_.reference);
-      if (ref.width != rc.width || ref.height != rc.height)
-        throw InputError(fmt::format("--reference {}: {}x{} but rendering {}x{}", o_.reference, ref.width, ref.height,
-                                     rc.width, rc.height));
-      reference = std::move(ref.pixels);
+      reference = read_image(o_.reference);
+      if (reference.width != rc.width || reference.height != rc.height)
+        throw InputError(fmt::format("--reference {}: {}x{} but rendering {}x{}", o_.reference, reference.width,
+                                     reference.height, rc.width, rc.height));
     }
     ManylightRenderer r(scene, accel, config);
     if (config.mode != VisibilityMode::Exact) r.calibrate();
@@ -55,8 +54,7 @@ class ManylightIntegrator final : public Integrator {
     };
     const auto records = r.render_for(o_.time_budget > 0 ? o_.time_budget : 1e300, reference, max_passes,
                                       rc.on_progress ? std::function<void(const ProgressRecord&)>(on_pass) : nullptr);
-    Image image(rc.width, rc.height);
-    image.pixels = r.image();
+    const Image image = r.image();
     if (!o_.skip_image.empty()) {
       write_image(skip_rate_image(r.skip_image(), rc.width, rc.height, o_.skip_image), o_.skip_image);
     }

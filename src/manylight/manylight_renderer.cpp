@@ -241,7 +241,7 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
   return nonzero;
 }
 
-std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, std::span<const Vec3> reference, size_t max_passes,
+std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, const Image& reference, size_t max_passes,
                                                          const std::function<void(const ProgressRecord&)>& on_pass) {
   std::vector<ProgressRecord> records;
   double elapsed = 0;
@@ -253,19 +253,19 @@ std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, std::s
     rec.seconds = elapsed;
     rec.passes = passes_;
     rec.skip_rate = skip_rate();
-    if (!reference.empty()) rec.rmse = rmse(image(), reference);
+    if (!reference.pixels.empty()) rec.rmse = compare_images(image(), reference).rmse;
     records.push_back(rec);
     if (on_pass) on_pass(rec);
   }
   return records;
 }
 
-std::vector<Vec3> ManylightRenderer::image() const {
-  std::vector<Vec3> img(size_t(config_.width) * config_.height, Vec3(0.0f));
+Image ManylightRenderer::image() const {
+  Image img(config_.width, config_.height);
   const float inv = passes_ ? 1.0f / float(passes_) : 0.0f;
   for (size_t p = 0; p < points_.size(); ++p) {
     const ShadingPoint& sp = points_[p];
-    img[sp.pixel] += sp.emitted + sp.weight * point_sum_[p] * inv;
+    img.pixels[sp.pixel] += sp.emitted + sp.weight * point_sum_[p] * inv;
   }
   return img;
 }
@@ -284,17 +284,6 @@ double ManylightRenderer::skip_rate() const {
   uint64_t skipped = 0, total = 0;
   for (size_t p = 0; p < points_.size(); ++p) { skipped += point_skipped_[p]; total += point_samples_[p]; }
   return total ? double(skipped) / double(total) : 0.0;
-}
-
-double rmse(std::span<const Vec3> a, std::span<const Vec3> b) {
-  if (a.size() != b.size()) throw InputError("rmse: image sizes differ");
-  if (a.empty()) return 0.0;
-  double sum = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    const Vec3 d = a[i] - b[i];
-    sum += double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z;
-  }
-  return std::sqrt(sum / (3.0 * double(a.size())));
 }
 
 }  // namespace rayscout

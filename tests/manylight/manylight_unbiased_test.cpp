@@ -58,7 +58,7 @@ double max_z_score(ManylightRenderer& r, VisibilityMode mode, const std::vector<
     r.reset(mode);
     r.set_seed(1000 + uint64_t(k) * 7919);
     for (int p = 0; p < passes; ++p) r.render_pass();
-    const auto reg = regions(r.image(), w, h);
+    const auto reg = regions(r.image().pixels, w, h);
     for (size_t i = 0; i < reg.size(); ++i) { sum[i] += reg[i]; sum2[i] += reg[i] * reg[i]; }
   }
   double worst = 0;
@@ -109,7 +109,7 @@ PairedDifference paired_difference(ManylightRenderer& r, VisibilityMode mode, in
       r.reset(side == 0 ? VisibilityMode::Exact : mode);
       r.set_seed(5000 + uint64_t(k) * 7919);
       for (int p = 0; p < passes; ++p) r.render_pass();
-      means[side] = image_mean(r.image());
+      means[side] = image_mean(r.image().pixels);
     }
     const double d = means[1] - means[0];
     sum += d;
@@ -189,11 +189,11 @@ TEST_F(ManylightUnbiased, ZeroSkipProbabilityEqualsExactBitForBit) {
   ManylightRenderer r(scene_, *accel_, config);
   r.reset(VisibilityMode::Exact);
   for (int p = 0; p < 3; ++p) r.render_pass();
-  const auto exact = r.image();
+  const auto exact = r.image().pixels;
   const uint64_t exact_rays = r.shadow_rays_traced();
   r.reset(VisibilityMode::Proposed);
   for (int p = 0; p < 3; ++p) r.render_pass();
-  const auto proposed = r.image();
+  const auto proposed = r.image().pixels;
   EXPECT_EQ(r.shadow_rays_traced(), exact_rays);
   EXPECT_EQ(r.skip_rate(), 0.0);
   for (size_t i = 0; i < exact.size(); ++i) ASSERT_EQ(exact[i], proposed[i]) << "pixel " << i;
@@ -206,15 +206,16 @@ TEST_F(ManylightUnbiased, ExactModeConvergesPerPixelToTheSum) {
   config.samples_per_pass = 16;
   config.clamp_distance = 0.2f;
   ManylightRenderer r(scene_, *accel_, config);
-  const auto ref = exact_sum(scene_, *accel_, r);
+  Image ref(config.width, config.height);
+  ref.pixels = exact_sum(scene_, *accel_, r);
   r.reset(VisibilityMode::Exact);
   const auto records = r.render_for(1e9, ref, small_scale() ? 16 : 64);
   // Unbiased Monte Carlo: MSE ~ 1 / passes, so 4x the passes halves the RMSE (with slack).
   const double early = records[records.size() / 4 - 1].rmse, late = records.back().rmse;
   EXPECT_LT(late, 0.7 * early) << "early " << early << " late " << late;
   double ref_rms = 0;
-  for (const Vec3& v : ref) ref_rms += channel_mean(v) * channel_mean(v);
-  ref_rms = std::sqrt(ref_rms / ref.size());
+  for (const Vec3& v : ref.pixels) ref_rms += channel_mean(v) * channel_mean(v);
+  ref_rms = std::sqrt(ref_rms / ref.pixels.size());
   EXPECT_LT(late, 0.1 * ref_rms);
 }
 

@@ -4,10 +4,10 @@
 
 #include <cstdint>
 #include <functional>
-#include <span>
 #include <vector>
 
 #include "rayscout/core/accelerator.h"
+#include "rayscout/image/image.h"
 #include "rayscout/manylight/config.h"
 #include "rayscout/manylight/probabilistic_visibility.h"
 #include "rayscout/manylight/shading_points.h"
@@ -55,14 +55,14 @@ class ManylightRenderer {
   /// One pass over every shading point.
   void render_pass();
   /// Passes until `seconds` of rendering have elapsed (at least one, at most max_passes),
-  /// recording RMSE against `reference` (width * height, may be empty) after each pass, and
-  /// handing each record to `on_pass` (if set) as it is made.
-  std::vector<ProgressRecord> render_for(double seconds, std::span<const Vec3> reference,
+  /// recording the RMSE against `reference` (compare_images; an empty Image = none) after each
+  /// pass, and handing each record to `on_pass` (if set) as it is made.
+  std::vector<ProgressRecord> render_for(double seconds, const Image& reference,
                                          size_t max_passes = SIZE_MAX,
                                          const std::function<void(const ProgressRecord&)>& on_pass = {});
 
-  /// Current estimate, width * height RGB (negative values possible, sec. 4.3).
-  std::vector<Vec3> image() const;
+  /// Current estimate, width x height RGB (negative values possible, sec. 4.3).
+  Image image() const;
   /// Per pixel fraction of skipped shadow rays so far (the paper's Fig. 3).
   std::vector<float> skip_image() const;
   double skip_rate() const;
@@ -101,8 +101,5 @@ class ManylightRenderer {
   uint64_t rays_traced_ = 0;
   uint64_t seed_ = 1;
 };
-
-/// Root-mean-square error over pixels and colour channels.
-double rmse(std::span<const Vec3> a, std::span<const Vec3> b);
 
 }  // namespace rayscout
