@@ -146,9 +146,10 @@ TEST_F(ManylightUnbiased, EveryModeConvergesToTheExactSumWithinFourStandardError
 
 // Each skipping mode minus exact, paired by common random numbers, on a glossy scene: the mean
 // difference must be 0 within 4 standard errors. Measured (Release, 120 renders, ~2 s): the SE
-// is 0.14-0.31 % of the image mean, so a bias of ~1 % fails. Planted in eq. (8): dividing by
-// 1 - 0.98 q instead of 1 - q gives veach z = -9.7 here while the unpaired test above passes;
-// dropping the division by 1 - q gives z = -33 to -77.
+// is 0.14-0.29 % of the image mean, so a bias of ~1 % fails. Planted in eq. (8): dividing by
+// 1 - 0.98 q instead of 1 - q gives veach z = -12.2 here while the unpaired test above sits at
+// its threshold (z = 4.04; it passed with the VPL samples before DiscreteDistribution);
+// dropping the division by 1 - q gives z = -36 to -80 (unpaired: 18-42).
 TEST_F(ManylightUnbiased, PairedDifferenceToExactIsZeroOnAGlossyScene) {
   const Scene scene = glossy_cornell_box();
   const auto accel = make_accelerator("brute", scene);
