@@ -157,6 +157,19 @@ TEST(JsonScene, Transforms) {
   expect_near(v2(7), {0, 0, 3});
 }
 
+// A uniform scale commutes with a rotation; a non-uniform one shows the order: the object's
+// own axes are scaled first, then rotated (+90 deg about z: x -> y, y -> -x), then moved.
+TEST(JsonScene, NonUniformScaleIsAppliedBeforeTheRotation) {
+  TempDir dir;
+  dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("t.json", R"({"meshes": [{"file": "tri.obj", "transform":
+      {"translate": [0, 0, 10], "rotate": {"axis": [0, 0, 1], "deg": 90}, "scale": [1, 2, 3]}}]})"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_near(s.triangles[0].v0, {0, 1, 10});   // (1, 0, 0) -> (1, 0, 0) -> (0, 1, 0)
+  expect_near(s.triangles[0].v1, {-2, 0, 10});  // (0, 1, 0) -> (0, 2, 0) -> (-2, 0, 0); rotated first: (-1, 0, 0)
+  expect_near(s.triangles[0].v2, {0, 0, 13});   // (0, 0, 1) -> (0, 0, 3)
+}
+
 // A mirroring transform (negative determinant) would turn faces inside out; corners are
 // swapped so that each face's front, and with it a one-sided area light, faces where it did.
 TEST(JsonScene, MirroringTransformKeepsEachFaceFront) {
