@@ -56,7 +56,9 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
     stack.push({s, d});
     while (!stack.empty()) {
       const Entry e = stack.pop();
-      if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
+      // Closed, like the box test. A box entered at the best t (it may hold an equal-t hit
+      // with a smaller id) passes either way: cull_t lies CullInterval::far's slack beyond it.
+      if (e.dist > cull_t) continue;
       ++steps;
       const Bvh2Node& n = nodes[e.node];
       if (n.is_leaf()) {

@@ -112,7 +112,9 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
   detail::BlockHits bh;
   while (sp != stack_base) {
     Entry e = *--sp;
-    if (e.dist > cull_t) continue;  // not >=: a box entered exactly at t may hold a smaller id
+    // Closed, like the box test. A box entered at the best t (it may hold an equal-t hit
+    // with a smaller id) passes either way: cull_t lies CullInterval::far's slack beyond it.
+    if (e.dist > cull_t) continue;
     for (;;) {
       ++steps;
       if (WideRef::is_leaf(e.ref)) {
