@@ -157,127 +157,157 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
   }
 }
 
-Mesh read_obj(const std::filesystem::path& path) {
-  const std::string data = detail::read_file(path);
-  Mesh mesh;
-  std::vector<Material> library;                       // from mtllib statements
-  std::vector<std::string> used_names;                 // usemtl names in order of first use
-  std::unordered_map<std::string, uint32_t> used_index;
-  uint32_t current = UINT32_MAX;                       // faces before any usemtl: "default"
-  auto material_index = [&](const std::string& name) {
-    auto [it, added] = used_index.emplace(name, uint32_t(used_names.size()));
-    if (added) used_names.push_back(name);
-    return it->second;
-  };
+namespace {
 
-  size_t num_vt = 0, num_vn = 0;
-  MaxRef max_v, max_vt, max_vn;
-  std::vector<uint32_t> poly;
-  mesh.positions.reserve(data.size() / 64);
-  mesh.faces.reserve(data.size() / 64);
+// One OBJ file being read: the mesh so far, the materials in order of first use, and the
+// largest positive indices, which may point forward and are checked at the end of the file.
+class ObjReader {
+ public:
+  explicit ObjReader(const std::filesystem::path& path) : path_(path) {}
 
-  detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* line_end) {
-    if (key == "v") {
-      mesh.positions.push_back(read_vec3(q, line_end, path, line, "vertex"));
-    } else if (key == "vt") {
-      ++num_vt;
-    } else if (key == "vn") {
-      ++num_vn;
-    } else if (key == "f") {
-      poly.clear();
-      for (std::string_view tok = next_token(q, line_end); !tok.empty(); tok = next_token(q, line_end)) {
-        // v, v/vt, v//vn or v/vt/vn
-        std::string_view parts[3];
-        int np = 0;
-        for (size_t i = 0, start = 0;; ++i) {
-          if (i == tok.size() || tok[i] == '/') {
-            if (np == 3) fail_at(path, line, "face vertex '" + std::string(tok) + "' has more than 3 parts");
-            parts[np++] = tok.substr(start, i - start);
-            start = i + 1;
-            if (i == tok.size()) break;
-          }
-        }
-        long long idx;
-        if (!detail::parse_int(parts[0], idx))
-          fail_at(path, line, "face vertex '" + std::string(tok) + "' is not an index");
-        long long v = resolve_index(idx, mesh.positions.size(), path, line, "vertex");
-        max_v.note(v, line);
-        if (v > UINT32_MAX - 1) fail_at(path, line, "face index " + std::to_string(idx) + " too large");
-        poly.push_back(uint32_t(v));
-        const std::string_view kinds[2] = {"texcoord", "normal"};
-        size_t counts[2] = {num_vt, num_vn};
-        MaxRef* maxes[2] = {&max_vt, &max_vn};
-        for (int k = 1; k < np; ++k) {
-          if (parts[k].empty()) {
-            if (k == 1 && np == 3) continue;  // v//vn
-            fail_at(path, line, "face vertex '" + std::string(tok) + "' has an empty index");
-          }
-          if (!detail::parse_int(parts[k], idx))
-            fail_at(path, line, "face vertex '" + std::string(tok) + "' is not an index");
-          maxes[k - 1]->note(resolve_index(idx, counts[k - 1], path, line, kinds[k - 1]), line);
-        }
-      }
-      if (poly.size() < 3)
-        fail_at(path, line, "face with " + std::to_string(poly.size()) + " vertices (at least 3 needed)");
-      if (current == UINT32_MAX) current = material_index("default");
-      for (size_t k = 1; k + 1 < poly.size(); ++k) {
-        mesh.faces.push_back({poly[0], poly[k], poly[k + 1]});
-        mesh.face_materials.push_back(current);
-      }
-    } else if (key == "usemtl") {
-      std::string_view name = detail::rest_trimmed(q, line_end);
-      if (name.empty()) fail_at(path, line, "usemtl without a material name");
-      current = material_index(std::string(name));
-    } else if (key == "mtllib") {
-      std::string_view names = detail::rest_trimmed(q, line_end);
-      if (names.empty()) fail_at(path, line, "mtllib without a file name");
-      // One name that may contain spaces, else several space-separated names.
-      std::vector<std::string> files{std::string(names)};
-      std::error_code ec;
-      if (!std::filesystem::exists(path.parent_path() / files[0], ec)) {
-        files.clear();
-        for (std::string_view t = next_token(q, line_end); !t.empty(); t = next_token(q, line_end))
-          files.emplace_back(t);
-      }
-      for (const auto& f : files) {
-        std::filesystem::path mtl = path.parent_path() / f;
-        if (!std::filesystem::exists(mtl, ec)) {
-          mesh.warnings.push_back(detail::display_name(path) + ":" + std::to_string(line) +
-                                  ": material library '" + f + "' not found; its materials get defaults");
-          continue;
-        }
-        if (std::filesystem::is_directory(mtl, ec))
-          fail_at(path, line, "material library '" + f + "' is a directory, not a file");
-        read_mtl(mtl, library, &mesh.warnings);
+  Mesh read() {
+    const std::string data = detail::read_file(path_);
+    mesh_.positions.reserve(data.size() / 64);
+    mesh_.faces.reserve(data.size() / 64);
+    detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* end) {
+      if (key == "v") mesh_.positions.push_back(read_vec3(q, end, path_, line, "vertex"));
+      else if (key == "vt") ++num_vt_;
+      else if (key == "vn") ++num_vn_;
+      else if (key == "f") face(line, q, end);
+      else if (key == "usemtl") use_material(line, q, end);
+      else if (key == "mtllib") material_libraries(line, q, end);
+      // g, o, s, l, p, vp, ...: not needed for triangles.
+    });
+    check_forward_indices();
+    if (mesh_.faces.empty()) throw InputError(detail::display_name(path_) + ": no faces (empty mesh)");
+    resolve_materials();
+    return std::move(mesh_);
+  }
+
+ private:
+  // f v1 v2 v3 ...: a polygon, fanned into triangles from its first vertex.
+  void face(size_t line, const char* q, const char* end) {
+    poly_.clear();
+    for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end))
+      poly_.push_back(face_vertex(line, tok));
+    if (poly_.size() < 3)
+      fail_at(path_, line, "face with " + std::to_string(poly_.size()) + " vertices (at least 3 needed)");
+    if (current_ == UINT32_MAX) current_ = material_index("default");
+    for (size_t k = 1; k + 1 < poly_.size(); ++k) {
+      mesh_.faces.push_back({poly_[0], poly_[k], poly_[k + 1]});
+      mesh_.face_materials.push_back(current_);
+    }
+  }
+
+  // One face vertex, v, v/vt, v//vn or v/vt/vn: returns the position index; the texcoord and
+  // normal indices are only checked (rayscout uses geometric normals).
+  uint32_t face_vertex(size_t line, std::string_view tok) {
+    std::string_view parts[3];
+    int np = 0;
+    for (size_t i = 0, start = 0;; ++i) {
+      if (i == tok.size() || tok[i] == '/') {
+        if (np == 3) fail_at(path_, line, "face vertex '" + std::string(tok) + "' has more than 3 parts");
+        parts[np++] = tok.substr(start, i - start);
+        start = i + 1;
+        if (i == tok.size()) break;
       }
     }
-    // g, o, s, l, p, vp, ...: not needed for triangles.
-  });
+    long long idx;
+    if (!detail::parse_int(parts[0], idx)) fail_at(path_, line, "face vertex '" + std::string(tok) + "' is not an index");
+    const long long v = resolve_index(idx, mesh_.positions.size(), path_, line, "vertex");
+    max_v_.note(v, line);
+    if (v > UINT32_MAX - 1) fail_at(path_, line, "face index " + std::to_string(idx) + " too large");
+    const std::string_view kinds[2] = {"texcoord", "normal"};
+    const size_t counts[2] = {num_vt_, num_vn_};
+    MaxRef* maxes[2] = {&max_vt_, &max_vn_};
+    for (int k = 1; k < np; ++k) {
+      if (parts[k].empty()) {
+        if (k == 1 && np == 3) continue;  // v//vn
+        fail_at(path_, line, "face vertex '" + std::string(tok) + "' has an empty index");
+      }
+      if (!detail::parse_int(parts[k], idx)) fail_at(path_, line, "face vertex '" + std::string(tok) + "' is not an index");
+      maxes[k - 1]->note(resolve_index(idx, counts[k - 1], path_, line, kinds[k - 1]), line);
+    }
+    return uint32_t(v);
+  }
 
-  auto check_max = [&](const MaxRef& m, size_t count, const char* label, const char* what) {
-    if (m.index >= static_cast<long long>(count))
-      fail_at(path, m.line, std::string(label) + " index " + std::to_string(m.index + 1) + " out of range (" +
-                                std::to_string(count) + " " + (count == 1 ? std::string(what) : plural(what)) + ")");
-  };
-  check_max(max_v, mesh.positions.size(), "face", "vertex");
-  check_max(max_vt, num_vt, "texcoord", "texcoord");
-  check_max(max_vn, num_vn, "normal", "normal");
-  if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no faces (empty mesh)");
+  void use_material(size_t line, const char* q, const char* end) {
+    const std::string_view name = detail::rest_trimmed(q, end);
+    if (name.empty()) fail_at(path_, line, "usemtl without a material name");
+    current_ = material_index(std::string(name));
+  }
 
-  for (const auto& name : used_names) {
-    auto it = std::find_if(library.begin(), library.end(), [&](const Material& m) { return m.name == name; });
-    if (it != library.end()) {
-      mesh.materials.push_back(*it);
-    } else {
+  // mtllib: one name that may contain spaces, else several space-separated names. A missing
+  // library is a warning: its materials get defaults.
+  void material_libraries(size_t line, const char* q, const char* end) {
+    const std::string_view names = detail::rest_trimmed(q, end);
+    if (names.empty()) fail_at(path_, line, "mtllib without a file name");
+    std::vector<std::string> files{std::string(names)};
+    std::error_code ec;
+    if (!std::filesystem::exists(path_.parent_path() / files[0], ec)) {
+      files.clear();
+      for (std::string_view t = next_token(q, end); !t.empty(); t = next_token(q, end)) files.emplace_back(t);
+    }
+    for (const auto& f : files) {
+      const std::filesystem::path mtl = path_.parent_path() / f;
+      if (!std::filesystem::exists(mtl, ec)) {
+        mesh_.warnings.push_back(detail::display_name(path_) + ":" + std::to_string(line) + ": material library '" + f +
+                                 "' not found; its materials get defaults");
+        continue;
+      }
+      if (std::filesystem::is_directory(mtl, ec))
+        fail_at(path_, line, "material library '" + f + "' is a directory, not a file");
+      read_mtl(mtl, library_, &mesh_.warnings);
+    }
+  }
+
+  void check_forward_indices() const {
+    auto check = [&](const MaxRef& m, size_t count, const char* label, const char* what) {
+      if (m.index >= static_cast<long long>(count))
+        fail_at(path_, m.line, std::string(label) + " index " + std::to_string(m.index + 1) + " out of range (" +
+                                   std::to_string(count) + " " + (count == 1 ? std::string(what) : plural(what)) + ")");
+    };
+    check(max_v_, mesh_.positions.size(), "face", "vertex");
+    check(max_vt_, num_vt_, "texcoord", "texcoord");
+    check(max_vn_, num_vn_, "normal", "normal");
+  }
+
+  // The mesh's materials, in order of first use: from the libraries, else a grey diffuse.
+  void resolve_materials() {
+    for (const auto& name : used_names_) {
+      auto it = std::find_if(library_.begin(), library_.end(), [&](const Material& m) { return m.name == name; });
+      if (it != library_.end()) {
+        mesh_.materials.push_back(*it);
+        continue;
+      }
       Material m;
       m.name = name;
       if (name != "default")
-        mesh.warnings.push_back(detail::display_name(path) + ": material '" + name +
-                                "' is not defined in any material library; using a grey diffuse");
-      mesh.materials.push_back(m);
+        mesh_.warnings.push_back(detail::display_name(path_) + ": material '" + name +
+                                 "' is not defined in any material library; using a grey diffuse");
+      mesh_.materials.push_back(m);
     }
   }
-  return mesh;
-}
+
+  uint32_t material_index(const std::string& name) {
+    auto [it, added] = used_index_.emplace(name, uint32_t(used_names_.size()));
+    if (added) used_names_.push_back(name);
+    return it->second;
+  }
+
+  const std::filesystem::path& path_;
+  Mesh mesh_;
+  std::vector<Material> library_;                        // from mtllib statements
+  std::vector<std::string> used_names_;                  // usemtl names in order of first use
+  std::unordered_map<std::string, uint32_t> used_index_;
+  uint32_t current_ = UINT32_MAX;                        // faces before any usemtl: "default"
+  size_t num_vt_ = 0, num_vn_ = 0;
+  MaxRef max_v_, max_vt_, max_vn_;
+  std::vector<uint32_t> poly_;
+};
+
+}  // namespace
+
+Mesh read_obj(const std::filesystem::path& path) { return ObjReader(path).read(); }
 
 }  // namespace rayscout
