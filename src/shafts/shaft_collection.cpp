@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -191,6 +192,51 @@ std::string ShaftStats::summary() const {
   return s.str();
 }
 
+namespace {
+
+// Identical lists are stored once: open addressing over the lists' contents, sized for every
+// listed shaft at load <= 1/2. A slot holds a list's hash and its packed entry (offset << 5 |
+// length) plus 1, 0 = free, side by side: one cache miss per probe (the table is ~8 MiB).
+class ListDedup {
+ public:
+  explicit ListDedup(size_t lists) {
+    size_t capacity = 1024;
+    while (capacity < 2 * lists) capacity *= 2;
+    slots_.resize(capacity);
+    mask_ = capacity - 1;
+  }
+  void prefetch(uint32_t hash) const { __builtin_prefetch(&slots_[hash & mask_]); }
+  // The offset of an earlier list equal to area[offset, offset + len); else remembers this
+  // one and returns nothing.
+  std::optional<uint32_t> find_or_add(uint32_t hash, const std::vector<uint32_t>& area, uint32_t offset, uint32_t len) {
+    size_t slot = hash & mask_;
+    for (; slots_[slot].list != 0; slot = (slot + 1) & mask_) {
+      if (slots_[slot].hash != hash) continue;
+      const uint32_t packed = slots_[slot].list - 1, o = packed >> 5;
+      if ((packed & 31u) == len && std::equal(area.begin() + o, area.begin() + o + len, area.begin() + offset))
+        return o;
+    }
+    slots_[slot] = {hash, ((offset << 5) | len) + 1};
+    return std::nullopt;
+  }
+
+ private:
+  struct Slot {
+    uint32_t hash = 0, list = 0;
+  };
+  std::vector<Slot> slots_;
+  size_t mask_ = 0;
+};
+
+// FNV-1a over a list's node references.
+uint32_t hash_list(const TreeView& tree, const uint32_t* nodes, uint32_t len) {
+  uint64_t h = 1469598103934665603ull ^ len;
+  for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
+  return uint32_t(h ^ (h >> 32));
+}
+
+}  // namespace
+
 void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& listed,
                            const std::vector<detail::VoxelLists>& out, bool dedup) {
   const uint32_t cells = grid_.cells_per_voxel();
@@ -204,37 +250,23 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
   st.length_histogram.assign(32, 0);
   voxel_base_.assign(nvox, kNoVoxel);
   entries_.assign(listed.size() * cells, 0);
-  // Deduplication: open addressing over list contents (slots hold offset << 5 | length,
-  // plus 1; 0 = free), sized for every listed shaft at load <= 1/2.
-  size_t capacity = 1024;
-  while (capacity < 2 * listed.size() * cells) capacity *= 2;
-  // Hash and packed list side by side: one cache miss per probe (the table is ~8 MiB).
-  struct Slot {
-    uint32_t hash = 0, list = 0;
-  };
-  std::vector<Slot> slots(capacity);
-  size_t unique = 0;
-  // Entry boxes are quantised once per tree node.
-  std::vector<detail::QBox> qcache(boxed() ? tree.size() : 0);
-  std::vector<uint8_t> qdone(qcache.size(), 0);
-  size_t total_len = 0, nonempty = 0;
-  // Hashes of every list in packing order first, so the probe of a list kAhead lists later
-  // is prefetched (the probes are random accesses into a table of several MiB).
-  auto hash_refs = [&](const uint32_t* nodes, uint32_t len) {
-    uint64_t h = 1469598103934665603ull ^ len;
-    for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
-    return uint32_t(h ^ (h >> 32));
-  };
+  ListDedup table(dedup ? listed.size() * cells : 0);
+  // Hashes of every list in packing order first, so that the probe of the list kAhead lists
+  // later can be prefetched (the probes are random accesses into a table of several MiB).
   std::vector<uint32_t> hashes;
   size_t total_entries = 0;
   for (const detail::VoxelLists& vl : out) {
     total_entries += vl.data.size();
-    for (uint32_t cell = 0; cell < cells; ++cell)
-      if (vl.status[cell] == 1) hashes.push_back(hash_refs(vl.data.data() + vl.begin[cell], vl.len[cell]));
+    for (uint32_t cell = 0; dedup && cell < cells; ++cell)
+      if (vl.status[cell] == 1) hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
   }
-  lists_.reserve(total_entries * (boxed() ? 3 : 1) + 2);
   constexpr size_t kAhead = 8;
   size_t next_hash = 0;
+  // Entry boxes are quantised once per tree node.
+  std::vector<detail::QBox> qboxes(boxed() ? tree.size() : 0);
+  std::vector<uint8_t> quantised(qboxes.size(), 0);
+  lists_.reserve(total_entries * (boxed() ? 3 : 1) + 2);
+  size_t total_len = 0, nonempty = 0, unique = 0;
   for (size_t li = 0; li < listed.size(); ++li) {
     const detail::VoxelLists& vl = out[li];
     const uint32_t base = uint32_t(li * cells);
@@ -250,51 +282,41 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
         continue;
       }
       const uint32_t len = vl.len[cell];
-      const size_t pos = vl.begin[cell];
+      const uint32_t* nodes = vl.data.data() + vl.begin[cell];
+      // Append the list, then take it back if an equal one is stored already.
       const uint32_t offset = uint32_t(lists_.size());
-      for (uint32_t k = 0; k < len; ++k) lists_.push_back(tree.ref[vl.data[pos + k]]);
-      if (next_hash + kAhead < hashes.size()) __builtin_prefetch(&slots[hashes[next_hash + kAhead] & (capacity - 1)]);
-      const uint32_t h = hashes[next_hash++];
-      size_t slot = h & (capacity - 1);
-      uint32_t at = offset;
-      bool twin = false;
-      for (; dedup && slots[slot].list != 0; slot = (slot + 1) & (capacity - 1)) {
-        if (slots[slot].hash != h) continue;
-        const uint32_t packed = slots[slot].list - 1, o = packed >> 5;
-        if ((packed & 31u) == len &&
-            std::equal(lists_.begin() + o, lists_.begin() + o + len, lists_.begin() + offset)) {
-          at = o;
-          twin = true;
-          break;
-        }
+      for (uint32_t k = 0; k < len; ++k) lists_.push_back(tree.ref[nodes[k]]);
+      std::optional<uint32_t> twin;
+      if (dedup) {
+        if (next_hash + kAhead < hashes.size()) table.prefetch(hashes[next_hash + kAhead]);
+        twin = table.find_or_add(hashes[next_hash++], lists_, offset, len);
       }
       if (twin) {
         lists_.resize(offset);
         st.dedup_saved_bytes += list_words(len) * sizeof(uint32_t);
       } else {
         if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
-        if (dedup) slots[slot] = {h, ((offset << 5) | len) + 1};
         ++unique;
         if (boxed()) {
-          detail::QBox q[31];
-          for (uint32_t k = 0; k < len; ++k) {
-            const uint32_t node = vl.data[pos + k];
-            if (!qdone[node]) {
-              qcache[node] = entry_codec_->encode(tree.bounds[node]);
-              qdone[node] = 1;
-            }
-            q[k] = qcache[node];
-          }
           // The rows follow the list's ids in the same area: one cache line serves both.
           uint8_t rows[6 * 31];
-          for (int row = 0; row < 6; ++row)
-            for (uint32_t k = 0; k < len; ++k) rows[size_t(row) * len + k] = row < 3 ? q[k].lo[row] : q[k].hi[row - 3];
+          for (uint32_t k = 0; k < len; ++k) {
+            const uint32_t node = nodes[k];
+            if (!quantised[node]) {
+              qboxes[node] = entry_codec_->encode(tree.bounds[node]);
+              quantised[node] = 1;
+            }
+            for (int row = 0; row < 3; ++row) {
+              rows[size_t(row) * len + k] = qboxes[node].lo[row];
+              rows[size_t(row + 3) * len + k] = qboxes[node].hi[row];
+            }
+          }
           const size_t at_rows = lists_.size();
           lists_.resize(offset + list_words(len), 0);
           std::memcpy(lists_.data() + at_rows, rows, 6 * size_t(len));
         }
       }
-      entries_[base + cell] = (at << 5) | len;
+      entries_[base + cell] = (twin.value_or(offset) << 5) | len;
       ++st.length_histogram[len];
       total_len += len;
       ++nonempty;
