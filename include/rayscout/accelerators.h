@@ -27,5 +27,8 @@ const std::vector<AcceleratorInfo>& accelerators();
 /// InputError for an unknown name or an option the accelerator does not have.
 std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene& scene,
                                               const AcceleratorOptions& options = {});
+/// Not from a temporary scene: the accelerator would point into a scene already gone.
+std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene&& scene,
+                                              const AcceleratorOptions& options = {}) = delete;
 
 }  // namespace rayscout
