@@ -35,7 +35,7 @@ def main():
                 ax.loglog(t, e, color=COLORS[mode], alpha=1.0 if rep == "0" else 0.4,
                           label=mode if rep == "0" else None)
         ax.set_title(scene)
-        ax.set_xlabel("render time (CPU s, 2 threads)")
+        ax.set_xlabel("render time (process CPU s, all threads summed)")
         ax.set_ylabel("RMSE (reference noise removed)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend()
