@@ -22,7 +22,7 @@ CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("diff", "Compare image A with reference B: RMSE, relative MSE, PSNR, max error");
   cmd->add_option("a", opts->a, "image (.png, .exr, .pfm)")->required();
   cmd->add_option("b", opts->b, "reference image")->required();
-  cmd->add_option("--out", opts->out, "write a false-colour difference PNG");
+  cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)");
   cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)")
       ->transform(in_range(0.0f));
   cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this (or NaN)")
