@@ -137,7 +137,9 @@ int main(int argc, char** argv) {
   int width = 512, height = 384, reps = 5, threads = 1;
   bool sweep = false;
   std::string csv;
-  app.add_option("--scenes", scenes, "comma-separated scene files (relative to the scenes folder or absolute)");
+  app.add_option("--scenes", scenes, "comma-separated scene files: a path as given (absolute or from the current folder), else relative to "
+                 "$RAYSCOUT_SCENES; a file found in neither is skipped (default: bench/scenes/sibenik-a.json, "
+                 "sponza.json, conference.json)");
   app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path")->capture_default_str();
   app.add_option("--base", bases, "binary,wide")->capture_default_str();
   app.add_option("--accel-opt", opts, "shafts or BVH build option key=value (docs/shafts.md)");
