@@ -15,7 +15,10 @@
 namespace rayscout {
 namespace {
 
-using Factory = std::function<std::unique_ptr<Accelerator>(const Scene&, const AcceleratorOptions&)>;
+// A factory reads its options first and returns the build as a step of its own, so that a
+// misspelt option is reported before a build that may take seconds, not after it.
+using Build = std::function<std::unique_ptr<Accelerator>()>;
+using Factory = std::function<Build(const Scene&, const AcceleratorOptions&)>;
 
 struct Entry {
   AcceleratorInfo info;
@@ -25,37 +28,45 @@ struct Entry {
 const std::vector<Entry>& registry() {
   static const std::vector<Entry> entries = {
       {{"brute", "every ray against every triangle (reference)"},
-       [](const Scene& s, const AcceleratorOptions&) { return std::make_unique<BruteForce>(s.triangles); }},
+       [](const Scene& s, const AcceleratorOptions&) -> Build {
+         return [&s] { return std::make_unique<BruteForce>(s.triangles); };
+       }},
       {{"dacrt", "divide-and-conquer ray tracing, Afra 2012 (no stored hierarchy; options in docs/dacrt.md)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<Dacrt>(s.triangles, DacrtConfig::from_options(o, DacrtConfig::afra()), "dacrt");
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, c = DacrtConfig::from_options(o, DacrtConfig::afra())] {
+           return std::make_unique<Dacrt>(s.triangles, c, "dacrt");
+         };
        }},
       {{"dacrt-rs", "ray-sampled DACRT, Nabata et al. 2014 (sampled cost, order, skipping; docs/dacrt.md)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<Dacrt>(s.triangles, DacrtConfig::from_options(o, DacrtConfig::ray_sampled()), "dacrt-rs");
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, c = DacrtConfig::from_options(o, DacrtConfig::ray_sampled())] {
+           return std::make_unique<Dacrt>(s.triangles, c, "dacrt-rs");
+         };
        }},
       {{"bvh2", "binary binned-SAH BVH, scalar single-ray traversal (options bins, max_leaf_size, traversal_cost, intersection_cost, leaf_block, presplit, presplit_pieces)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<Bvh2Accelerator>(s.triangles, bvh_config_from_options(o));
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, c = bvh_config_from_options(o)] { return std::make_unique<Bvh2Accelerator>(s.triangles, c); };
        }},
       {{"bvh", "8-wide BVH collapsed from binned SAH, SIMD single-ray traversal (options as bvh2, plus collapse=greedy|sah, collapse_node_cost, collapse_leaf_cost, collapse_block_cost, collapse_max_leaf)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<WideBvhAccelerator>(s.triangles, wide_bvh_config_from_options(o));
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, c = wide_bvh_config_from_options(o)] { return std::make_unique<WideBvhAccelerator>(s.triangles, c); };
        }},
       {{"shafts", "ray classification, Hendrich et al. 2019: shaft candidate lists seed the binary BVH (options in docs/shafts.md)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         const auto set = ShaftsAccelerator::settings_from_options(o, ShaftsAccelerator::Base::Binary);
-         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, set.shafts, set.bvh);
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, set = ShaftsAccelerator::settings_from_options(o, ShaftsAccelerator::Base::Binary)] {
+           return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Binary, set.shafts, set.bvh);
+         };
        }},
       {{"shafts-wide", "ray classification over the 8-wide BVH, min hit probability 7/8 (options in docs/shafts.md)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         const auto set = ShaftsAccelerator::settings_from_options(o, ShaftsAccelerator::Base::Wide);
-         return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, set.shafts, set.bvh);
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, set = ShaftsAccelerator::settings_from_options(o, ShaftsAccelerator::Base::Wide)] {
+           return std::make_unique<ShaftsAccelerator>(s, ShaftsAccelerator::Base::Wide, set.shafts, set.bvh);
+         };
        }},
 #if RAYSCOUT_WITH_EMBREE
       {{"embree", "Intel Embree 3, high-quality build, robust mode (peer; options robust, quality, packet)"},
-       [](const Scene& s, const AcceleratorOptions& o) {
-         return std::make_unique<EmbreeAccelerator>(s.triangles, EmbreeConfig::from_options(o));
+       [](const Scene& s, const AcceleratorOptions& o) -> Build {
+         return [&s, c = EmbreeConfig::from_options(o)] { return std::make_unique<EmbreeAccelerator>(s.triangles, c); };
        }},
 #endif
   };
@@ -77,9 +88,9 @@ std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Sce
                                               const AcceleratorOptions& options) {
   for (const auto& e : registry()) {
     if (e.info.name != name) continue;
-    auto accel = e.make(scene, options);
+    const Build build = e.make(scene, options);
     options.check_all_used(name);
-    return accel;
+    return build();
   }
   std::string known;
   for (const auto& e : registry()) known += (known.empty() ? "" : ", ") + e.info.name;

@@ -161,8 +161,9 @@ TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
     ASSERT_EQ(std::count(hits.prim.begin(), hits.prim.end(), kInvalidId), 0) << "every ray must hit the near wall";
     auto accel = make_accelerator("dacrt", two_walls, options);
     accel->intersect(rays, hits, &with_far);
-    if (std::string(order) != "order=one-ray")  // Afra's rule, from the direction of one ray
+    if (std::string(order) != "order=one-ray") {  // Afra's rule, from the direction of one ray
       EXPECT_GT(dynamic_cast<const Dacrt&>(*accel).last_details().sampled_nodes, 0u) << order;
+    }
     EXPECT_EQ(with_far.ray_tri_tests, alone.ray_tri_tests) << order;
   }
 }
