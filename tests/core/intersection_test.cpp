@@ -1,6 +1,8 @@
 // Core kernels: the watertight triangle test and the robust slab test on their edge cases.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "rayscout/core/triangle.h"
 
 namespace rayscout {
@@ -41,6 +43,16 @@ TEST(IntersectBox, FarDistanceIsWidenedNotNarrowed) {
       << "tmax exactly at the entry";
 }
 
+// A ray through the box edge x = 0, y = 1 enters the x slab exactly where it leaves the y slab;
+// rounded apart, the entry comes out beyond the exit here, and only the widened far distance
+// keeps the box (culling it would lose the triangles on that edge).
+TEST(IntersectBox, RayThroughAnEdgeSurvivesRoundingOfItsSlabDistances) {
+  const Vec3 org{-1.19918871f, 0.831393242f, 0.5f};
+  float tnear;
+  EXPECT_TRUE(hits_box(org, Vec3{0, 1, 0.5f} - org, tnear));
+  EXPECT_FLOAT_EQ(tnear, 1.0f);
+}
+
 TEST(IntersectTriangle, HitDistanceAndBarycentrics) {
   const Triangle tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const Vec3 org{0.25f, 0.5f, 2}, dir{0, 0, -1};
@@ -72,6 +84,25 @@ TEST(IntersectTriangle, SharedEdgeAndVertexAreNeverMissed) {
   for (int i = 0; i < 4; ++i)
     hit |= intersect_triangle(org, rp, {centre, corners[i], corners[(i + 1) % 4]}, 0, kInfinity, t, u, v);
   EXPECT_TRUE(hit) << "shared vertex of a fan";
+}
+
+// The edge b-c below lies 1.7e-4 from the ray, but seen from the ray origin its edge function
+// c.y b.x - c.x b.y cancels to exactly 0 in float (true value 2^-24). Only the recomputation
+// in double tells which side of the shared edge the ray passes: it hits B (at its interior
+// point u = v = 1/4) and not A; taken as 0, the edge would count as touched by both.
+TEST(IntersectTriangle, EdgeFunctionCancellingToZeroIsDecidedInDouble) {
+  const float e11 = std::ldexp(1.0f, -11), e12 = std::ldexp(1.0f, -12), e13 = std::ldexp(1.0f, -13);
+  const Vec3 b{1 + e12, 1, 0}, c{1 + e11, 1 + e12, 0};
+  const Vec3 mid{1 + 3 * e13, 1 + e13, 0};  // (b + c) / 2, exact
+  const Triangle a_side{mid * 2.0f, b, c}, b_side{mid * -1.0f, c, b};  // the ray passes between mid and -mid
+  const Vec3 org{0, 0, 1}, dir{0, 0, -1};
+  const RayPrecomp rp(dir);
+  float t, u, v;
+  EXPECT_FALSE(intersect_triangle(org, rp, a_side, 0, kInfinity, t, u, v));
+  ASSERT_TRUE(intersect_triangle(org, rp, b_side, 0, kInfinity, t, u, v));
+  EXPECT_EQ(t, 1.0f);
+  EXPECT_EQ(u, 0.25f);
+  EXPECT_EQ(v, 0.25f);
 }
 
 TEST(IsCloser, TiesGoToTheSmallerTriangleId) {
