@@ -73,6 +73,22 @@ TEST(BvhBuild, EqualCentroidsStillSplitDownToLeafSize) {
   EXPECT_LE(same.depth(), 8);  // median splits: ceil(log2(600 / 4))
 }
 
+// max_leaf_size is inclusive: copies of one triangle (no split can separate them) stay in one
+// leaf up to that count, and one more is split by the median fallback.
+TEST(BvhBuild, LeafHoldsExactlyUpToMaxLeafSizeTriangles) {
+  const Triangle tri = testing::random_soup(1, 3)[0];
+  for (int leaf : {1, 4, 15}) {
+    BvhBuildConfig c;
+    c.max_leaf_size = leaf;
+    const Bvh2 full = Bvh2::build(std::vector<Triangle>(size_t(leaf), tri), c);
+    ASSERT_EQ(full.nodes.size(), 1u) << leaf;
+    EXPECT_EQ(full.nodes[0].count, leaf);
+    const Bvh2 over = Bvh2::build(std::vector<Triangle>(size_t(leaf) + 1, tri), c);
+    ASSERT_EQ(over.nodes.size(), 3u) << leaf;
+    EXPECT_EQ(over.nodes[over.nodes[0].first].count + over.nodes[over.nodes[0].first + 1].count, leaf + 1);
+  }
+}
+
 TEST(BvhBuild, EmptyAndSingleTriangle) {
   const Bvh2 empty = Bvh2::build({});
   EXPECT_TRUE(empty.nodes.empty());
