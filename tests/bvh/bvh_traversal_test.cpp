@@ -78,6 +78,65 @@ TEST(BvhTraversal, CountersAreExactOnAHandCheckedScene) {
   EXPECT_EQ(s.ray_tri_tests, 2u);  // one block test of the leaf's two triangles
 }
 
+// Unit quads stacked at z = 0, 1, ..., n - 1 (quad k: triangles 2k, 2k + 1).
+std::vector<Triangle> stacked_quads(int n) {
+  std::vector<Triangle> tris;
+  for (int k = 0; k < n; ++k)
+    for (Triangle t : quad_at(0.0f)) {
+      t.v0.z = t.v1.z = t.v2.z = float(k);
+      tris.push_back(t);
+    }
+  return tris;
+}
+
+// A vertical ray at (0.75, 0.25) reaching the top (down) or bottom (up) quad of n at t = 1.
+Ray through_stack(int n, bool down) {
+  return down ? Ray{{0.75f, 0.25f, float(n)}, 0.0f, {0, 0, -1}, kInfinity}
+              : Ray{{0.75f, 0.25f, -1.0f}, 0.0f, {0, 0, 1}, kInfinity};
+}
+
+// Closest hit visits the nearer child first and culls farther boxes once a hit is nearer:
+// a ray through stacked quads tests only the first quad it meets, from above and from below.
+// Visiting a farther child first, or not shortening the cull distance at a hit, finds the
+// same hit after testing every quad.
+TEST(BvhTraversal, NearerChildFirstAndFartherBoxesCulledAfterAHit) {
+  const auto two = stacked_quads(2), four = stacked_quads(4);
+  const Bvh2 bvh2 = Bvh2::build(two), bvh4 = Bvh2::build(four);
+  ASSERT_EQ(bvh2.nodes.size(), 3u);
+  ASSERT_EQ(bvh4.nodes.size(), 7u);
+  const WideBvh wide2 = WideBvh::from_bvh2(bvh2, two), wide4 = WideBvh::from_bvh2(bvh4, four);
+  ASSERT_EQ(wide2.nodes.size(), 1u);
+  ASSERT_EQ(wide2.nodes[0].count, 2u);  // the wide traversal's two-child path
+  ASSERT_EQ(wide4.nodes.size(), 1u);
+  ASSERT_EQ(wide4.nodes[0].count, 4u);  // its path for three or more children
+  for (const bool down : {true, false}) {
+    const char* dir = down ? "down" : "up";
+    TraceStats s;
+    Hit h = bvh2.intersect<true>(through_stack(2, down), two, {}, &s);
+    EXPECT_EQ(h.prim, down ? 2u : 0u) << dir;
+    EXPECT_EQ(h.t, 1.0f) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;  // root, the near leaf
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+    s = {};
+    h = bvh4.intersect<true>(through_stack(4, down), four, {}, &s);
+    EXPECT_EQ(h.prim, down ? 6u : 0u) << dir;
+    EXPECT_EQ(h.t, 1.0f) << dir;
+    EXPECT_EQ(s.traversal_steps, 3u) << dir;  // root, the near inner node, the near leaf
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+    s = {};
+    h = wide2.intersect<true>(through_stack(2, down), {}, &s);
+    EXPECT_EQ(h.prim, down ? 2u : 0u) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+    s = {};
+    h = wide4.intersect<true>(through_stack(4, down), {}, &s);
+    EXPECT_EQ(h.prim, down ? 6u : 0u) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+  }
+}
+
+
 TEST(BvhTraversal, StatsPathGivesTheSameResultsAndSummedCounts) {
   const auto tris = testing::random_soup(3000, 8);
   const RayBatch rays = testing::random_rays(4000, 9);
