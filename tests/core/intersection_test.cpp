@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "rayscout/core/triangle.h"
 
@@ -84,6 +85,30 @@ TEST(IntersectTriangle, SharedEdgeAndVertexAreNeverMissed) {
   for (int i = 0; i < 4; ++i)
     hit |= intersect_triangle(org, rp, {centre, corners[i], corners[(i + 1) % 4]}, 0, kInfinity, t, u, v);
   EXPECT_TRUE(hit) << "shared vertex of a fan";
+}
+
+// A ray exactly through a shared edge: one edge function is exactly 0 in float, and a zero
+// edge function counts as inside, so both triangles report the hit at the same t (the
+// closest-hit rule then keeps the smaller id). Rejecting zero would let the ray slip through
+// the crack. Every rotation and winding of the corners, so that the zero falls on each of
+// the three edge functions, with the other two positive and negative.
+TEST(IntersectTriangle, RayExactlyThroughASharedEdgeHitsBothTriangles) {
+  const Triangle left{{0, -1, 0}, {0, 1, 0}, {-1, 0, 0}}, right{{0, -1, 0}, {1, 0, 0}, {0, 1, 0}};
+  const Vec3 dir{0, 0, 1};
+  const RayPrecomp rp(dir);
+  for (const Triangle& tri : {left, right})
+    for (int rotation = 0; rotation < 3; ++rotation)
+      for (const bool flip : {false, true}) {
+        const Vec3 c[3] = {tri.v0, tri.v1, tri.v2};
+        Triangle x{c[rotation], c[(rotation + 1) % 3], c[(rotation + 2) % 3]};
+        if (flip) std::swap(x.v1, x.v2);
+        for (const float y : {-0.5f, 0.0f, 0.3f, 0.75f}) {
+          float t, u, v;
+          ASSERT_TRUE(intersect_triangle({0, y, -1}, rp, x, 0, kInfinity, t, u, v))
+              << "y=" << y << " rotation " << rotation << (flip ? " flipped" : "");
+          EXPECT_EQ(t, 1.0f);
+        }
+      }
 }
 
 // The edge b-c below lies 1.7e-4 from the ray, but seen from the ray origin its edge function
