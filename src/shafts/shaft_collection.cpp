@@ -257,7 +257,8 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
   size_t total_entries = 0;
   for (const detail::VoxelLists& vl : out) {
     total_entries += vl.data.size();
-    for (uint32_t cell = 0; dedup && cell < cells; ++cell)
+    if (!dedup) continue;
+    for (uint32_t cell = 0; cell < cells; ++cell)
       if (vl.status[cell] == 1) hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
   }
   constexpr size_t kAhead = 8;
