@@ -36,7 +36,8 @@ Bvh2 Bvh2::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
   return bvh;
 }
 
-std::string Bvh2::validate(size_t triangle_count) const {
+std::string Bvh2::validate(std::span<const Triangle> tris) const {
+  const size_t triangle_count = tris.size();
   if (nodes.empty())
     return triangle_count == 0 && prim_ids.empty() ? "" : "no nodes but " + std::to_string(triangle_count) + " triangles";
   if (split_references ? prim_ids.size() < triangle_count : prim_ids.size() != triangle_count)
@@ -58,6 +59,10 @@ std::string Bvh2::validate(size_t triangle_count) const {
         if (prim_seen[p]++ && !split_references) return at + "triangle " + std::to_string(p) + " appears twice";
         if (std::find(prim_ids.begin() + n.first, prim_ids.begin() + k, p) != prim_ids.begin() + k)
           return at + "triangle " + std::to_string(p) + " twice in one leaf";
+        // A split reference holds a clipped piece of its triangle, which only has to touch the box.
+        const Bounds3 tb = tris[p].bounds();
+        if (split_references ? Bounds3{max(tb.lo, n.bounds.lo), min(tb.hi, n.bounds.hi)}.empty() : !n.bounds.contains(tb))
+          return at + "triangle " + std::to_string(p) + " outside the leaf box";
         ++leaf_prims;
       }
       continue;

@@ -31,7 +31,7 @@ TEST(BvhBuild, NastyMeshesValidateForEveryLeafSizeAndBinCount) {
         c.bins = bins;
         c.parallel_threshold = 64;  // exercise the parallel paths on small meshes
         const Bvh2 bvh = Bvh2::build(m.triangles, c);
-        EXPECT_EQ(bvh.validate(m.triangles.size()), "") << m.name << " leaf " << leaf << " bins " << bins;
+        EXPECT_EQ(bvh.validate(m.triangles), "") << m.name << " leaf " << leaf << " bins " << bins;
         const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
         EXPECT_EQ(wide.validate(m.triangles.size()), "") << m.name << " leaf " << leaf << " bins " << bins;
         for (const Bvh2Node& n : bvh.nodes) EXPECT_LE(n.count, leaf) << m.name;
@@ -50,7 +50,7 @@ TEST(BvhBuild, PresplitReferencesValidate) {
     BvhBuildConfig c;
     c.presplit = 1.0f;
     const Bvh2 bvh = Bvh2::build(m.triangles, c);
-    EXPECT_EQ(bvh.validate(m.triangles.size()), "") << m.name;
+    EXPECT_EQ(bvh.validate(m.triangles), "") << m.name;
     const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
     EXPECT_EQ(wide.validate(m.triangles.size()), "") << m.name;
     if (m.triangles.size() > 100) {
@@ -64,7 +64,7 @@ TEST(BvhBuild, EqualCentroidsStillSplitDownToLeafSize) {
   // only the median fallback can split them; equal_centroids() shares vertex means only.
   for (const auto& tris : {std::vector<Triangle>(600, testing::random_soup(1, 3)[0]), testing::equal_centroids(600, 4)}) {
     const Bvh2 bvh = Bvh2::build(tris);
-    EXPECT_EQ(bvh.validate(tris.size()), "");
+    EXPECT_EQ(bvh.validate(tris), "");
     for (const Bvh2Node& n : bvh.nodes) EXPECT_LE(n.count, 4);
     EXPECT_GE(bvh.nodes.size(), 2 * (600 / 4) - 1);
     EXPECT_LE(bvh.depth(), 24);
@@ -92,7 +92,7 @@ TEST(BvhBuild, LeafHoldsExactlyUpToMaxLeafSizeTriangles) {
 TEST(BvhBuild, EmptyAndSingleTriangle) {
   const Bvh2 empty = Bvh2::build({});
   EXPECT_TRUE(empty.nodes.empty());
-  EXPECT_EQ(empty.validate(0), "");
+  EXPECT_EQ(empty.validate({}), "");
   EXPECT_EQ(WideBvh::build({}).validate(0), "");
   const std::vector<Triangle> one = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
   const Bvh2 b = Bvh2::build(one);
@@ -164,33 +164,49 @@ TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
 TEST(BvhValidate, DetectsCorruptedBinaryTrees) {
   const auto tris = testing::random_soup(500, 2);
   const Bvh2 good = Bvh2::build(tris);
-  ASSERT_EQ(good.validate(tris.size()), "");
+  ASSERT_EQ(good.validate(tris), "");
   ASSERT_FALSE(good.nodes[0].is_leaf());
   const uint32_t left = good.nodes[0].first;
 
   Bvh2 b = good;  // a child sticking out of its parent
   b.nodes[left].bounds.hi.x += 1.0f;
-  EXPECT_NE(b.validate(tris.size()).find("not inside"), std::string::npos) << b.validate(tris.size());
+  EXPECT_NE(b.validate(tris).find("not inside"), std::string::npos) << b.validate(tris);
 
-  b = good;  // a triangle twice, another lost
-  b.prim_ids[1] = b.prim_ids[0];
-  EXPECT_NE(b.validate(tris.size()).find("twice"), std::string::npos) << b.validate(tris.size());
+  b = good;  // a triangle twice in its leaf, another lost
+  const auto pair = std::find_if(good.nodes.begin(), good.nodes.end(), [](const Bvh2Node& n) { return n.count >= 2; });
+  ASSERT_NE(pair, good.nodes.end());
+  b.prim_ids[pair->first + 1] = b.prim_ids[pair->first];
+  EXPECT_NE(b.validate(tris).find("twice"), std::string::npos) << b.validate(tris);
 
   b = good;  // a cycle back to the root's children
   for (auto& n : b.nodes)
     if (!n.is_leaf() && &n != &b.nodes[0]) { n.first = left; break; }
-  EXPECT_NE(b.validate(tris.size()), "");
+  EXPECT_NE(b.validate(tris), "");
 
   b = good;  // an empty-looking leaf turned inner with children out of range
   for (auto& n : b.nodes)
     if (n.is_leaf()) { n.count = 0; n.first = uint32_t(b.nodes.size()); break; }
-  EXPECT_NE(b.validate(tris.size()).find("out of range"), std::string::npos) << b.validate(tris.size());
+  EXPECT_NE(b.validate(tris).find("out of range"), std::string::npos) << b.validate(tris);
 
   b = good;  // an unreachable extra node
   b.nodes.push_back(b.nodes.back());
-  EXPECT_NE(b.validate(tris.size()).find("unreachable"), std::string::npos) << b.validate(tris.size());
+  EXPECT_NE(b.validate(tris).find("unreachable"), std::string::npos) << b.validate(tris);
 
-  EXPECT_NE(good.validate(tris.size() + 1), "");  // a triangle missing
+  b = good;  // two leaves swap a triangle, one of which lies outside the other's box (what
+             // a builder whose partition disagrees with its bins would make)
+  const auto leaf_of = [&](uint32_t k) {
+    for (const Bvh2Node& n : good.nodes)
+      if (n.is_leaf() && k >= n.first && k < n.first + n.count) return &n;
+    return static_cast<const Bvh2Node*>(nullptr);
+  };
+  const uint32_t last = uint32_t(good.prim_ids.size() - 1);
+  ASSERT_FALSE(leaf_of(0)->bounds.contains(tris[good.prim_ids[last]].bounds()));
+  std::swap(b.prim_ids[0], b.prim_ids[last]);
+  EXPECT_NE(b.validate(tris).find("outside the leaf box"), std::string::npos) << b.validate(tris);
+
+  std::vector<Triangle> more(tris.begin(), tris.end());
+  more.push_back(tris[0]);
+  EXPECT_NE(good.validate(more), "");  // a triangle missing
 }
 
 TEST(BvhValidate, DetectsCorruptedWideTrees) {
@@ -229,7 +245,7 @@ TEST(BvhBuild, RealSceneValidates) {
   const WideBvh wide = WideBvh::build(scene.triangles);
   EXPECT_EQ(wide.validate(scene.triangles.size()), "");
   const Bvh2 bvh = Bvh2::build(scene.triangles);
-  EXPECT_EQ(bvh.validate(scene.triangles.size()), "");
+  EXPECT_EQ(bvh.validate(scene.triangles), "");
   EXPECT_LT(bvh.depth(), 64);
 }
 

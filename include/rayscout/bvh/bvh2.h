@@ -61,10 +61,12 @@ class Bvh2 {
     return CullInterval(nodes.empty() ? Bounds3{} : nodes[0].bounds, ray);
   }
 
-  /// Checks the invariants: every triangle id in [0, triangle_count) exactly once (at least
-  /// once and once per leaf with split_references), children inside their parent, no empty leaf, every node reachable exactly once, child indices in
-  /// range. Returns "" when all hold, else a description of the first violation.
-  std::string validate(size_t triangle_count) const;
+  /// Checks the invariants against the triangles the tree was built over: every triangle id
+  /// in [0, tris.size()) exactly once (at least once and once per leaf with
+  /// split_references), each leaf's triangles inside its box (touching it with
+  /// split_references), children inside their parent, every node reachable exactly once,
+  /// child indices in range. Returns "" when all hold, else the first violation.
+  std::string validate(std::span<const Triangle> tris) const;
   /// Edges on the longest root-to-leaf path (0 for a lone leaf).
   int depth() const { return depth_; }
   /// Bytes of nodes and prim_ids.
