@@ -104,6 +104,7 @@ int run(const Options& opt) {
       fmt::print(stderr, "core_bench: accelerator '{}' is not registered in this build\n", c.accel);
       return 2;
     }
+  for (const auto& w : opt.workloads) (void)parse_workload(w);  // a misspelt one fails before any scene loads
 
   std::string trace_table, build_table, counter_table;
   trace_table += "| scene | workload | rays | threads |";
