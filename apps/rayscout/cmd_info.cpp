@@ -1,11 +1,11 @@
 // `rayscout info --scene S`: what a scene holds (triangles, bounds, materials, lights, warnings, load time).
-#include <chrono>
 #include <string>
 #include <vector>
 
 #include <fmt/core.h>
 
 #include "commands.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/scene/load_scene.h"
 
 namespace rayscout::cli {
@@ -23,9 +23,9 @@ const char* type_name(Material::Type t) {
 std::string vec(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }
 
 void print_info(const std::string& arg) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   const Scene scene = resolve_scene(arg);
-  const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double load_ms = ms_since(start);
 
   const Bounds3 b = scene.bounds();
   fmt::print("scene:        {}\n", arg.empty() ? "cornell (built-in)" : arg);

@@ -1,5 +1,4 @@
 // `rayscout rays`: writes a workload's ray set (primary, shadow, ao, diffuse) to a RAYS file.
-#include <chrono>
 #include <memory>
 #include <string>
 
@@ -9,6 +8,7 @@
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/render/workloads.h"
 #include "rayscout/scene/load_scene.h"
 
@@ -23,7 +23,7 @@ struct RaysArgs {
 void run_rays(const RaysArgs& a) {
   const Workload workload = parse_workload(a.workload);
   check_output_path(a.out, "--out " + a.out);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   const Scene scene = resolve_scene(a.scene);
   // Secondary workloads start at the primary hits, found with this accelerator.
   const auto accel = make_accelerator(a.accel, scene);
@@ -31,7 +31,7 @@ void run_rays(const RaysArgs& a) {
   write_rays(a.out, rays);
   fmt::print("wrote {} {} rays ({}x{}, {} spp, seed {}) to {} in {:.0f} ms\n", rays.size(), workload_name(workload),
              a.config.width, a.config.height, a.config.spp, a.config.seed, a.out,
-             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+             ms_since(start));
 }
 
 CommandRegistration registration{[](CLI::App& app) {

@@ -5,7 +5,6 @@
 // drift on a shared machine hits all alike); the median of the rounds is reported. Builds are
 // timed the same way. Work counters come from a separate, untimed run.
 #include <algorithm>
-#include <ctime>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
@@ -45,13 +44,6 @@ std::unique_ptr<Accelerator> build(const Column& c, const Scene& scene) {
 
 // Shadow and AO rays are any-hit queries; primary and diffuse rays want the closest hit.
 bool any_hit(Workload w) { return w == Workload::Shadow || w == Workload::Ao; }
-
-// CPU time of the whole process in ms (every thread), immune to being descheduled.
-double process_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
 
 bool g_cpu_time = false;  // --cpu-time: time traces by process CPU time instead of wall time
 

@@ -5,8 +5,6 @@
 #include <malloc.h>
 
 #include <algorithm>
-#include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -22,6 +20,7 @@
 #include "rayscout/accelerators.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/scenes_dir.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/dacrt/dacrt.h"
 #include "rayscout/scene/load_scene.h"
 #include "bench_support.h"
@@ -30,7 +29,6 @@
 
 using namespace rayscout;
 using namespace rayscout::bench;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -54,14 +52,7 @@ struct Options {
 // waits for a core; with more threads wall time is all that is meaningful.
 bool g_cpu_time = true;
 
-double now_ms() {
-  if (g_cpu_time) {
-    timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-  }
-  return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
-}
+double now_ms() { return g_cpu_time ? process_cpu_ms() : wall_ms(); }
 
 double ms_since(double t0) { return now_ms() - t0; }
 

@@ -1,9 +1,7 @@
 // shafts_bench: traversal steps and time of ray classification vs plain traversal of the same
 // BVH, per scene and workload, side by side in one run; plus a memory/direction sweep (CSV).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +15,7 @@
 
 #include "bench_support.h"
 #include "rayscout/core/scenes_dir.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/render/workloads.h"
 #include "rayscout/scene/load_scene.h"
@@ -65,14 +64,7 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const Accelerator& accel, 
 bool g_cpu_clock = false;
 
 /// Milliseconds: the calling thread's CPU time with one thread (TBB then runs inline), else wall.
-double now_ms() {
-  if (g_cpu_clock) {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-  }
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double now_ms() { return g_cpu_clock ? thread_cpu_ms() : wall_ms(); }
 
 struct Measure {
   TraceStats with, without;

@@ -2,7 +2,6 @@
 #include "rayscout/embree/embree_accelerator.h"
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -10,6 +9,8 @@
 
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
+
+#include "rayscout/core/stopwatch.h"
 
 namespace rayscout {
 
@@ -109,7 +110,7 @@ EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const 
     return true;
   }, &s);
 
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = SteadyClock::now();
   s.scene = rtcNewScene(s.device);
   rtcSetSceneFlags(s.scene, config_.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
   rtcSetSceneBuildQuality(s.scene, config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
@@ -133,7 +134,7 @@ EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const 
   const int64_t before_build = s.allocated.load();
   rtcCommitScene(s.scene);
   s.throw_if_error("building the scene");
-  info_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  info_.build_ms = ms_since(start);
   info_.memory_bytes = size_t(std::max<int64_t>(0, s.allocated.load() - before_build));
 }
 

@@ -2,29 +2,19 @@
 #include "rayscout/manylight/manylight_renderer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <ctime>
 
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rng.h"
 
 namespace rayscout {
 
-namespace {
-using Clock = std::chrono::steady_clock;
-}  // namespace
-
 double ManylightRenderer::now() const {
-  if (config_.cpu_clock) {
-    timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
-  }
-  return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+  return (config_.cpu_clock ? process_cpu_ms() : wall_ms()) * 1e-3;
 }
 
 VisibilityMode parse_visibility_mode(const std::string& name) {
