@@ -62,6 +62,17 @@ TEST(HitCompare, WorldSpaceToleranceWithRays) {
   EXPECT_FALSE(is_grazing(touch, cfg, 1));                  // 1 unit from the origin
 }
 
+// Without rays the scale is max(1, |t_ref|): below t = 1 the tolerance is absolute. Powers
+// of two throughout, so every ratio is exact: a 2^-13 difference at t = 0.25 agrees with a
+// tolerance of 2^-12, where a tolerance relative to t (2^-11) would not.
+TEST(HitCompare, ToleranceWithoutRaysIsAbsoluteBelowOne) {
+  const HitBatch ref = batch({{0.25f, 3, 0.2f, 0.3f}});
+  const HitBatch got = batch({{0.25f + 0x1p-13f, 3, 0.2f, 0.3f}});
+  const HitDiff d = compare_hits(ref, got, 0x1p-12f);
+  EXPECT_TRUE(d.ok()) << d.first;
+  EXPECT_EQ(d.max_rel_diff, 0x1p-13);
+}
+
 TEST(HitCompare, TiesAreCountedNotErrors) {
   const HitBatch ref = batch({{1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
   const HitBatch got = batch({{1.0f, 9, 0.2f, 0.3f}, {1.5f, 9, 0.2f, 0.3f}});
