@@ -73,6 +73,32 @@ TEST(HitCompare, ToleranceWithoutRaysIsAbsoluteBelowOne) {
   EXPECT_EQ(d.max_rel_diff, 0x1p-13);
 }
 
+// With rays the world scale is max(1, |o|, |o + t d|) / |d| (max norms), each of the three
+// deciding one ray: a hit 128 units out from the origin, a ray from 128 units in to the
+// origin, and a short ray near the origin on a direction of length 2. Each differs by 2^-13
+// of its scale and agrees with a tolerance of 2^-12; a scale without the hit point (first
+// ray) or without the origin (second) would be 2^7 times too small.
+TEST(HitCompare, WorldScaleIsTheLargestOfOneTheOriginAndTheHitPoint) {
+  RayBatch rays;
+  rays.push_back({{0.0f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});     // hit at x = 128
+  rays.push_back({{128.0f, 0.0f, 0.0f}, 0.0f, {-1.0f, 0.0f, 0.0f}, kInfinity});  // hit at the origin
+  rays.push_back({{0.5f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 2.0f}, kInfinity});     // hit at (0.5, 0, 0.5)
+  const HitBatch ref = batch({{128.0f, 3, 0.2f, 0.3f}, {128.0f, 4, 0.2f, 0.3f}, {0.25f, 5, 0.2f, 0.3f}});
+  const HitBatch got = batch({{128.0f + 0x1p-6f, 3, 0.2f, 0.3f}, {128.0f + 0x1p-6f, 4, 0.2f, 0.3f},
+                              {0.25f + 0x1p-14f, 5, 0.2f, 0.3f}});
+  HitCompareConfig cfg;
+  cfg.rel_tol = 0x1p-12f;
+  cfg.rays = &rays;
+  HitDiff d = compare_hits(ref, got, cfg);
+  EXPECT_TRUE(d.ok()) << d.first;
+  EXPECT_EQ(d.both_hit, 3u);
+  EXPECT_EQ(d.max_rel_diff, 0x1p-13);
+  EXPECT_EQ(d.p99_rel_diff, 0x1p-13);
+  cfg.rel_tol = 0x1p-14f;  // and each is a mismatch at a quarter of that tolerance
+  d = compare_hits(ref, got, cfg);
+  EXPECT_EQ(d.t_mismatch, 3u);
+}
+
 TEST(HitCompare, TiesAreCountedNotErrors) {
   const HitBatch ref = batch({{1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
   const HitBatch got = batch({{1.0f, 9, 0.2f, 0.3f}, {1.5f, 9, 0.2f, 0.3f}});
