@@ -99,6 +99,26 @@ TEST(HitCompare, WorldScaleIsTheLargestOfOneTheOriginAndTheHitPoint) {
   EXPECT_EQ(d.t_mismatch, 3u);
 }
 
+// A contact is grazing when u, v or w = 1 - u - v is <= edge_eps, bound included. edge_eps
+// 1/8 and barycentrics in eighths keep w exact.
+TEST(HitCompare, GrazingBoundIsInclusiveOnEachBarycentric) {
+  HitCompareConfig cfg;
+  cfg.edge_eps = 0.125f;
+  EXPECT_TRUE(is_grazing({2.0f, 1, 0.125f, 0.5f}, cfg));   // u = edge_eps
+  EXPECT_TRUE(is_grazing({2.0f, 1, 0.5f, 0.125f}, cfg));   // v = edge_eps
+  EXPECT_TRUE(is_grazing({2.0f, 1, 0.5f, 0.375f}, cfg));   // w = edge_eps
+  EXPECT_TRUE(is_grazing({2.0f, 1, 0.25f, 0.75f}, cfg));   // w = 0: on the edge v0 is opposite
+  EXPECT_FALSE(is_grazing({2.0f, 1, 0.25f, 0.5f}, cfg));   // u, v, w = 1/4, 1/2, 1/4: inside
+  EXPECT_FALSE(is_grazing({2.0f, 1, 0.5f, 0.25f}, cfg));   // 1/2, 1/4, 1/4
+  EXPECT_FALSE(is_grazing({}, cfg));                       // a miss is no contact
+  // In compare_hits: the reference's w-edge hit the candidate passed by is excused.
+  cfg.rel_tol = 1e-4f;
+  cfg.allow_grazing = true;
+  const HitDiff d = compare_hits(batch({{2.0f, 1, 0.5f, 0.375f}}), batch({{}}), cfg);
+  EXPECT_EQ(d.grazing, 1u);
+  EXPECT_TRUE(d.ok()) << d.first;
+}
+
 TEST(HitCompare, TiesAreCountedNotErrors) {
   const HitBatch ref = batch({{1.0f, 3, 0.2f, 0.3f}, {1.0f, 3, 0.2f, 0.3f}});
   const HitBatch got = batch({{1.0f, 9, 0.2f, 0.3f}, {1.5f, 9, 0.2f, 0.3f}});
