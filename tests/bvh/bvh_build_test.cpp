@@ -89,6 +89,30 @@ TEST(BvhBuild, LeafHoldsExactlyUpToMaxLeafSizeTriangles) {
   }
 }
 
+// A triangle in the plane y = 0 whose box is [x0, x0 + w] x {0} x [z0, z0 + d]: the builder's
+// half area of such a box is its x z term alone, w d.
+Triangle flat_in_y(float x0, float z0, float w, float d) {
+  return {{x0, 0, z0}, {x0 + w, 0, z0}, {x0, 0, z0 + d}};
+}
+
+// The leaf-or-split decision in exact numbers (costs 1, leaf_block 1, half areas): two unit
+// squares side by side give leaf 2 x 2 = 4 against split 2 + 1 + 1 = 4, a tie the leaf wins;
+// one unit apart, leaf 2 x 3 = 6 loses to split 3 + 1 + 1 = 5.
+TEST(BvhBuild, TwoTrianglesSplitOnlyWhenTheSplitCostsLessThanOneLeaf) {
+  const Bvh2 tie = Bvh2::build(std::vector<Triangle>{flat_in_y(0, 0, 1, 1), flat_in_y(1, 0, 1, 1)});
+  ASSERT_EQ(tie.nodes.size(), 1u);
+  EXPECT_EQ(tie.nodes[0].count, 2);
+  const Bvh2 apart = Bvh2::build(std::vector<Triangle>{flat_in_y(0, 0, 1, 1), flat_in_y(2, 0, 1, 1)});
+  ASSERT_EQ(apart.nodes.size(), 3u);
+  const Bvh2Node& left = apart.nodes[apart.nodes[0].first];
+  const Bvh2Node& right = apart.nodes[apart.nodes[0].first + 1];
+  EXPECT_EQ(left.count, 1);
+  EXPECT_EQ(right.count, 1);
+  EXPECT_EQ(left.bounds.hi.x, 1.0f);
+  EXPECT_EQ(right.bounds.lo.x, 2.0f);
+  EXPECT_EQ(apart.nodes[0].axis, 0);
+}
+
 TEST(BvhBuild, EmptyAndSingleTriangle) {
   const Bvh2 empty = Bvh2::build({});
   EXPECT_TRUE(empty.nodes.empty());
