@@ -113,6 +113,22 @@ TEST(BvhBuild, TwoTrianglesSplitOnlyWhenTheSplitCostsLessThanOneLeaf) {
   EXPECT_EQ(apart.nodes[0].axis, 0);
 }
 
+// With leaf_block 4 a side of 4 triangles costs one block test, in the split's cost as in the
+// leaf's: 4 copies of a unit square at x = 0 and 4 at x = 3 give leaf 2 blocks x 4 = 8 against
+// split 4 + 1 + 1 = 6. Counted per triangle (4 + 4 x 1 + 4 x 1 = 12) the split would lose.
+TEST(BvhBuild, SplitCostCountsLeafBlocksLikeTheLeafCost) {
+  std::vector<Triangle> tris(4, flat_in_y(0, 0, 1, 1));
+  tris.insert(tris.end(), 4, flat_in_y(3, 0, 1, 1));
+  BvhBuildConfig c;
+  c.leaf_block = 4;
+  c.max_leaf_size = 8;
+  const Bvh2 bvh = Bvh2::build(tris, c);
+  ASSERT_EQ(bvh.nodes.size(), 3u);
+  EXPECT_EQ(bvh.nodes[bvh.nodes[0].first].count, 4);
+  EXPECT_EQ(bvh.nodes[bvh.nodes[0].first + 1].count, 4);
+  EXPECT_EQ(bvh.validate(tris), "");
+}
+
 TEST(BvhBuild, EmptyAndSingleTriangle) {
   const Bvh2 empty = Bvh2::build({});
   EXPECT_TRUE(empty.nodes.empty());
