@@ -129,6 +129,14 @@ TEST(BvhBuild, SplitCostCountsLeafBlocksLikeTheLeafCost) {
   EXPECT_EQ(bvh.validate(tris), "");
 }
 
+// Splits of equal cost: the first in sweep order (x, then y, then z) wins. Two unit squares
+// on the diagonal of the x z plane are separated alike along x and along z.
+TEST(BvhBuild, EqualCostSplitsGoToTheLowestAxis) {
+  const Bvh2 bvh = Bvh2::build(std::vector<Triangle>{flat_in_y(0, 0, 1, 1), flat_in_y(2, 2, 1, 1)});
+  ASSERT_EQ(bvh.nodes.size(), 3u);
+  EXPECT_EQ(bvh.nodes[0].axis, 0);
+}
+
 TEST(BvhBuild, EmptyAndSingleTriangle) {
   const Bvh2 empty = Bvh2::build({});
   EXPECT_TRUE(empty.nodes.empty());
