@@ -1,6 +1,7 @@
 // WideBvh SAH collapse (Ylitie et al. 2017): invariants, hits identical to brute force, cost never above greedy.
 #include <gtest/gtest.h>
 
+#include <span>
 #include <vector>
 
 #include "generated_scenes.h"
@@ -94,6 +95,30 @@ TEST(WideCollapse, SahCostNeverAboveGreedyAndMergesSingleTriangleLeaves) {
       }
   }
   EXPECT_GT(merged, 0u) << "the SAH collapse never merged Bvh2 leaves";
+}
+
+// Unit triangles 10 apart on a 4 x 4 x 4 grid, one per Bvh2 leaf: nothing is worth merging,
+// so both collapses fill the root's 8 slots. With 7 of them and one triangle far off to the
+// side, the Bvh2 root splits 7 | 1 and the SAH collapse gives its left child 7 slots.
+TEST(WideCollapse, BothCollapsesFillAllEightRootSlotsWithFarApartTriangles) {
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 64; ++i) {
+    const Vec3 o(10.0f * float(i % 4), 10.0f * float(i / 4 % 4), 10.0f * float(i / 16));
+    tris.push_back({o, o + Vec3(1, 0, 0), o + Vec3(0, 1, 1)});
+  }
+  std::vector<Triangle> seven_and_one(tris.begin(), tris.begin() + 7);
+  seven_and_one.push_back({{1000, 0, 0}, {1001, 0, 0}, {1000, 1, 1}});
+  for (const CollapseMethod method : {CollapseMethod::Greedy, CollapseMethod::Sah}) {
+    BvhBuildConfig c = sah_config(1, 0.0f);
+    c.collapse = method;
+    for (const auto& mesh : {tris, seven_and_one}) {
+      const WideBvh wide = WideBvh::build(mesh, c);
+      ASSERT_EQ(wide.validate(mesh.size()), "");
+      EXPECT_EQ(wide.nodes[0].count, uint32_t(kWideWidth)) << int(method) << " " << mesh.size();
+    }
+  }
+  const Bvh2 bvh = Bvh2::build(seven_and_one, sah_config(1, 0.0f));
+  EXPECT_EQ(bvh.nodes[bvh.nodes[0].first + 1].count, 1);  // the far triangle alone on the right
 }
 
 TEST(WideCollapse, RealSceneWithPresplitsValidatesAndBeatsGreedyOnCost) {
