@@ -121,6 +121,24 @@ TEST(WideCollapse, BothCollapsesFillAllEightRootSlotsWithFarApartTriangles) {
   EXPECT_EQ(bvh.nodes[bvh.nodes[0].first + 1].count, 1);  // the far triangle alone on the right
 }
 
+// Two far-apart clusters of 8 copies of one triangle, one copy per Bvh2 leaf: the SAH collapse
+// makes each cluster one leaf of collapse_max_leaf = 8 references (2.3 A, against 2 x 1.3 A
+// for two leaves of 4 on the same box).
+TEST(WideCollapse, SahMergesAClusterOfExactlyCollapseMaxLeafReferencesIntoOneLeaf) {
+  std::vector<Triangle> tris(8, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 1}});
+  tris.insert(tris.end(), 8, Triangle{{50, 0, 0}, {51, 0, 0}, {50, 1, 1}});
+  const BvhBuildConfig c = sah_config(1, 0.0f);
+  ASSERT_EQ(c.collapse_max_leaf, 8);
+  const WideBvh wide = WideBvh::build(tris, c);
+  ASSERT_EQ(wide.validate(tris.size()), "");
+  ASSERT_EQ(wide.nodes.size(), 1u);
+  ASSERT_EQ(wide.nodes[0].count, 2u);
+  for (int s = 0; s < 2; ++s) {
+    ASSERT_TRUE(WideRef::is_leaf(wide.nodes[0].child[s]));
+    EXPECT_EQ(WideRef::leaf_count(wide.nodes[0].child[s]), 8u);
+  }
+}
+
 TEST(WideCollapse, RealSceneWithPresplitsValidatesAndBeatsGreedyOnCost) {
   const auto path = find_scene_file("sibenik/sibenik.obj");
   if (!path) GTEST_SKIP() << "sibenik/sibenik.obj not found under " << scenes_dir() << " (set RAYSCOUT_SCENES)";
