@@ -139,6 +139,40 @@ TEST(WideCollapse, SahMergesAClusterOfExactlyCollapseMaxLeafReferencesIntoOneLea
   }
 }
 
+// A Bvh2 put together by hand: nodes and prim_ids as given, triangle ids 0..n-1.
+Bvh2 hand_built(std::vector<Bvh2Node> nodes, size_t prims) {
+  Bvh2 b;
+  b.nodes = std::move(nodes);
+  for (uint32_t i = 0; i < prims; ++i) b.prim_ids.push_back(i);
+  return b;
+}
+
+Bounds3 box_of(std::span<const Triangle> tris) {
+  Bounds3 b;
+  for (const Triangle& t : tris) b.extend(t.bounds());
+  return b;
+}
+
+// A leaf goes into the free lanes of the last block when it fits there: leaves of 2 and 2
+// share one block; a leaf of 3 after one of 2 would straddle two blocks and starts a new one.
+TEST(WideCollapse, LeavesShareABlockWhenTheyFitInItsFreeLanes) {
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 5; ++i) tris.push_back({{float(3 * i), 0, 0}, {float(3 * i) + 1, 0, 0}, {float(3 * i), 1, 0}});
+  const std::span<const Triangle> all(tris);
+  for (const uint16_t second : {2, 3}) {
+    const Bvh2 bvh = hand_built({{box_of(all.first(2u + second)), 1, 0, 0, 0},
+                                 {box_of(all.first(2)), 0, 2, 0, 0},
+                                 {box_of(all.subspan(2, second)), 2, second, 0, 0}},
+                                2u + second);
+    const WideBvh wide = WideBvh::from_bvh2(bvh, tris, BvhBuildConfig{});
+    ASSERT_EQ(wide.validate(2u + second), "") << second;
+    ASSERT_EQ(wide.nodes[0].count, 2u);
+    EXPECT_EQ(WideRef::leaf_first(wide.nodes[0].child[0]), 0u);
+    EXPECT_EQ(WideRef::leaf_first(wide.nodes[0].child[1]), second == 2 ? 2u : 4u) << second;
+    EXPECT_EQ(wide.leaf_blocks.size(), second == 2 ? 1u : 2u) << second;
+  }
+}
+
 TEST(WideCollapse, RealSceneWithPresplitsValidatesAndBeatsGreedyOnCost) {
   const auto path = find_scene_file("sibenik/sibenik.obj");
   if (!path) GTEST_SKIP() << "sibenik/sibenik.obj not found under " << scenes_dir() << " (set RAYSCOUT_SCENES)";
