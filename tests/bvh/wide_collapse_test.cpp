@@ -173,6 +173,36 @@ TEST(WideCollapse, LeavesShareABlockWhenTheyFitInItsFreeLanes) {
   }
 }
 
+// The SAH collapse charges a leaf of n references ceil(n / 4) block tests. Bvh2: root ->
+// (P, Q), P -> (L: 4 triangles, box area 96; R: 1 triangle inside L's box, area 1.5). Merging
+// P into one leaf of 5 costs 96 (0.3 + 2) = 220.8, keeping L and R apart 96 x 1.3 + 1.5 x 1.3
+// = 126.75: the root gets the three leaves L, R, Q. (With floor(n / 4) the merged leaf would
+// cost 124.8 against 125.25 and win.)
+TEST(WideCollapse, SahLeafCostCountsAPartialBlockAsAWholeBlockTest) {
+  std::vector<Triangle> tris(4, Triangle{{0, 0, 0}, {4, 0, 0}, {0, 4, 4}});  // L: box [0, 4]^3
+  tris.push_back({{1, 1, 1}, {1.5f, 1, 1}, {1, 1.5f, 1.5f}});                // R: box [1, 1.5]^3
+  tris.push_back({{100, 0, 0}, {104, 0, 0}, {100, 4, 4}});                   // Q, far away
+  const std::span<const Triangle> all(tris);
+  const Bvh2 bvh = hand_built({{box_of(all), 1, 0, 0, 0},
+                               {box_of(all.first(5)), 3, 0, 0, 0},  // P
+                               {box_of(all.subspan(5)), 5, 1, 0, 0},  // Q
+                               {box_of(all.first(4)), 0, 4, 0, 0},  // L
+                               {box_of(all.subspan(4, 1)), 4, 1, 0, 0}},  // R
+                              6);
+  ASSERT_EQ(box_of(all.first(4)).surface_area(), 96.0f);
+  ASSERT_EQ(box_of(all.subspan(4, 1)).surface_area(), 1.5f);
+  const BvhBuildConfig c = sah_config(4, 0.0f);
+  const WideBvh wide = WideBvh::from_bvh2(bvh, tris, c);
+  ASSERT_EQ(wide.validate(tris.size()), "");
+  ASSERT_EQ(wide.nodes.size(), 1u);
+  ASSERT_EQ(wide.nodes[0].count, 3u);
+  const uint32_t counts[] = {4, 1, 1};
+  for (int s = 0; s < 3; ++s) {
+    ASSERT_TRUE(WideRef::is_leaf(wide.nodes[0].child[s]));
+    EXPECT_EQ(WideRef::leaf_count(wide.nodes[0].child[s]), counts[s]) << s;
+  }
+}
+
 TEST(WideCollapse, RealSceneWithPresplitsValidatesAndBeatsGreedyOnCost) {
   const auto path = find_scene_file("sibenik/sibenik.obj");
   if (!path) GTEST_SKIP() << "sibenik/sibenik.obj not found under " << scenes_dir() << " (set RAYSCOUT_SCENES)";
