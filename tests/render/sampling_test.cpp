@@ -119,6 +119,24 @@ TEST(CameraRays, ThinLensSamplesTheDiskUniformly) {
   for (double c : sector) EXPECT_NEAR(c / count, 0.125, 0.003);
 }
 
+// Shirley-Chiu's map at points worked out by hand: the square's ring of half-width 1/2 goes
+// to the unit circle, its diagonals to the diagonals, and within each wedge the angle runs
+// linearly with the ordinate (pi/8 at (1, 0.75), 3 pi/8 at (0.75, 1)), continuous across the
+// diagonals, where the two branches of the map meet.
+TEST(ConcentricDisk, KnownPointsOnBothBranchesAndTheDiagonal) {
+  const float c = std::cos(std::numbers::pi_v<float> / 8), s = std::sin(std::numbers::pi_v<float> / 8);
+  const float h = std::sqrt(0.5f);
+  struct Case { float u, v, dx, dy; };
+  for (const Case k : {Case{0.5f, 0.5f, 0, 0}, Case{1.0f, 0.75f, c, s}, Case{0.75f, 1.0f, s, c},
+                       Case{0.25f, 0.0f, -s, -c}, Case{0.0f, 0.25f, -c, -s}, Case{1.0f, 1.0f, h, h},
+                       Case{0.0f, 1.0f, -h, h}, Case{1.0f, 0.5f, 1, 0}, Case{0.5f, 1.0f, 0, 1}}) {
+    float dx, dy;
+    concentric_disk(k.u, k.v, dx, dy);
+    EXPECT_NEAR(dx, k.dx, 1e-6f) << k.u << " " << k.v;
+    EXPECT_NEAR(dy, k.dy, 1e-6f) << k.u << " " << k.v;
+  }
+}
+
 // A focus plane far away, a lens far wider than the focus distance, a focus distance of
 // 1e-30: every ray is still a unit direction from its lens point through the point in focus
 // (the lens-to-focus vector once overflowed to inf and gave a black image).
