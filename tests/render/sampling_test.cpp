@@ -13,6 +13,7 @@
 #include "rayscout/render/camera_rays.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/sampler.h"
+#include "rayscout/render/surface.h"
 #include "test_scenes.h"
 
 namespace rayscout {
@@ -135,6 +136,21 @@ TEST(ConcentricDisk, KnownPointsOnBothBranchesAndTheDiagonal) {
     EXPECT_NEAR(dx, k.dx, 1e-6f) << k.u << " " << k.v;
     EXPECT_NEAR(dy, k.dy, 1e-6f) << k.u << " " << k.v;
   }
+}
+
+// The ray epsilon is 1e-5 of the larger of the scene's diagonal and its largest coordinate
+// magnitude (floats are coarser far from the origin), at least 1e-8; the AO radius 10 % of the
+// diagonal unless configured.
+TEST(SceneScales, RayEpsilonAndAoRadiusFromTheBounds) {
+  const Bounds3 box{{0, 0, 0}, {3, 4, 12}};  // diagonal 13
+  EXPECT_FLOAT_EQ(scene_ray_epsilon(box), 1e-5f * 13.0f);
+  EXPECT_FLOAT_EQ(scene_ray_epsilon({{-1001, -1001, -1001}, {-1000, -1000, -1000}}), 1e-5f * 1001.0f);
+  EXPECT_FLOAT_EQ(scene_ray_epsilon({{1000, 0, 0}, {1001, 1, 1}}), 1e-5f * 1001.0f);
+  EXPECT_FLOAT_EQ(scene_ray_epsilon({{0, 0, 0}, {1e-6f, 1e-6f, 1e-6f}}), 1e-8f);
+  EXPECT_FLOAT_EQ(scene_ray_epsilon(Bounds3{}), 1e-5f);
+  EXPECT_FLOAT_EQ(ao_radius_for(0.0f, box), 1.3f);
+  EXPECT_EQ(ao_radius_for(2.5f, box), 2.5f);
+  EXPECT_EQ(ao_radius_for(0.0f, Bounds3{}), 1.0f);
 }
 
 // A focus plane far away, a lens far wider than the focus distance, a focus distance of
