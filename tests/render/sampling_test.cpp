@@ -153,6 +153,23 @@ TEST(SceneScales, RayEpsilonAndAoRadiusFromTheBounds) {
   EXPECT_EQ(ao_radius_for(0.0f, Bounds3{}), 1.0f);
 }
 
+// A shadow ray spans [eps, dist - eps] towards its target; a target within 2 eps, where that
+// interval is empty or a point, gets none.
+TEST(SceneScales, ShadowRayStopsEpsilonShortAndSkipsTargetsWithinTwoEpsilon) {
+  const Vec3 p{1, 2, 3};
+  Ray ray;
+  float dist = 0;
+  ASSERT_TRUE(shadow_ray_to(p, {1, 2, 4.25f}, 0.5f, ray, dist));
+  EXPECT_EQ(dist, 1.25f);
+  EXPECT_EQ(ray.org, p);
+  EXPECT_EQ(ray.dir, Vec3(0, 0, 1));
+  EXPECT_EQ(ray.tmin, 0.5f);
+  EXPECT_EQ(ray.tmax, 0.75f);
+  EXPECT_FALSE(shadow_ray_to(p, {1, 2, 4}, 0.5f, ray, dist));  // dist 1 = 2 eps
+  EXPECT_EQ(dist, 1.0f);
+  EXPECT_FALSE(shadow_ray_to(p, p, 0.5f, ray, dist));
+}
+
 // A focus plane far away, a lens far wider than the focus distance, a focus distance of
 // 1e-30: every ray is still a unit direction from its lens point through the point in focus
 // (the lens-to-focus vector once overflowed to inf and gave a black image).
