@@ -205,5 +205,31 @@ TEST(Batches, KindsBouncesAndStats) {
   EXPECT_EQ(seen[2].kind, "path");
 }
 
+// A path's last diffuse bounce (bounce max_depth - 1) sends shadow rays but no bounce ray:
+// the vertex after it could only add emission, which after a diffuse bounce comes from
+// next-event estimation. In a closed emissive diffuse sphere: primary and shadow rays at
+// bounce 0, path and shadow rays at bounce 1, nothing at bounce 2 = max_depth.
+TEST(Batches, PathTracesNoRaysPastItsLastDiffuseBounce) {
+  Scene scene;
+  testing::add_part(scene, testing::inward_sphere({0, 0, 0}, 1.0f, 1),
+                    Material{.diffuse = Vec3{0.5f}, .emission = Vec3{1.0f}});
+  scene.camera.eye = {0.1f, 0.0f, 0.05f};
+  scene.camera.look_at = {1.0f, 0.2f, 0.0f};
+  RenderConfig cfg;
+  cfg.width = cfg.height = 4;
+  cfg.spp = 1;
+  std::vector<std::pair<std::string, int>> seen;
+  cfg.on_batch = [&](const BatchInfo& info, const RayBatch&) { seen.emplace_back(info.kind, info.bounce); };
+  const auto accel = make_accelerator("brute", scene);
+  cfg.max_depth = 2;
+  make_path_integrator()->render(scene, *accel, cfg);
+  const std::vector<std::pair<std::string, int>> two = {{"primary", 0}, {"shadow", 0}, {"path", 1}, {"shadow", 1}};
+  EXPECT_EQ(seen, two);
+  seen.clear();
+  cfg.max_depth = 0;  // emission seen from the camera only
+  make_path_integrator()->render(scene, *accel, cfg);
+  EXPECT_EQ(seen, (std::vector<std::pair<std::string, int>>{{"primary", 0}}));
+}
+
 }  // namespace
 }  // namespace rayscout
