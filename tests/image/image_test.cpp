@@ -4,11 +4,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
 
 #include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
@@ -111,6 +114,38 @@ std::string read_error(const fs::path& p) {
   }
   fs::remove(p);
   return msg;
+}
+
+// PFM files as other programs write them: big endian (a positive scale) and greyscale ("Pf",
+// one float per pixel), rows bottom to top. Bytes spelled out, not written by write_image.
+TEST(ImageIo, BigEndianAndGreyscalePfmFilesRead) {
+  auto floats = [](std::initializer_list<float> values, bool big_endian) {
+    std::string bytes;
+    for (float f : values) {
+      uint32_t u = std::bit_cast<uint32_t>(f);
+      if (big_endian) u = __builtin_bswap32(u);
+      bytes.append(reinterpret_cast<const char*>(&u), 4);
+    }
+    return bytes;
+  };
+  const fs::path p = temp_file("be.pfm");
+  std::ofstream(p, std::ios::binary) << "PF\n2 2\n1.0\n"
+                                     << floats({1, 2, 3, 4, 5, 6, 0.5f, -7, 1e6f, 8, 9, 10}, true);
+  Image img = read_image(p);
+  ASSERT_EQ(img.width, 2);
+  ASSERT_EQ(img.height, 2);
+  EXPECT_EQ(img.at(0, 1), Vec3(1, 2, 3));  // the file's first row is the bottom one
+  EXPECT_EQ(img.at(1, 1), Vec3(4, 5, 6));
+  EXPECT_EQ(img.at(0, 0), Vec3(0.5f, -7, 1e6f));
+  EXPECT_EQ(img.at(1, 0), Vec3(8, 9, 10));
+  std::ofstream(p, std::ios::binary) << "Pf\n3 1\n-1.0\n" << floats({0.25f, 2, -3}, false);
+  img = read_image(p);
+  ASSERT_EQ(img.width, 3);
+  ASSERT_EQ(img.height, 1);
+  EXPECT_EQ(img.at(0, 0), Vec3(0.25f));
+  EXPECT_EQ(img.at(1, 0), Vec3(2));
+  EXPECT_EQ(img.at(2, 0), Vec3(-3));
+  fs::remove(p);
 }
 
 // Found by fuzzing: the PFM header's size was allocated (up to 51 GB) before the data was read.
