@@ -13,6 +13,11 @@
 #include <limits>
 #include <string>
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+
 #include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
 
@@ -145,6 +150,38 @@ TEST(ImageIo, BigEndianAndGreyscalePfmFilesRead) {
   EXPECT_EQ(img.at(0, 0), Vec3(0.25f));
   EXPECT_EQ(img.at(1, 0), Vec3(2));
   EXPECT_EQ(img.at(2, 0), Vec3(-3));
+  fs::remove(p);
+}
+
+// An EXR whose data window starts off the origin, (3, 5) to (5, 6), with channels R and B only:
+// read_image returns the 3 x 2 pixels of the window, top row first, and 0 for the missing G.
+TEST(ImageIo, ExrDataWindowOffTheOriginAndMissingChannels) {
+  const fs::path p = temp_file("window.exr");
+  const int w = 3, h = 2;
+  std::vector<float> r(w * h), b(w * h);
+  for (int i = 0; i < w * h; ++i) r[size_t(i)] = float(i) + 0.5f, b[size_t(i)] = -float(i) - 1;
+  {
+    const Imath::Box2i display({0, 0}, {9, 9}), data({3, 5}, {5, 6});
+    Imf::Header header(display, data);
+    header.channels().insert("R", Imf::Channel(Imf::FLOAT));
+    header.channels().insert("B", Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(p.string().c_str(), header);
+    Imf::FrameBuffer fb;
+    // Slices are addressed by absolute pixel coordinates: base shifted to the window's corner.
+    const ptrdiff_t shift = 3 + 5 * w;
+    fb.insert("R", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(r.data() - shift), sizeof(float), sizeof(float) * w));
+    fb.insert("B", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(b.data() - shift), sizeof(float), sizeof(float) * w));
+    file.setFrameBuffer(fb);
+    file.writePixels(h);
+  }
+  const Image img = read_image(p);
+  ASSERT_EQ(img.width, w);
+  ASSERT_EQ(img.height, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y * w + x);
+      EXPECT_EQ(img.at(x, y), Vec3(r[i], 0.0f, b[i])) << x << " " << y;
+    }
   fs::remove(p);
 }
 
