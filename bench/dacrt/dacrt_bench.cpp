@@ -199,9 +199,12 @@ int main(int argc, char** argv) {
                                          {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
           }
           const auto& pr = paper_ratios().at(v.name);
-          const double paper = pr.count(res) ? pr.at(res) : 0.0;
-          fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {:.2f} |\n", v.name, res, fa, fr, fa / fr, paper);
-          out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr}, {"paper_ratio", paper}});
+          // The paper measured 512^2 to 4096^2 only; other resolutions have no value to compare with.
+          const bool has_paper = pr.count(res) > 0;
+          fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {} |\n", v.name, res, fa, fr, fa / fr,
+                     has_paper ? fmt::format("{:.2f}", pr.at(res)) : "–");
+          out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr},
+                                   {"paper_ratio", has_paper ? nlohmann::json(pr.at(res)) : nlohmann::json(nullptr)}});
           std::fflush(stdout);
         }
       }
