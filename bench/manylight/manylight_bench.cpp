@@ -194,7 +194,8 @@ int main(int argc, char** argv) {
           passes[mode] += double(rec.back().passes) / o.reps;
         }
       const double pre = tm.preprocess_ms() * 1e-3;
-      fmt::print("\n| mode | passes ({:.0f} s budget or equal passes) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", o.budget);
+      const std::string passes_of = o.equal_passes > 0 ? "the same for every mode" : fmt::format("in {:g} CPU s", o.budget);
+      fmt::print("\n| mode | passes ({}) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", passes_of);
       fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
       nlohmann::json js = {{"scene", name}, {"triangles", scene.triangles.size()}, {"vpls", r.vpls().vpls.size()},
                            {"width", o.width}, {"height", o.height}, {"threads", o.threads}, {"accel", accel->name()},
