@@ -44,6 +44,17 @@ std::string_view json_text(const std::string& data, bool binary) {
   return std::string_view(data).substr(20, le32(data, 12));
 }
 
+// A glTF 2.0 .glb whose JSON chunk declares more bytes than the file holds: assimp allocates
+// the declared length before it reads (a 764-byte file with a length of 4 GB took 4 GB of
+// memory and half a minute), so this is said before assimp sees the file. Empty otherwise.
+std::string overrunning_json_chunk(const std::string& data) {
+  if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || le32(data, 4) != 2 || le32(data, 16) != kJsonChunk ||
+      le32(data, 12) <= data.size() - 20)
+    return "";
+  return "truncated: the JSON chunk declares " + std::to_string(le32(data, 12)) + " bytes, the file has " +
+         std::to_string(data.size() - 20) + " after the chunk header";
+}
+
 // What is wrong with a glTF file assimp could not read, where assimp only says "No suitable
 // reader found for the file format": the container, the JSON, or its top level. Empty when
 // none of these is wrong (then assimp's own message is the best there is).
@@ -137,6 +148,8 @@ Mesh read_assimp(const std::filesystem::path& path) {
   const std::string file = detail::display_name(path), data = detail::read_file(path);
   const std::string_view json = json_text(data, binary);
   detail::check_json_nesting(json, file);
+  if (binary)
+    if (const std::string overrun = overrunning_json_chunk(data); !overrun.empty()) throw InputError(file + ": " + overrun);
   Assimp::Importer importer;
   // From the path, not from `data`: buffers and images may be files beside it.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);

@@ -325,7 +325,7 @@ TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
   glb = std::string("glTF\x02\0\0\0\x0c\0\0\0", 12);
   expect_contains(input_error_of([&] { load_scene(dir.write("e.glb", glb)); }), {"e.glb: the first chunk is not a complete JSON chunk"});
   glb = std::string("glTF\x02\0\0\0\x1c\0\0\0\x10\0\0\0JSON{}      ", 28);
-  expect_contains(input_error_of([&] { load_scene(dir.write("c.glb", glb)); }), {"c.glb: the first chunk is not a complete JSON chunk"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("c.glb", glb)); }), {"c.glb: truncated: the JSON chunk declares 16 bytes, the file has 8 after the chunk header"});
   expect_contains(input_error_of([&] { load_scene(dir.write("bom.gltf", "\xEF\xBB\xBF" + triangle_gltf(R"("scenes": [])"))); }),
                   {"bom.gltf: starts with a byte order mark"});
   expect_contains(input_error_of([&] { load_scene(dir.write("arr.gltf", "[1, 2]")); }), {"arr.gltf: the JSON is array, not an object"});
@@ -339,6 +339,21 @@ TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
   const std::string no_faces = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
     "meshes": [{"primitives": [{"attributes": {}}]}]})";
   expect_contains(input_error_of([&] { load_scene(dir.write("d.gltf", no_faces)); }), {"d.gltf: assimp cannot read it: "});
+}
+
+// Found by fuzzing: a 52-byte .glb whose JSON chunk declares 4 GB. assimp allocated the
+// declared length before reading (4 GB and half a minute); now refused before assimp sees it.
+TEST(GltfReader, JsonChunkLongerThanTheFileIsRefusedBeforeAssimpReadsIt) {
+  TempDir dir;
+  std::string glb;
+  put<uint32_t>(glb, 0x46546C67u, false);  // "glTF"
+  put<uint32_t>(glb, 2, false);
+  put<uint32_t>(glb, 52, false);
+  put<uint32_t>(glb, 0xF0000000u, false);  // JSON chunk length
+  put<uint32_t>(glb, 0x4E4F534Au, false);  // "JSON"
+  glb += R"({"asset": {"version": "2.0"}}   )";
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("big.glb", glb)); }),
+                           {"big.glb: truncated: the JSON chunk declares 4026531840 bytes, the file has 32 after the chunk header"});
 }
 
 // Node transforms compose down the hierarchy, an instanced mesh appears once per node, and a
