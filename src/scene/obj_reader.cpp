@@ -146,14 +146,20 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
       d.illum = int(v);
     }
   });
+  // By name, not by a search of `out` per definition: that was quadratic (an MTL of 100000
+  // materials took 80 s).
+  std::unordered_map<std::string, size_t> index;
+  for (size_t i = 0; i < out.size(); ++i) index.emplace(out[i].name, i);
   for (auto& d : defs) {
     Material m = material_from_mtl(d.name, d.kd, d.ks, d.ns, d.illum, d.ke);
     const std::string warning =
         conserve_energy_with_warning(m, detail::display_name(path) + ":" + std::to_string(d.line));
     if (!warning.empty() && warnings) warnings->push_back(warning);
-    auto same = std::find_if(out.begin(), out.end(), [&](const Material& o) { return o.name == m.name; });
-    if (same != out.end()) *same = std::move(m);
-    else out.push_back(std::move(m));
+    if (auto [it, added] = index.emplace(m.name, out.size()); !added) {
+      out[it->second] = std::move(m);
+    } else {
+      out.push_back(std::move(m));
+    }
   }
 }
 
@@ -274,10 +280,11 @@ class ObjReader {
 
   // The mesh's materials, in order of first use: from the libraries, else a grey diffuse.
   void resolve_materials() {
+    std::unordered_map<std::string_view, const Material*> library;  // names are unique (read_mtl)
+    for (const Material& m : library_) library.emplace(m.name, &m);
     for (const auto& name : used_names_) {
-      auto it = std::find_if(library_.begin(), library_.end(), [&](const Material& m) { return m.name == name; });
-      if (it != library_.end()) {
-        mesh_.materials.push_back(*it);
+      if (auto it = library.find(name); it != library.end()) {
+        mesh_.materials.push_back(*it->second);
         continue;
       }
       Material m;

@@ -1,6 +1,7 @@
 // Every bad-input case gives an InputError naming the file and line, or the JSON field.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstring>
 #include <utility>
 
@@ -338,6 +339,63 @@ TEST(SceneBadInput, JsonMeshFileErrorsNameBothFiles) {
                   {"s.json: meshes[0].file: ", "bad.obj:4: face index 4 out of range (3 vertices)"});
   expect_contains(error_loading(dir, "t.json", R"({"meshes": [{"file": "tri.obj"}, {"file": "missing.ply"}]})"),
                   {"t.json: meshes[1].file: ", "missing.ply: cannot open"});
+}
+
+// Found by fuzzing: work quadratic in the size of inputs of a few MB, so a load that never
+// seemed to end (100000 keys, materials or warnings: 30 to 80 s). Timed here at half that
+// size, which took 7 to 12 s before, with a bound far above the linear time.
+double seconds_to_load(const std::filesystem::path& p, Scene& out) {
+  const auto start = std::chrono::steady_clock::now();
+  out = load_scene(p);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+TEST(SceneBadInput, JsonObjectOfManyKeysIsReadInLinearTimeAndInFileOrder) {
+  TempDir dir;
+  dir.write("tri.obj", kTriangle + "f 1 2 3\n");
+  std::string materials;
+  for (int i = 50000; i-- > 0;) materials += (materials.empty() ? "\"m" : ", \"m") + std::to_string(i) + "\": {}";
+  Scene s;
+  const double t = seconds_to_load(dir.write("keys.json", R"({"meshes": [{"file": "tri.obj"}], "materials": {)" + materials + "}}"), s);
+  EXPECT_LT(t, 3.0) << "50000 keys in one object (7 s before)";
+  ASSERT_EQ(s.materials.size(), 50001u);  // the mesh's "default", then the file's, in file order
+  EXPECT_EQ(s.materials[1].name, "m49999");
+  EXPECT_EQ(s.materials[50000].name, "m0");
+  // A duplicate among many keys is still found.
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "materials": {)" + materials + R"(, "m7": {}}})"),
+                  {"scene.json: key \"m7\" appears twice in one object"});
+}
+
+TEST(SceneBadInput, MtlOfManyMaterialsIsReadInLinearTime) {
+  TempDir dir;
+  std::string mtl, obj = "mtllib many.mtl\n" + kTriangle;
+  for (int i = 0; i < 50000; ++i) {
+    mtl += "newmtl m" + std::to_string(i) + "\nKd 0." + std::to_string(i % 10) + "\n";
+    obj += "usemtl m" + std::to_string(49999 - i) + "\nf 1 2 3\n";
+  }
+  mtl += "newmtl m5\nKd 0.25\n";  // a later definition of a name replaces the first
+  dir.write("many.mtl", mtl);
+  Scene s;
+  const double t = seconds_to_load(dir.write("many.obj", obj), s);
+  EXPECT_LT(t, 3.0) << "50000 materials (11 s before)";
+  ASSERT_EQ(s.materials.size(), 50000u);
+  EXPECT_EQ(s.materials[0].name, "m49999");  // in order of first use
+  EXPECT_FLOAT_EQ(s.materials[0].diffuse.x, 0.9f);
+  EXPECT_EQ(s.materials[49994].name, "m5");
+  EXPECT_FLOAT_EQ(s.materials[49994].diffuse.x, 0.25f);
+}
+
+TEST(SceneBadInput, JsonSceneOfAMeshWithManyWarningsIsReadInLinearTime) {
+  TempDir dir;
+  std::string obj = kTriangle;
+  for (int i = 0; i < 50000; ++i) obj += "usemtl undefined" + std::to_string(i) + "\nf 1 2 3\n";
+  dir.write("undef.obj", obj);
+  Scene s;
+  const double t =
+      seconds_to_load(dir.write("s.json", R"({"meshes": [{"file": "undef.obj"}, {"file": "undef.obj"}]})"), s);
+  EXPECT_LT(t, 3.0) << "50000 warnings (12 s before)";
+  ASSERT_EQ(s.warnings.size(), 50001u);  // once each, although the mesh is placed twice; and "no lights"
+  expect_contains(s.warnings[0], {"undef.obj: material 'undefined0' is not defined in any material library"});
 }
 
 }  // namespace
