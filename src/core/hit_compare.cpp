@@ -64,7 +64,8 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     }
     if (!r.hit()) continue;
     ++d.both_hit;
-    const float diff = std::fabs(g.t - r.t) / t_scale(config, i, r.t);
+    // Equal distances differ by 0, infinite ones too (a hit at t = +-inf: inf - inf is NaN).
+    const float diff = g.t == r.t ? 0.0f : std::fabs(g.t - r.t) / t_scale(config, i, r.t);
     const bool t_close = diff <= config.rel_tol;
     if (r.prim != g.prim) {
       if (t_close && !exact) {

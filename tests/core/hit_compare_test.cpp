@@ -25,6 +25,21 @@ TEST(HitCompare, IdenticalBatchesAgreeBitExactly) {
   EXPECT_EQ(d.max_rel_diff, 0.0);
 }
 
+// Found by fuzzing: a hit at t = +-inf (a denormal direction, see ray_file_test) compared
+// with itself gave a NaN difference (inf - inf), counted as a distance mismatch: two identical
+// HITS files were DIFFERENT.
+TEST(HitCompare, IdenticalHitsAtAnInfiniteDistanceAgree) {
+  const HitBatch a = batch({{kInfinity, 3, 0.2f, 0.3f}, {-kInfinity, 1, 0.1f, 0.1f}, {2.0f, 1, 0.1f, 0.1f}});
+  for (float tol : {0.0f, 1e-4f}) {
+    const HitDiff d = compare_hits(a, a, tol);
+    EXPECT_TRUE(d.ok()) << d.first;
+    EXPECT_EQ(d.t_mismatch, 0u);
+    EXPECT_EQ(d.max_rel_diff, 0.0);
+  }
+  const HitBatch b = batch({{kInfinity, 3, 0.2f, 0.3f}, {kInfinity, 1, 0.1f, 0.1f}, {2.0f, 1, 0.1f, 0.1f}});
+  EXPECT_EQ(compare_hits(a, b, 1e-4f).t_mismatch, 1u);  // -inf against +inf still differs
+}
+
 TEST(HitCompare, DistanceToleranceIsRelativeAboveOne) {
   const HitBatch ref = batch({{100.0f, 3, 0.2f, 0.3f}, {0.5f, 4, 0.2f, 0.3f}});
   const HitBatch got = batch({{100.005f, 3, 0.2f, 0.3f}, {0.50002f, 4, 0.2f, 0.3f}});

@@ -4,12 +4,15 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <sys/stat.h>
 
 #include "generated_scenes.h"
+#include "rayscout/core/accelerator.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/ray_file.h"
 
@@ -103,6 +106,33 @@ TEST_F(RayFileTest, HitsRoundTripWithMisses) {
   EXPECT_EQ(r.kind, RayFileKind::Hits);
   EXPECT_EQ(r.hits.t, back.t);
   EXPECT_EQ(r.hits.prim, back.prim);
+}
+
+// Found by fuzzing: for a ray with a denormal direction (1e-45) the hit distance overflows,
+// and every accelerator (brute force too) reports the hit at t = +-inf within tmin = -inf,
+// tmax = inf. trace wrote such a HITS file and compare-hits refused to read it back ("hit with
+// non-finite t"). A hit at an infinite t reads back; a hit with a NaN t is still refused.
+TEST_F(RayFileTest, HitsAtAnInfiniteDistanceRoundTripAndNaNIsRefused) {
+  const std::vector<Triangle> triangle = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
+  const BruteForce brute(triangle);
+  RayBatch rays;
+  rays.push_back({{0.25f, 0.25f, 1.0f}, -kInfinity, {0.0f, 0.0f, -1e-45f}, kInfinity});
+  rays.push_back({{0.25f, 0.25f, -1.0f}, -kInfinity, {0.0f, 0.0f, -1e-45f}, kInfinity});
+  HitBatch hits;
+  brute.intersect(rays, hits);
+  ASSERT_EQ(hits.prim, (std::vector<uint32_t>{0, 0}));
+  ASSERT_EQ(hits.t, (std::vector<float>{kInfinity, -kInfinity}));
+  write_hits(path("inf.hits"), hits);
+  const HitBatch back = read_hits(path("inf.hits"));
+  EXPECT_EQ(back.prim, hits.prim);
+  EXPECT_EQ(back.t, hits.t);
+
+  std::string b = slurp(path("inf.hits"));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&b[16 + 16], &nan, 4);  // record 1: a hit with t = NaN
+  dump(path("nan.hits"), b);
+  const std::string e = error_of([&] { read_hits(path("nan.hits")); });
+  EXPECT_NE(e.find("nan.hits: record 1: hit with t = nan"), std::string::npos) << e;
 }
 
 TEST_F(RayFileTest, OcclusionRoundTrip) {

@@ -24,10 +24,11 @@ void write_rays(const std::filesystem::path& file, const RayBatch& rays);
 RayBatch read_rays(const std::filesystem::path& file);
 
 /// HITS v1: per ray float32 t (+inf on a miss), uint32 triangle id (0xFFFFFFFF on a
-/// miss), float32 u, float32 v (16 bytes).
+/// miss), float32 u, float32 v (16 bytes). A hit's t may be +-inf (a direction so short that
+/// the distance overflows float, within tmin = -inf or tmax = inf).
 void write_hits(const std::filesystem::path& file, const HitBatch& hits);
 /// Reads a HITS file; errors as read_rays, plus a miss with a finite t or a hit with a
-/// non-finite t.
+/// NaN t.
 HitBatch read_hits(const std::filesystem::path& file);
 
 /// OCCL v1: one byte per ray, 1 = occluded, 0 = clear.
