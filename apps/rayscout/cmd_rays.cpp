@@ -1,4 +1,6 @@
 // `rayscout rays`: writes a workload's ray set (primary, shadow, ao, diffuse) to a RAYS file.
+#include <sys/sysinfo.h>
+
 #include <memory>
 #include <string>
 
@@ -20,9 +22,25 @@ struct RaysArgs {
   WorkloadConfig config;
 };
 
+// The rays are held twice, as the batch and as the encoded file: at least 64 bytes per camera
+// ray (more for the secondary workloads). Asked for more than the machine's memory and swap,
+// the kernel killed the process mid-run (--width 2147483647 --height 1: 24 GB used, then
+// SIGKILL) instead of an error; refused here, before the scene is loaded.
+void check_memory(const WorkloadConfig& c) {
+  const double rays = double(c.width) * double(c.height) * double(c.spp), need = 64.0 * rays;
+  struct sysinfo si;
+  if (sysinfo(&si) != 0) return;
+  const double have = (double(si.totalram) + double(si.totalswap)) * double(si.mem_unit);
+  if (need > have)
+    throw InputError(fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays need at least {:.1f} GB (64 bytes "
+                                 "a ray), more than this machine's {:.1f} GB of memory and swap",
+                                 c.width, c.height, c.spp, rays, need * 1e-9, have * 1e-9));
+}
+
 void run_rays(const RaysArgs& a) {
   const Workload workload = parse_workload(a.workload);
   check_output_path(a.out, "--out " + a.out);
+  check_memory(a.config);
   const auto start = SteadyClock::now();
   const Scene scene = resolve_scene(a.scene);
   // Secondary workloads start at the primary hits, found with this accelerator.
@@ -30,8 +48,7 @@ void run_rays(const RaysArgs& a) {
   const RayBatch rays = make_workload(scene, *accel, workload, a.config);
   write_rays(a.out, rays);
   fmt::print("wrote {} {} rays ({}x{}, {} spp, seed {}) to {} in {:.0f} ms\n", rays.size(), workload_name(workload),
-             a.config.width, a.config.height, a.config.spp, a.config.seed, a.out,
-             ms_since(start));
+             a.config.width, a.config.height, a.config.spp, a.config.seed, a.out, ms_since(start));
 }
 
 CommandRegistration registration{[](CLI::App& app) {
