@@ -148,17 +148,23 @@ Image read_pfm(const std::filesystem::path& path) {
   in >> magic >> w >> h >> scale;
   if (!in || (magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || w > 1 << 16 || h > 1 << 16 || scale == 0)
     throw InputError(path.string() + ": not a PFM file (bad header)");
-  in.get();  // the single whitespace after the scale
+  const int separator = in.get();  // the single whitespace after the scale
   const int channels = magic == "PF" ? 3 : 1;
   // Check the size before allocating: a header may claim 65536 x 65536 pixels (51 GB).
   const std::streamoff data_start = in.tellg();
   in.seekg(0, std::ios::end);
   const std::streamoff data_bytes = in.tellg() - data_start;
   const uint64_t need = uint64_t(w) * uint64_t(h) * uint64_t(channels) * sizeof(float);
+  const std::string size = std::to_string(w) + "x" + std::to_string(h) + " pixels need ";
   if (data_start < 0 || data_bytes < 0 || uint64_t(data_bytes) < need)
-    throw InputError(path.string() + ": truncated PFM data: " + std::to_string(w) + "x" + std::to_string(h) +
-                     " pixels need " + std::to_string(need) + " bytes, the file has " +
+    throw InputError(path.string() + ": truncated PFM data: " + size + std::to_string(need) + " bytes, the file has " +
                      std::to_string(std::max<std::streamoff>(data_bytes, 0)));
+  // More data than the pixels is a wrong header, not padding. Windows line ends (CR LF) leave
+  // the LF as a data byte: every float would be read one byte off.
+  if (const uint64_t more = uint64_t(data_bytes) - need; more > 0)
+    throw InputError(path.string() + ": " + std::to_string(more) + (more == 1 ? " byte" : " bytes") + " more than " +
+                     size + "(" + std::to_string(need) + ")" +
+                     (separator == '\r' ? ": the header ends in CR LF (PFM allows one whitespace byte after the scale)" : ""));
   in.seekg(data_start);
   std::vector<float> row(size_t(w) * channels);
   Image image(w, h);

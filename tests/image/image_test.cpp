@@ -195,6 +195,28 @@ TEST(ImageIo, PfmHugeHeaderIsCheckedAgainstTheFileSize) {
       << msg;
 }
 
+// Found by fuzzing: a PFM holding more bytes than its header's pixels was read without a word,
+// and a header with Windows line ends (CR LF) left the LF as the first data byte, so every
+// float was shifted by a byte (values near 1e8 instead of 0.1 ... 0.6).
+TEST(ImageIo, PfmWithMoreDataThanItsPixelsIsRefused) {
+  std::string px(24, '\0');
+  const float values[6] = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+  std::memcpy(px.data(), values, sizeof values);
+  const fs::path crlf = temp_file("crlf.pfm"), extra = temp_file("extra.pfm"), ok = temp_file("ok.pfm");
+  std::ofstream(crlf, std::ios::binary) << "PF\r\n2 1\r\n-1.0\r\n" << px;
+  std::ofstream(extra, std::ios::binary) << "PF\n2 1\n-1.0\n" << px << "abcd";
+  std::ofstream(ok, std::ios::binary) << "PF\n2 1\n-1.0\n" << px;
+  std::string msg = read_error(crlf);
+  EXPECT_NE(msg.find("crlf.pfm: 1 byte more than 2x1 pixels need (24): the header ends in CR LF"), std::string::npos)
+      << msg;
+  msg = read_error(extra);
+  EXPECT_NE(msg.find("extra.pfm: 4 bytes more than 2x1 pixels need (24)"), std::string::npos) << msg;
+  const Image image = read_image(ok);
+  fs::remove(ok);
+  ASSERT_EQ(image.pixels.size(), 2u);
+  EXPECT_EQ(image.pixels[1].z, 0.6f);
+}
+
 // An EXR's data window is checked before its pixels are allocated: a corrupt header of a
 // small file asked for 1.2 GB and more. A well-formed file beyond rayscout's largest image
 // (32768 a side) meets the same check.
