@@ -2,9 +2,13 @@
 #include "rayscout/manylight/vpl.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numbers>
+#include <string>
 
 #include "rayscout/core/discrete_distribution.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/render/bsdf.h"
@@ -47,19 +51,27 @@ struct PathState {
   int bounces = 0;
 };
 
-/// The lights with positive power.
+/// The lights with positive power. Throws InputError when a light's power, or all lights'
+/// together, overflows float: the VPL fluxes (power / pdf) would be inf or NaN.
 std::vector<LightSource> light_sources(const Scene& scene) {
   std::vector<LightSource> lights;
-  for (uint32_t i = 0; i < scene.point_lights.size(); ++i) {
+  double total = 0;
+  auto add = [&](bool point, uint32_t index, double power) {
+    const std::string what = point ? "point light " + std::to_string(index) : "emissive triangle " + std::to_string(index);
+    if (!(power <= std::numeric_limits<float>::max()))
+      throw InputError("manylight: the power of " + what + " overflows float (its " +
+                       (point ? "intensity" : "material's emission") + " is too large)");
     // A dark light would get probability 0 (or, alone, divide the cdf by 0: NaN VPLs).
-    const float p = 4.0f * kPi * channel_mean(scene.point_lights[i].intensity);
-    if (p > 0) lights.push_back({true, i, p});
-  }
-  for (uint32_t id : scene.emissive_triangles) {
-    // One-sided emitters (the side of the geometric normal, as in the render module): pi Le A.
-    const float p = kPi * channel_mean(scene.material_of(id).emission) * scene.triangles[id].area();
-    if (p > 0) lights.push_back({false, id, p});
-  }
+    if (power > 0) lights.push_back({point, index, float(power)});
+    total += power;
+  };
+  for (uint32_t i = 0; i < scene.point_lights.size(); ++i)
+    add(true, i, 4.0 * std::numbers::pi * double(channel_mean(scene.point_lights[i].intensity)));
+  // One-sided emitters (the side of the geometric normal, as in the render module): pi Le A.
+  for (uint32_t id : scene.emissive_triangles)
+    add(false, id, std::numbers::pi * double(channel_mean(scene.material_of(id).emission)) * double(scene.triangles[id].area()));
+  if (!(total <= std::numeric_limits<float>::max()))
+    throw InputError("manylight: the lights' total power overflows float (intensities or emissions too large)");
   return lights;
 }
 

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "rayscout/accelerators.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/manylight_renderer.h"
 #include "rayscout/manylight/visibility_cluster.h"
@@ -104,6 +105,33 @@ TEST(ManylightVpls, DarkPointLightsAreNeverChosen) {
   scene.emissive_triangles.clear();
   scene.point_lights.assign(1, {scene.bounds().center(), Vec3(0.0f)});
   EXPECT_TRUE(generate_vpls(scene, *accel, config).vpls.empty());
+}
+
+// A light whose power (4 pi I, or pi Le A) overflows float, or lights whose powers together
+// do, is an input error naming it; it used to end in an internal error of the light cdf
+// (exit 1). The brightest light that fits still gives finite VPLs.
+TEST(ManylightVpls, PowerBeyondTheFloatRangeIsAnInputError) {
+  Scene scene = default_scene();
+  scene.emissive_triangles.clear();
+  const Vec3 at = scene.bounds().center();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.vpl_count = 100;
+  const auto error_of = [&] {
+    try {
+      generate_vpls(scene, *accel, config);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  scene.point_lights = {{at, Vec3(1e37f)}};  // 4 pi 1e37 = 1.3e38 < 3.4e38
+  EXPECT_EQ(error_of(), "");
+  for (const Vpl& v : generate_vpls(scene, *accel, config).vpls) ASSERT_TRUE(is_finite(v.power));
+  scene.point_lights = {{at, Vec3(1e37f)}, {at, Vec3(1.0f)}, {at, Vec3(3e37f)}};
+  EXPECT_EQ(error_of(), "manylight: the power of point light 2 overflows float (its intensity is too large)");
+  scene.point_lights = {{at, Vec3(1e37f)}, {at, Vec3(1e37f)}, {at, Vec3(1e37f)}};
+  EXPECT_EQ(error_of(), "manylight: the lights' total power overflows float (intensities or emissions too large)");
 }
 
 TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
