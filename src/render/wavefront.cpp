@@ -54,14 +54,17 @@ void accumulate(std::vector<Vec3>& film, const std::vector<Contribution>& list, 
 }  // namespace
 
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
-                          RayBatch& rays, std::vector<PathState>* paths, int sample_begin, int sample_end) {
+                          RayBatch& rays, std::vector<PathState>* paths, int sample_begin, int sample_end,
+                          int row_begin, int row_end) {
   const CameraRays camera(scene.camera, width, height);
   if (sample_end < 0 || sample_end > spp) sample_end = spp;
+  if (row_end < 0 || row_end > height) row_end = height;
   const int per_pixel = sample_end - sample_begin;
-  const size_t n = size_t(width) * size_t(height) * size_t(per_pixel);
+  const size_t first_pixel = size_t(row_begin) * size_t(width);
+  const size_t n = size_t(width) * size_t(row_end - row_begin) * size_t(per_pixel);
   rays.resize(n);
   if (paths) paths->resize(n);
-  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+  tbb::parallel_for(tbb::blocked_range<int>(row_begin, row_end), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y)
       for (int x = 0; x < width; ++x) {
         const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
@@ -69,7 +72,7 @@ void generate_camera_rays(const Scene& scene, int width, int height, int spp, ui
           const PathSampler sampler{seed, pixel, uint32_t(s), 0};
           float fx, fy;
           pixel_sample_position(sampler, x, y, s, spp, fx, fy);
-          const size_t i = size_t(pixel) * size_t(per_pixel) + size_t(s - sample_begin);
+          const size_t i = (size_t(pixel) - first_pixel) * size_t(per_pixel) + size_t(s - sample_begin);
           rays.set(i, camera.generate(fx, fy, sampler.get(kDimLens), sampler.get(kDimLens + 1)));
           if (paths) (*paths)[i] = PathState{pixel, uint32_t(s), Vec3{1.0f}, true};
         }
@@ -152,10 +155,14 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
 
   const size_t n_pixels = size_t(config.width) * size_t(config.height);
   std::vector<Vec3> film(n_pixels);
-  // Samples per pass: all of them unless the camera batch would exceed max_batch_rays.
+  // Samples per pass: all of them unless the camera batch would exceed max_batch_rays; when
+  // one sample of every pixel exceeds it, bands of rows of one sample each.
   const size_t max_rays = config.max_batch_rays > 0 ? size_t(config.max_batch_rays) : size_t(1) << 24;
   const int per_pass = int(std::clamp<size_t>(max_rays / n_pixels, 1, size_t(config.spp)));
-  const int passes = (config.spp + per_pass - 1) / per_pass;
+  const int sample_passes = (config.spp + per_pass - 1) / per_pass;
+  const int band_rows = int(std::clamp<size_t>(max_rays / size_t(config.width), 1, size_t(config.height)));
+  const int bands = (config.height + band_rows - 1) / band_rows;
+  const int passes = bands * sample_passes;
   auto t0 = SteadyClock::now();
 
   uint64_t rays_traced = 0;
@@ -181,8 +188,10 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   Bounce b;
   for (pass = 0; pass < passes; ++pass) {
     t0 = SteadyClock::now();
+    const int band = pass / sample_passes, sample_pass = pass % sample_passes;
     generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, b.rays, &b.paths,
-                         pass * per_pass, std::min(config.spp, (pass + 1) * per_pass));
+                         sample_pass * per_pass, std::min(config.spp, (sample_pass + 1) * per_pass),
+                         band * band_rows, std::min(config.height, (band + 1) * band_rows));
     stats.raygen_ms += ms_since(t0);
     for (int bounce = 0; !b.paths.empty(); ++bounce) {
       ctx.bounce = bounce;

@@ -150,6 +150,33 @@ TEST(Batches, SamplePassesBoundTheBatchSize) {
       EXPECT_NEAR(passes.pixels[i][c], whole.pixels[i][c], 1e-5f * std::max(1.0f, whole.pixels[i][c]));
 }
 
+// An image with more pixels than max_batch_rays is traced in bands of rows, one sample per
+// pass: the same image up to float summation order, no camera batch above the limit.
+TEST(Batches, RowBandsBoundTheBatchOfALargeImage) {
+  const Scene scene = test_scene();
+  RenderConfig cfg = small_config();
+  cfg.spp = 2;
+  const auto accel = make_accelerator("brute", scene);
+  const auto path = make_path_integrator();
+  const Image whole = path->render(scene, *accel, cfg);
+  const int rows = 7;
+  ASSERT_EQ(cfg.height % rows, 3);  // the last band is short
+  std::vector<size_t> sizes;
+  cfg.max_batch_rays = long(cfg.width) * rows + long(cfg.width) - 1;  // bands of 7 rows
+  cfg.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
+    if (info.kind == "primary") sizes.push_back(rays.size());
+  };
+  const Image bands = path->render(scene, *accel, cfg);
+  const size_t n_bands = size_t(cfg.height + rows - 1) / rows;
+  ASSERT_EQ(sizes.size(), n_bands * 2);  // every band, once per sample
+  for (size_t k = 0; k + 2 < sizes.size(); ++k) EXPECT_EQ(sizes[k], size_t(cfg.width) * rows) << k;
+  EXPECT_EQ(sizes[sizes.size() - 2], size_t(cfg.width) * 3);
+  EXPECT_EQ(sizes.back(), size_t(cfg.width) * 3);
+  for (size_t i = 0; i < whole.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(bands.pixels[i][c], whole.pixels[i][c], 1e-5f * std::max(1.0f, whole.pixels[i][c]));
+}
+
 TEST(Batches, KindsBouncesAndStats) {
   const Scene scene = test_scene();
   RenderConfig cfg = small_config();

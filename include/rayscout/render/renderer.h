@@ -45,7 +45,8 @@ struct RenderConfig {
   float ray_epsilon = 0;   ///< tmin of secondary rays; 0 = scene_ray_epsilon(scene bounds)
   bool count = false;      ///< collect TraceStats per batch (slower)
   /// Largest camera batch: above it the samples of each pixel are rendered in passes of whole
-  /// samples (each pass a full wavefront), which bounds memory (~100 bytes per path).
+  /// samples (each pass a full wavefront), and an image with more pixels than this in bands
+  /// of rows, one sample per pass; this bounds memory (~200-400 bytes per path).
   /// 0 = 2^24 rays. The image depends on it only through float summation order.
   long max_batch_rays = 0;
   /// Called with every ray batch before it is traced (benchmarks record the per-bounce ray

@@ -61,7 +61,8 @@ class ShadeOutput {
 };
 
 /// The wavefront loop: camera rays for every pixel sample as one batch
-/// (split into passes of whole samples when above RenderConfig::max_batch_rays);
+/// (split into passes of whole samples when above RenderConfig::max_batch_rays, and into
+/// bands of rows when even one sample of every pixel is above it);
 /// trace the whole batch; shade every hit (chunks in parallel); trace the batch of occlusion
 /// rays; continue with the batch of next rays. Contributions are added per pixel in a fixed
 /// order (bounce, then path order), so images do not depend on the thread count.
@@ -89,11 +90,11 @@ class WavefrontIntegrator : public Integrator {
   static void merge_bounce(Bounce& b, std::vector<Vec3>& film);
 };
 
-/// Camera rays of samples [sample_begin, sample_end) of spp (sample_end < 0: to spp) of every
-/// pixel, pixel-major with samples inner; paths gets the matching states. Shared with
-/// make_workload.
+/// Camera rays of samples [sample_begin, sample_end) of spp (sample_end < 0: to spp) of the
+/// pixels of rows [row_begin, row_end) (row_end < 0: to height), pixel-major with samples
+/// inner; paths gets the matching states. Shared with make_workload.
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
                           RayBatch& rays, std::vector<PathState>* paths, int sample_begin = 0,
-                          int sample_end = -1);
+                          int sample_end = -1, int row_begin = 0, int row_end = -1);
 
 }  // namespace rayscout
