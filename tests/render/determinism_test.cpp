@@ -128,53 +128,48 @@ TEST(Determinism, SeedSelectsTheImage) {
   EXPECT_NE(first_difference(a, path->render(scene, *accel, cfg)), -1);
 }
 
-// Passes of whole samples (max_batch_rays) give the same image up to float summation order,
-// and each pass traces one camera batch.
-TEST(Batches, SamplePassesBoundTheBatchSize) {
+// Renders cfg's path-traced image whole, then with max_batch_rays = max_batch: expects the same
+// image up to float summation order and returns the sizes of the second render's camera batches.
+std::vector<size_t> camera_batches_of_split_render(RenderConfig cfg, long max_batch) {
   const Scene scene = test_scene();
-  RenderConfig cfg = small_config();
-  cfg.spp = 5;
   const auto accel = make_accelerator("brute", scene);
   const auto path = make_path_integrator();
   const Image whole = path->render(scene, *accel, cfg);
-  size_t primaries = 0, largest = 0;
-  cfg.max_batch_rays = long(cfg.width) * cfg.height * 2;  // 2 samples per pass: 3 passes
-  cfg.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
-    if (info.kind == "primary") ++primaries, largest = std::max(largest, rays.size());
-  };
-  const Image passes = path->render(scene, *accel, cfg);
-  EXPECT_EQ(primaries, 3u);
-  EXPECT_EQ(largest, size_t(cfg.max_batch_rays));
-  for (size_t i = 0; i < whole.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(passes.pixels[i][c], whole.pixels[i][c], 1e-5f * std::max(1.0f, whole.pixels[i][c]));
-}
-
-// An image with more pixels than max_batch_rays is traced in bands of rows, one sample per
-// pass: the same image up to float summation order, no camera batch above the limit.
-TEST(Batches, RowBandsBoundTheBatchOfALargeImage) {
-  const Scene scene = test_scene();
-  RenderConfig cfg = small_config();
-  cfg.spp = 2;
-  const auto accel = make_accelerator("brute", scene);
-  const auto path = make_path_integrator();
-  const Image whole = path->render(scene, *accel, cfg);
-  const int rows = 7;
-  ASSERT_EQ(cfg.height % rows, 3);  // the last band is short
   std::vector<size_t> sizes;
-  cfg.max_batch_rays = long(cfg.width) * rows + long(cfg.width) - 1;  // bands of 7 rows
+  cfg.max_batch_rays = max_batch;
   cfg.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
     if (info.kind == "primary") sizes.push_back(rays.size());
   };
-  const Image bands = path->render(scene, *accel, cfg);
-  const size_t n_bands = size_t(cfg.height + rows - 1) / rows;
-  ASSERT_EQ(sizes.size(), n_bands * 2);  // every band, once per sample
-  for (size_t k = 0; k + 2 < sizes.size(); ++k) EXPECT_EQ(sizes[k], size_t(cfg.width) * rows) << k;
-  EXPECT_EQ(sizes[sizes.size() - 2], size_t(cfg.width) * 3);
-  EXPECT_EQ(sizes.back(), size_t(cfg.width) * 3);
+  const Image split = path->render(scene, *accel, cfg);
   for (size_t i = 0; i < whole.pixels.size(); ++i)
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(bands.pixels[i][c], whole.pixels[i][c], 1e-5f * std::max(1.0f, whole.pixels[i][c]));
+      EXPECT_NEAR(split.pixels[i][c], whole.pixels[i][c], 1e-5f * std::max(1.0f, whole.pixels[i][c])) << i;
+  return sizes;
+}
+
+// Passes of whole samples (max_batch_rays), each tracing one camera batch.
+TEST(Batches, SamplePassesBoundTheBatchSize) {
+  RenderConfig cfg = small_config();
+  cfg.spp = 5;
+  const size_t pixels = size_t(cfg.width) * size_t(cfg.height);
+  // 2 samples per pass: 3 passes, the last of one sample.
+  const std::vector<size_t> sizes = camera_batches_of_split_render(cfg, long(pixels) * 2);
+  EXPECT_EQ(sizes, (std::vector<size_t>{2 * pixels, 2 * pixels, pixels}));
+}
+
+// An image with more pixels than max_batch_rays is traced in bands of rows, one sample per
+// pass: no camera batch above the limit.
+TEST(Batches, RowBandsBoundTheBatchOfALargeImage) {
+  RenderConfig cfg = small_config();
+  cfg.spp = 2;
+  const int rows = 7;
+  ASSERT_EQ(cfg.height % rows, 3);  // the last band is short
+  const size_t w = size_t(cfg.width);
+  const std::vector<size_t> sizes = camera_batches_of_split_render(cfg, long(w) * rows + long(w) - 1);
+  std::vector<size_t> expected;
+  for (int band = 0; band < cfg.height; band += rows)  // each band once per sample
+    expected.insert(expected.end(), 2, w * size_t(std::min(rows, cfg.height - band)));
+  EXPECT_EQ(sizes, expected);
 }
 
 TEST(Batches, KindsBouncesAndStats) {
