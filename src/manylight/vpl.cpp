@@ -57,9 +57,9 @@ std::vector<LightSource> light_sources(const Scene& scene) {
   std::vector<LightSource> lights;
   double total = 0;
   auto add = [&](bool point, uint32_t index, double power) {
-    const std::string what = point ? "point light " + std::to_string(index) : "emissive triangle " + std::to_string(index);
     if (!(power <= std::numeric_limits<float>::max()))
-      throw InputError("manylight: the power of " + what + " overflows float (its " +
+      throw InputError("manylight: the power of " + std::string(point ? "point light " : "emissive triangle ") +
+                       std::to_string(index) + " overflows float (its " +
                        (point ? "intensity" : "material's emission") + " is too large)");
     // A dark light would get probability 0 (or, alone, divide the cdf by 0: NaN VPLs).
     if (power > 0) lights.push_back({point, index, float(power)});
