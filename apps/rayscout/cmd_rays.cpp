@@ -1,6 +1,4 @@
 // `rayscout rays`: writes a workload's ray set (primary, shadow, ao, diffuse) to a RAYS file.
-#include <sys/sysinfo.h>
-
 #include <memory>
 #include <string>
 
@@ -8,6 +6,7 @@
 
 #include "commands.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/machine_memory.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/ray_file.h"
 #include "rayscout/core/stopwatch.h"
@@ -27,14 +26,9 @@ struct RaysArgs {
 // the kernel killed the process mid-run (--width 2147483647 --height 1: 24 GB used, then
 // SIGKILL) instead of an error; refused here, before the scene is loaded.
 void check_memory(const WorkloadConfig& c) {
-  const double rays = double(c.width) * double(c.height) * double(c.spp), need = 64.0 * rays;
-  struct sysinfo si;
-  if (sysinfo(&si) != 0) return;
-  const double have = (double(si.totalram) + double(si.totalswap)) * double(si.mem_unit);
-  if (need > have)
-    throw InputError(fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays need at least {:.1f} GB (64 bytes "
-                                 "a ray), more than this machine's {:.1f} GB of memory and swap",
-                                 c.width, c.height, c.spp, rays, need * 1e-9, have * 1e-9));
+  const double rays = double(c.width) * double(c.height) * double(c.spp);
+  require_memory(64.0 * rays, fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays (64 bytes a ray) need",
+                                          c.width, c.height, c.spp, rays));
 }
 
 void run_rays(const RaysArgs& a) {

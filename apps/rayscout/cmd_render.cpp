@@ -15,6 +15,7 @@
 #include "manylight_options.h"
 #include "thread_limit.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/machine_memory.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/image/image.h"
@@ -48,12 +49,25 @@ void draw_progress(const RenderProgress& p) {
   std::fflush(stderr);
 }
 
+// Film and image hold 12 bytes a pixel each, and a pass at least ~200 bytes a camera ray. A
+// 32768 x 32768 image asked for ~26 GB on a 23 GB machine and the kernel killed the process
+// after the scene load; refused here, before any work.
+void check_memory(const RenderConfig& c) {
+  const double pixels = double(c.width) * double(c.height);
+  const double pass_rays = std::min(pixels * double(c.spp), double(c.max_batch_rays > 0 ? c.max_batch_rays : 1L << 24));
+  require_memory(24.0 * pixels + 200.0 * pass_rays,
+                 fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
+                             "a pass at ~200 bytes) need",
+                             c.width, c.height, pixels, pass_rays));
+}
+
 void run(RenderOptions& o) {
   const ThreadLimit limit(o.threads);
   const int n_threads = limit.threads;
   // Output paths are checked before the work, not after it.
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
+  check_memory(o.config);
   if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
     if (!ml.rmse_log.empty()) check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);
