@@ -176,7 +176,7 @@ class ObjReader {
     mesh_.positions.reserve(data.size() / 64);
     mesh_.faces.reserve(data.size() / 64);
     detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* end) {
-      if (key == "v") mesh_.positions.push_back(read_vec3(q, end, path_, line, "vertex"));
+      if (key == "v") vertex(line, q, end);
       else if (key == "vt") ++num_vt_;
       else if (key == "vn") ++num_vn_;
       else if (key == "f") face(line, q, end);
@@ -191,6 +191,21 @@ class ObjReader {
   }
 
  private:
+  // v x y z, then optionally w, or a colour r g b (a common extension), or r g b a. Anything
+  // else is refused: two statements run together (a file with classic Mac CR line ends read as
+  // one line) used to give a single vertex and no error.
+  void vertex(size_t line, const char* q, const char* end) {
+    mesh_.positions.push_back(read_vec3(q, end, path_, line, "vertex"));
+    int extra = 0;
+    for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end), ++extra) {
+      double value;
+      if (!detail::parse_double(tok, value))
+        fail_at(path_, line, "vertex: unexpected '" + std::string(tok) + "' after the 3 coordinates");
+    }
+    if (extra > 4)
+      fail_at(path_, line, "vertex: " + std::to_string(3 + extra) + " numbers (expected x y z, then w, r g b or r g b a)");
+  }
+
   // f v1 v2 v3 ...: a polygon, fanned into triangles from its first vertex.
   void face(size_t line, const char* q, const char* end) {
     poly_.clear();

@@ -9,9 +9,14 @@
 namespace rayscout::detail {
 
 std::string read_file(const std::filesystem::path& path) {
+  // A device has no end to read to (/dev/zero was read until memory ran out). A pipe is read
+  // but cut off at 4 GiB; a regular file of any size is read whole.
+  using std::filesystem::file_type;
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError(display_name(path) + ": is a directory, not a file");
+  const file_type type = std::filesystem::status(path, ec).type();
+  if (type == file_type::directory) throw InputError(display_name(path) + ": is a directory, not a file");
+  if (type == file_type::character || type == file_type::block)
+    throw InputError(display_name(path) + ": is a device, not a file");
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(display_name(path) + ": cannot open: " + std::strerror(errno));
   std::string data;
@@ -20,9 +25,15 @@ std::string read_file(const std::filesystem::path& path) {
     if (size > 0) data.reserve(size_t(size));
     std::fseek(f.get(), 0, SEEK_SET);
   }
+  const bool regular = type == file_type::regular;
+  constexpr size_t kPipeLimit = size_t(4) << 30;
   char buf[1 << 16];
   size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) data.append(buf, n);
+  while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
+    data.append(buf, n);
+    if (!regular && data.size() > kPipeLimit)
+      throw InputError(display_name(path) + ": not a regular file, and no end after 4 GiB");
+  }
   if (std::ferror(f.get())) throw InputError(display_name(path) + ": read error: " + std::strerror(errno));
   return data;
 }

@@ -75,13 +75,16 @@ inline bool parse_int(std::string_view tok, long long& out) { return parse_numbe
 
 /// Calls f(line, key, p, end) for every non-empty statement of a line-based text file (OBJ,
 /// MTL): line is 1-based, key the first token, [p, end) the rest with any '#' comment cut off.
+/// Lines end in LF or CR LF, or in CR alone in a file without any LF (classic Mac OS).
 template <typename F>
 void for_each_statement(const std::string& data, F&& f) {
   const char* p = skip_bom(data);
   const char* const end = data.data() + data.size();
+  const bool cr_only = !std::memchr(p, '\n', size_t(end - p)) && std::memchr(p, '\r', size_t(end - p));
+  const char line_end_char = cr_only ? '\r' : '\n';
   size_t line = 0;
   while (p < end) {
-    const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
+    const char* nl = static_cast<const char*>(std::memchr(p, line_end_char, size_t(end - p)));
     const char* line_end = nl ? nl : end;
     const char* q = p;
     p = nl ? nl + 1 : end;

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 #include "rayscout/scene/load_scene.h"
@@ -31,6 +32,9 @@ TEST(SceneBadInput, MissingFiles) {
     expect_contains(msg, {name, "cannot open"});
   }
   expect_contains(input_error_of([&] { load_scene(dir.path()); }), {"is a directory"});
+  // A device has no end: /dev/zero used to be read until memory ran out.
+  std::filesystem::create_symlink("/dev/zero", dir.path() / "zero.obj");
+  expect_contains(input_error_of([&] { load_scene(dir.path() / "zero.obj"); }), {"zero.obj: is a device, not a file"});
   expect_contains(input_error_of([&] { load_scene(dir.write("mesh.stl", "solid")); }), {"mesh.stl", "unknown mesh format"});
 }
 
@@ -43,6 +47,10 @@ TEST(SceneBadInput, ObjMalformedLines) {
   expect_contains(error_loading(dir, "e.obj", kTriangle + "f 1/1/1/1 2 3\n"), {"e.obj:4: ", "more than 3 parts"});
   expect_contains(error_loading(dir, "f.obj", kTriangle + "f 0 1 2\n"), {"f.obj:4: ", "index 0 is invalid"});
   expect_contains(error_loading(dir, "g.obj", kTriangle + "usemtl\n"), {"g.obj:4: ", "usemtl without"});
+  // Two statements on one line, and more numbers than any vertex extension has.
+  expect_contains(error_loading(dir, "h.obj", "v 0 0 0\nv 1 0 0 v 0 1 0\n"),
+                  {"h.obj:2: ", "vertex: unexpected 'v' after the 3 coordinates"});
+  expect_contains(error_loading(dir, "i.obj", "v 0 0 0 1 2 3 4 5\n"), {"i.obj:1: ", "vertex: 8 numbers"});
 }
 
 TEST(SceneBadInput, ObjIndexOutOfRange) {

@@ -10,6 +10,8 @@
 namespace rayscout {
 namespace {
 
+using testing::expect_contains;
+using testing::input_error_of;
 using testing::TempDir;
 
 void expect_vec(const Vec3& a, const Vec3& b) {
@@ -51,6 +53,16 @@ TEST(ObjReader, ExactCoordinatesAndFanOrder) {
   // Bare mesh: a framing camera and one point light.
   EXPECT_EQ(s.point_lights.size(), 1u);
   expect_vec(s.camera.look_at, s.bounds().center());
+}
+
+TEST(ObjReader, ClassicMacLineEndsAreLines) {
+  // CR alone ends a line in a file without LF; it was read as one line (one vertex, no faces).
+  TempDir dir;
+  const Scene s = load_scene(dir.write("cr.obj", "# classic Mac\rv 0 0 0\rv 2 0 0\rv 0 3 0\rf 1 2 3\r"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_triangle(s.triangles[0], Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 3, 0));
+  expect_contains(input_error_of([&] { load_scene(dir.write("bad.obj", "v 0 0 0\rv 1 0 0\rf 1 2 9\r")); }),
+                  {"bad.obj:3: "});
 }
 
 TEST(ObjReader, Utf8ByteOrderMarkIsSkipped) {
@@ -311,8 +323,6 @@ TEST(GltfReader, WhatAssimpReadsStillLoads) {
 // "No suitable reader found".
 TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
   TempDir dir;
-  using testing::expect_contains;
-  using testing::input_error_of;
   expect_contains(input_error_of([&] { load_scene(dir.write("bad.gltf", "{\"asset\":\n  {\"version\": \"2.0\"},")); }),
                   {"bad.gltf: invalid JSON: parse error at line 2"});
   expect_contains(input_error_of([&] { load_scene(dir.write("a.glb", "GLTF\x02\0\0\0")); }),
