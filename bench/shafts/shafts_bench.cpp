@@ -132,7 +132,8 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", scenes, "comma-separated scene files: a path as given (absolute or from the current folder), else relative to "
                  "$RAYSCOUT_SCENES; a file found in neither is skipped (default: bench/scenes/sibenik-a.json, "
                  "sponza.json, conference.json)");
-  app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path")->capture_default_str();
+  app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path, or none (builds only, for build times)")
+      ->capture_default_str();
   app.add_option("--base", bases, "binary,wide")->capture_default_str();
   app.add_option("--accel-opt", opts, "shafts or BVH build option key=value (docs/shafts.md)");
   app.add_option("--width", width)->capture_default_str()->check(CLI::Range(1, 32768));
@@ -153,7 +154,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   return bench::run_bench("shafts_bench", [&] {
     bench::check_names("--base", split(bases), {"binary", "wide"});
-    bench::check_names("--workloads", split(workloads), {"primary", "shadow", "ao", "diffuse", "path"});
+    const bool build_only = workloads == "none";
+    if (!build_only) bench::check_names("--workloads", split(workloads), {"primary", "shadow", "ao", "diffuse", "path"});
 
     const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
@@ -215,7 +217,7 @@ int main(int argc, char** argv) {
         const ShaftsAccelerator& acc = *acc_ptr;
         const double bvh_clock_ms = median(bvh_times), col_clock_ms = median(col_times);
         const double all_clock_ms = bvh_clock_ms + col_clock_ms;
-        if (sets.empty())
+        if (sets.empty() && !build_only)
           sets = make_ray_sets(scene, acc, width, height, split(sweep ? std::string("shadow,ao,diffuse") : workloads));
         const ShaftStats& st = acc.stats();
         const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
@@ -226,6 +228,7 @@ int main(int argc, char** argv) {
                    st.memory_bytes() / 1048576.0, st.memory_bytes() / 1048576.0 / bvh_mib);
         fmt::print("build on the trace clock (median of {}): BVH {:.1f} ms, collection {:.1f} ms = {:.2f}x the BVH\n\n",
                    bvh_times.size(), bvh_clock_ms, col_clock_ms, col_clock_ms / bvh_clock_ms);
+        if (build_only) continue;
         fmt::print("| workload | rays | steps/ray plain | steps/ray shafts | steps saved | box tests/ray plain / shafts "
                    "| tri tests/ray plain / shafts | ms plain | ms shafts | speedup | lookup ns/ray |\n");
         fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
