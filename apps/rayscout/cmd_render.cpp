@@ -54,7 +54,7 @@ void draw_progress(const RenderProgress& p) {
 // after the scene load; refused here, before any work.
 void check_memory(const RenderConfig& c) {
   const double pixels = double(c.width) * double(c.height);
-  const double pass_rays = std::min(pixels * double(c.spp), double(c.max_batch_rays > 0 ? c.max_batch_rays : 1L << 24));
+  const double pass_rays = std::min(pixels * double(c.spp), double(c.camera_batch_limit()));
   require_memory(24.0 * pixels + 200.0 * pass_rays,
                  fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
                              "a pass at ~200 bytes) need",

@@ -157,7 +157,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   std::vector<Vec3> film(n_pixels);
   // Samples per pass: all of them unless the camera batch would exceed max_batch_rays; when
   // one sample of every pixel exceeds it, bands of rows of one sample each.
-  const size_t max_rays = config.max_batch_rays > 0 ? size_t(config.max_batch_rays) : size_t(1) << 24;
+  const size_t max_rays = config.camera_batch_limit();
   const int per_pass = int(std::clamp<size_t>(max_rays / n_pixels, 1, size_t(config.spp)));
   const int sample_passes = (config.spp + per_pass - 1) / per_pass;
   const int band_rows = int(std::clamp<size_t>(max_rays / size_t(config.width), 1, size_t(config.height)));

@@ -1,6 +1,7 @@
 // Rendering: configuration, per-batch hooks, statistics and the Integrator interface.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -49,6 +50,8 @@ struct RenderConfig {
   /// of rows, one sample per pass; this bounds memory (~200-400 bytes per path).
   /// 0 = 2^24 rays. The image depends on it only through float summation order.
   long max_batch_rays = 0;
+  /// max_batch_rays with its default applied.
+  size_t camera_batch_limit() const { return max_batch_rays > 0 ? size_t(max_batch_rays) : size_t(1) << 24; }
   /// Called with every ray batch before it is traced (benchmarks record the per-bounce ray
   /// sets of the papers' workloads with it).
   std::function<void(const BatchInfo&, const RayBatch&)> on_batch;
