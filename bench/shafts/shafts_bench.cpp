@@ -154,8 +154,10 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   return bench::run_bench("shafts_bench", [&] {
     bench::check_names("--base", split(bases), {"binary", "wide"});
-    const bool build_only = workloads == "none";
-    if (!build_only) bench::check_names("--workloads", split(workloads), {"primary", "shadow", "ao", "diffuse", "path"});
+    const std::vector<std::string> wl = split(workloads);
+    bench::check_names("--workloads", wl, {"primary", "shadow", "ao", "diffuse", "path", "none"});
+    const bool build_only = std::find(wl.begin(), wl.end(), "none") != wl.end();
+    if (build_only && wl.size() > 1) throw InputError("--workloads: 'none' (builds only) cannot be combined with workloads");
 
     const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
