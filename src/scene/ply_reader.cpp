@@ -93,14 +93,17 @@ std::string number_text(double v) {
 struct Header {
   Format format = Format::Ascii;
   std::vector<Element> elements;
+  char eol = '\n';  // '\r' for a file with classic Mac line ends ("ply\r" not followed by '\n')
 };
 
 // Reads the header from p (left after end_header); line counts the lines read.
 Header read_header(const std::filesystem::path& path, const char*& p, const char* end, size_t& line) {
   // Next header line, without its newline.
+  Header h;
+  if (end - p >= 5 && std::string_view(p, 4) == "ply\r" && p[4] != '\n') h.eol = '\r';
   auto header_line = [&](std::string_view& out) {
     if (p >= end) return false;
-    const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
+    const char* nl = static_cast<const char*>(memchr(p, h.eol, size_t(end - p)));
     const char* e = nl ? nl : end;
     out = std::string_view(p, size_t(e - p));
     if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
@@ -111,7 +114,6 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
 
   std::string_view hl;
   if (!header_line(hl) || hl != "ply") fail_at(path, 1, "not a PLY file (first line must be 'ply')");
-  Header h;
   bool have_format = false, have_end = false;
   while (header_line(hl)) {
     const char* q = hl.data();
@@ -240,7 +242,7 @@ Mesh read_ply(const std::filesystem::path& path) {
       if (!binary) {
         if (p >= end) fail_at(path, line + 1, "unexpected end of file in " + el.name + " " + std::to_string(k) +
                                                   " of " + std::to_string(el.count));
-        const char* nl = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
+        const char* nl = static_cast<const char*>(memchr(p, header.eol, size_t(end - p)));
         q = p;
         e = nl ? nl : end;
         p = nl ? nl + 1 : end;

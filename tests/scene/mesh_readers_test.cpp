@@ -1,6 +1,7 @@
 // OBJ, MTL, PLY (ascii and binary) and glTF readers: exact counts, coordinates and order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "rayscout/scene/load_scene.h"
@@ -224,6 +225,20 @@ TEST(PlyReader, AsciiRoundTrip) {
   std::string crlf;
   for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   expect_ply_mesh(load_scene(dir.write("crlf.ply", crlf)));
+  // Classic Mac line ends: the line end is taken from the magic line.
+  std::string cr = text;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  expect_ply_mesh(load_scene(dir.write("cr.ply", cr)));
+  cr[cr.find("4 0 1 2 3")] = '5';
+  expect_contains(input_error_of([&] { load_scene(dir.write("bad_cr.ply", cr)); }), {"bad_cr.ply:19:"});
+}
+
+TEST(PlyReader, BinaryAfterClassicMacHeader) {
+  TempDir dir;
+  std::string ply = binary_ply(false);
+  const size_t body = ply.find("end_header\n") + 11;
+  std::replace(ply.begin(), ply.begin() + body, '\n', '\r');
+  expect_ply_mesh(load_scene(dir.write("cr_le.ply", ply)));
 }
 
 TEST(PlyReader, BinaryLittleAndBigEndianRoundTrip) {
