@@ -89,7 +89,9 @@ inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float
   axis(1, r.oy, r.iy);
   axis(2, r.oz, r.iz);
   _mm256_store_ps(dist, tnear);
-  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ)));
+  // Only used slots: a NaN slab distance (0 * inf, or a NaN direction) keeps the running
+  // interval, so an empty slot's infinite planes would pass as well.
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ))) & ((1u << node.count) - 1u);
 #else
   uint32_t mask = 0;
   for (uint32_t c = 0; c < node.count; ++c) {

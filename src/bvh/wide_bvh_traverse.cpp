@@ -48,10 +48,10 @@ struct Entry {
 };
 
 // True when no slab distance of the ray can be NaN: a NaN needs 0 * inf, i.e. an infinite
-// inverse direction component (or a non-finite origin).
+// inverse direction component, a zero one (an infinite direction) against an empty slot's
+// infinite planes, or a non-finite origin or direction.
 bool finite_ray(const Ray& ray, const Vec3& inv_dir) {
-  return std::isfinite(inv_dir.x) && std::isfinite(inv_dir.y) && std::isfinite(inv_dir.z) &&
-         std::isfinite(ray.org.x) && std::isfinite(ray.org.y) && std::isfinite(ray.org.z);
+  return is_finite(inv_dir) && is_finite(ray.org) && is_finite(ray.dir);
 }
 
 // The 8 child boxes of a node: the shorter-chain test when the ray is finite (AVX2 only).

@@ -125,6 +125,9 @@ TEST_P(AcceleratorSuite, OddRaysMatchBruteForce) {
       {o, 0.0f, d * 1e-30f, inf},                  {o, 0.0f, d, nan},
       {{o.x, c.y, c.z}, 0.0f, {1.0f, 0.0f, 0.0f}, inf}, {{c.x, c.y, o.z}, 0.0f, {-0.0f, 0.0f, 1.0f}, inf},
       {o, 0.0f, d, -inf},                          {o, 0.0f, d, inf},
+      // Infinite direction components: 0 * inf against a wide node's empty slots.
+      {o, 0.0f, {-inf, inf, nan}, inf},            {c, 0.0f, {inf, 0.0f, 0.0f}, inf},
+      {o, 0.0f, {-inf, 1.0f, 1.0f}, inf},
   };
   RayBatch rays;
   for (const Ray& r : odd) rays.push_back(r);

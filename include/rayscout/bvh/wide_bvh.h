@@ -58,8 +58,8 @@ struct alignas(16) TriangleBlock {
 
 /// One wide node, 256 bytes: the boxes of up to 8 children as structure of arrays (one SIMD
 /// register per bound), their references, and how many slots are used. Slots >= count are
-/// unused and must hold empty boxes (lo = +inf, hi = -inf): the SIMD test relies on them
-/// never being hit.
+/// unused and must hold empty boxes (lo = +inf, hi = -inf): the SIMD test of finite rays
+/// relies on them never being hit (the general test also masks them by count).
 struct alignas(64) WideNode {
   float lo_x[kWideWidth], hi_x[kWideWidth];
   float lo_y[kWideWidth], hi_y[kWideWidth];
