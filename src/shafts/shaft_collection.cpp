@@ -372,7 +372,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     std::vector<int32_t> listed_index(nvox, -1);
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
     pool.resize(listed.size() * cells * per);
-    std::vector<uint8_t> count(listed.size() * cells, 0);
+    std::vector<uint16_t> count(listed.size() * cells, 0);  // samples <= 1000
     col.stats_.traced_samples =
         detail::shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
   }

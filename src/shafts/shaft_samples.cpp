@@ -12,7 +12,7 @@ namespace rayscout::detail {
 size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
                       const std::vector<int32_t>& listed_index, const std::vector<uint8_t>& shaft_selected,
                       const std::vector<Shaft>& cell_shafts, const ShaftCollection::TraceFn& trace,
-                      const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint8_t>& count) {
+                      const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint16_t>& count) {
   const uint32_t cells = grid.cells_per_voxel();
   const int per = config.samples.value();
   const auto res = grid.res();

@@ -79,7 +79,7 @@ struct PooledSample {
 size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
                       const std::vector<int32_t>& listed_index, const std::vector<uint8_t>& shaft_selected,
                       const std::vector<Shaft>& cell_shafts, const ShaftCollection::TraceFn& trace,
-                      const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint8_t>& count);
+                      const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint16_t>& count);
 
 /// The own sample rays (trace_own_samples) of every selected shaft of listed voxels
 /// [l0, l1), traced direction cell by direction cell, into pool[(cell * (l1 - l0) + li - l0)

@@ -376,6 +376,28 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   }
 }
 
+// More than 255 shared sample rays per shaft (the per-shaft count once wrapped at 256 and the
+// build wrote past its pool or never ended): the documented maximum builds and stays exact.
+TEST(ShaftsOptions, ManySharedSampleRaysPerShaft) {
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(200, 43));
+  const RayBatch rays = testing::nasty_rays(scene.triangles, 2);
+  const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
+  for (const bool stratified : {false, true}) {
+    ShaftConfig c = fine_config(8, 1);
+    c.samples = stratified ? 256 : 1000;
+    c.stratified = stratified;
+    c.reuse_rays = true;
+    const ShaftsAccelerator acc(scene, Base::Wide, c);
+    HitBatch got;
+    std::vector<uint8_t> ogot;
+    acc.intersect(rays, got);
+    acc.occluded(rays, ogot);
+    const HitDiff d = compare_hits(ref, got, 0.0f);
+    EXPECT_TRUE(d.ok()) << "samples " << *c.samples << ": " << d.first;
+    EXPECT_EQ(oref, ogot) << "samples " << *c.samples;
+    EXPECT_GE(acc.stats().traced_samples, acc.stats().listed_shafts) << "samples " << *c.samples;
+  }
+}
 
 // Rays a checker may throw at it: far origins (root fallback), origins on the scene box,
 // directions with -0, tiny or huge components, short and negative-length intervals, large tmin.
