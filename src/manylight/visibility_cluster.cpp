@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -23,11 +24,7 @@ using Feature = std::array<float, 6>;
 
 // rayscout's clustering (docs/manylight.md, VisibilityCluster): recursive median bisection of
 // 6-D features, a simplification of Wu & Chuang's clustering.
-int ceil_log2(int n) {
-  int d = 0;
-  while ((1 << d) < n) ++d;
-  return d;
-}
+int ceil_log2(size_t n) { return n <= 1 ? 0 : int(std::bit_width(n - 1)); }
 
 void bisect(std::vector<Feature>& f, std::vector<uint32_t>& order, size_t lo, size_t hi, int depth,
             std::vector<uint32_t>& begins) {
@@ -67,7 +64,8 @@ Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3>
             normals[i].x * normal_weight, normals[i].y * normal_weight, normals[i].z * normal_weight};
   c.order.resize(n);
   for (size_t i = 0; i < n; ++i) c.order[i] = uint32_t(i);
-  if (n > 0) bisect(f, c.order, 0, n, ceil_log2(std::max(1, clusters)), c.begin);
+  // More clusters than points cannot be made: bisection stops at single points anyway.
+  if (n > 0) bisect(f, c.order, 0, n, ceil_log2(std::min(n, size_t(std::max(1, clusters)))), c.begin);
   c.begin.push_back(uint32_t(n));
   return c;
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 
@@ -31,6 +32,20 @@ TEST(ManylightClustering, EveryItemExactlyOnceInBalancedClusters) {
   for (size_t k = 0; k < c.size(); ++k) {
     EXPECT_GE(c.count(k), 31u);
     EXPECT_LE(c.count(k), 32u);
+  }
+}
+
+TEST(ManylightClustering, MoreClustersThanPointsGiveOnePointEach) {
+  // Up to the largest int: 2^31 - 1 once made ceil_log2 shift past 31 bits and never end.
+  std::vector<Vec3> pos, nrm;
+  for (int i = 0; i < 5; ++i) {
+    pos.push_back(Vec3(float(i), 0, 0));
+    nrm.push_back(Vec3(0, 1, 0));
+  }
+  for (const int clusters : {8, (1 << 30) + 1, std::numeric_limits<int>::max()}) {
+    const Clustering c = cluster_points(pos, nrm, 5.0f, 1.0f, clusters);
+    ASSERT_EQ(c.size(), 5u) << clusters;
+    for (size_t k = 0; k < c.size(); ++k) EXPECT_EQ(c.count(k), 1u) << clusters;
   }
 }
 
