@@ -170,7 +170,13 @@ Mesh read_assimp(const std::filesystem::path& path) {
     Vec3 ks = color(m, AI_MATKEY_COLOR_SPECULAR, Vec3(0.0f));
     Vec3 ke = color(m, AI_MATKEY_COLOR_EMISSIVE, Vec3(0.0f));
     if (auto it = strengths.find(n); named && it != strengths.end()) ke *= it->second;
-    if (!is_finite(ke)) throw InputError(file + ": material \"" + n + "\": emission beyond float range");
+    // As in MTL and JSON materials: a negative or non-finite colour would make negative or
+    // NaN radiance.
+    for (const auto& [what, c] : {std::pair{"base colour", kd}, {"specular colour", ks}, {"emission", ke}}) {
+      if (!is_finite(c)) throw InputError(file + ": material \"" + n + "\": " + what + " beyond float range");
+      if (c.x < 0 || c.y < 0 || c.z < 0)
+        throw InputError(file + ": material \"" + n + "\": " + what + " components must be >= 0");
+    }
     Material mat = material_from_mtl(n, kd, ks, ns, 2, ke);
     if (std::string warning = conserve_energy_with_warning(mat, file); !warning.empty())
       mesh.warnings.push_back(std::move(warning));

@@ -321,6 +321,25 @@ TEST(GltfReader, EmissiveStrength) {
                            {"h.gltf: materials[0]: emissiveStrength must be a number in [0, 3.4e38]"});
 }
 
+// Colours as in MTL and JSON: negative or beyond float range is an error, not negative or NaN radiance.
+TEST(GltfReader, NegativeOrHugeColoursAreErrors) {
+  TempDir dir;
+  auto with_material = [](const std::string& material) {
+    return triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "materials": [)" + material + "]",
+                         R"(, "material": 0)");
+  };
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"name": "b", "pbrMetallicRoughness": {"baseColorFactor": [-1, 0.5, 0.5, 1]}})",
+       "n.gltf: material \"b\": base colour components must be >= 0"},
+      {R"({"name": "e", "emissiveFactor": [-1, 0, 2]})", "n.gltf: material \"e\": emission components must be >= 0"},
+      {R"({"name": "h", "pbrMetallicRoughness": {"baseColorFactor": [1e39, 0.5, 0.5, 1]}})",
+       "n.gltf: material \"h\": base colour beyond float range"},
+  };
+  for (const auto& [material, message] : cases)
+    testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("n.gltf", with_material(material))); }),
+                             {message});
+}
+
 // A file assimp reads though it is not strict glTF loads as before: a Latin-1 name is not
 // UTF-8, so nlohmann cannot read the strengths (a warning), but assimp reads the rest.
 TEST(GltfReader, WhatAssimpReadsStillLoads) {
