@@ -79,7 +79,7 @@ class Fields {
   }
   // Points and lengths the renderer squares (distances, falloff): bounded like vertices.
   float bounded(float v, const std::string& field) const {
-    if (std::fabs(v) > kMaxCoordinate) fail(field, "is beyond +-1e18, where squared distances overflow float; scale the scene down");
+    if (std::fabs(v) > kMaxCoordinate) fail(field, "is beyond +-1e11, where the ray-triangle test's products of three coordinates overflow float; scale the scene down");
     return v;
   }
   Vec3 position(const Json& j, const std::string& field) const {

@@ -67,8 +67,9 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
   const std::vector<Vec3>& pos = identity ? mesh.positions : moved;
   // The readers reject non-finite coordinates, but a shape's corners are sums (a box from
   // -3e38 to 3e38 is infinitely wide), a transform may overflow, and other importers may not
-  // check. Finite is not enough: the renderer squares distances in float (light falloff, the
-  // scene diagonal), which overflows beyond ~1e19, and a silently black image would follow.
+  // check. Finite is not enough: the watertight ray-triangle test multiplies three coordinate
+  // differences (its scaled t), which overflows float beyond ~7e12 (wrong hits, t = inf), and
+  // the renderer squares distances (light falloff, the scene diagonal).
   for (size_t i = 0; i < pos.size(); ++i) {
     const Vec3& p = pos[i];
     if (is_finite(p) && max_component(abs(p)) <= kMaxCoordinate) continue;
@@ -79,7 +80,7 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     char at[96];
     std::snprintf(at, sizeof at, "(%g, %g, %g)", double(p.x), double(p.y), double(p.z));
     throw InputError(source + ": " + vertex + (identity ? "" : " (transformed)") + " at " + at +
-                     " is beyond +-1e18, where squared distances overflow float; scale the scene down");
+                     " is beyond +-1e11, where the ray-triangle test's products of three coordinates overflow float; scale the scene down");
   }
   // Grow geometrically: an exact reserve per mesh would copy everything for every mesh added.
   const size_t need = scene_.triangles.size() + mesh.faces.size();

@@ -13,8 +13,10 @@
 
 namespace rayscout::detail {
 
-/// Largest |coordinate| of a vertex: squared distances (falloff, diagonals) stay finite in float.
-inline constexpr float kMaxCoordinate = 1e18f;
+/// Largest |coordinate| of a vertex, camera or light: the ray-triangle test's products of three
+/// coordinate differences (up to ~2e11 each, times a direction scale <= sqrt 3) stay far below
+/// float's 3.4e38, and so do squared distances.
+inline constexpr float kMaxCoordinate = 1e11f;
 
 /// A face's corners after a transform: a mirroring one (negative determinant) turns the face
 /// inside out, so two corners swap to keep its front (one-sided area lights emit from it)

@@ -292,22 +292,23 @@ TEST(SceneBadInput, JsonDeepNesting) {
 TEST(SceneBadInput, JsonShapeAndCameraOverflow) {
   TempDir dir;
   expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [-3e38, -3e38, -3e38], "max": [3e38, 3e38, 3e38]}]})"),
-                  {"scene.json: meshes[0] (shape box): vertex 0 at (-3e+38, -3e+38, -3e+38) is beyond +-1e18"});
-  // Finite but huge: the renderer's squared distances would overflow (a black image).
+                  {"scene.json: meshes[0] (shape box): vertex 0 at (-3e+38, -3e+38, -3e+38) is beyond +-1e11"});
+  // Finite but huge: the triangle test's products (wrong hits) and the renderer's squared distances
+  // (a black image) would overflow.
   expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {"scale": 1e20}}]})"),
-                  {"scene.json: meshes[0] (shape box): vertex 1 (transformed) at (0, 0, 1e+20) is beyond +-1e18"});
-  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 2e18]}]})"),
-                  {"scene.json: meshes[0] (shape box): vertex 1 at (0, 0, 2e+18) is beyond +-1e18"});
+                  {"scene.json: meshes[0] (shape box): vertex 1 (transformed) at (0, 0, 1e+20) is beyond +-1e11"});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 2e11]}]})"),
+                  {"scene.json: meshes[0] (shape box): vertex 1 at (0, 0, 2e+11) is beyond +-1e11"});
   // Camera and light positions and the lens lengths are squared like vertices.
   const std::string tri = R"({"meshes": [{"file": "tri.obj"}], )";
   expect_contains(json_error(dir, tri + R"("camera": {"eye": [-1e20, 0, 0], "look_at": [1e20, 0, 0]}})"),
-                  {"scene.json: camera.eye: is beyond +-1e18"});
+                  {"scene.json: camera.eye: is beyond +-1e11"});
   expect_contains(json_error(dir, tri + R"("camera": {"look_at": [0, 0, -2e18]}})"), {"scene.json: camera.look_at: is beyond"});
   expect_contains(json_error(dir, tri + R"("camera": {"lens_radius": 0.1, "focus_distance": 2e19}})"),
-                  {"scene.json: camera.focus_distance: is beyond +-1e18"});
+                  {"scene.json: camera.focus_distance: is beyond +-1e11"});
   expect_contains(json_error(dir, tri + R"("camera": {"lens_radius": 1e19}})"), {"scene.json: camera.lens_radius: is beyond"});
   expect_contains(json_error(dir, tri + R"("lights": [{"type": "point", "position": [0, 1e19, 0]}]})"),
-                  {"scene.json: lights[0].position: is beyond +-1e18"});
+                  {"scene.json: lights[0].position: is beyond +-1e11"});
 }
 
 // The parallel-up check is about directions: lengths far from 1 neither hide nor fake it.
@@ -336,7 +337,7 @@ TEST(SceneBadInput, JsonCameraUpOfAnyLength) {
   }
   // The framing camera of a tiny field of view stands beyond float's reach: said, not a black image.
   expect_contains(json_error(dir, tri + R"("camera": {"fov_deg": 1e-30}})"),
-                  {"scene.json: camera.eye (the framing camera's, for this fov_deg; give an eye): is beyond +-1e18"});
+                  {"scene.json: camera.eye (the framing camera's, for this fov_deg; give an eye): is beyond +-1e11"});
 }
 
 TEST(SceneBadInput, JsonMeshFileErrorsNameBothFiles) {
