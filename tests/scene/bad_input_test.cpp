@@ -36,6 +36,10 @@ TEST(SceneBadInput, MissingFiles) {
   std::filesystem::create_symlink("/dev/zero", dir.path() / "zero.obj");
   expect_contains(input_error_of([&] { load_scene(dir.path() / "zero.obj"); }), {"zero.obj: is a device, not a file"});
   expect_contains(input_error_of([&] { load_scene(dir.write("mesh.stl", "solid")); }), {"mesh.stl", "unknown mesh format"});
+  // A scene given where a mesh belongs.
+  dir.write("inner.json", R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}]})");
+  expect_contains(input_error_of([&] { load_scene(dir.write("outer.json", R"({"meshes": [{"file": "inner.json"}]})")); }),
+                  {"inner.json: a .json scene cannot be used as a mesh (meshes are .obj, .ply, .gltf or .glb)"});
 }
 
 TEST(SceneBadInput, ObjMalformedLines) {
