@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -25,6 +26,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::RuntimeError& e) {
     return e.get_exit_code();  // a command's own verdict, e.g. compare-hits above tolerance: 1
   } catch (const CLI::ParseError& e) {
+    // A mistyped command: CLI11 would only say that a subcommand is required.
+    if (argc > 1 && argv[1][0] != '-') {
+      std::string names;
+      bool known = false;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+        known |= sub->get_name() == argv[1];
+      }
+      if (!known) {
+        fmt::print(stderr, "rayscout: error: unknown command '{}' (commands: {}; see --help)\n", argv[1], names);
+        return 2;
+      }
+    }
     // --help and --version exit 0; every command-line mistake is a usage error, exit 2 like
     // bad input files (CLI11's own codes, 100-120, would tell a caller nothing more).
     return app.exit(e) == 0 ? 0 : 2;
