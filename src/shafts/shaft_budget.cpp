@@ -18,6 +18,9 @@ namespace {
 
 using detail::Selection;
 
+/// The budget search stays below the 2^32 shafts a collection can address.
+constexpr double kMaxShafts = 0.9 * 4294967296.0;
+
 /// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
 /// at min_prob), then the cullNodeSubtree(root) fallback. Counts raises and fallbacks.
 void build_with_retries(const TreeView& tree, const Shaft& shaft, const detail::ShaftSamples& samples,
@@ -129,7 +132,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     prev_n = real_n;
     prev_mem = mem;
     n = std::clamp(real_n * std::pow(0.9 * double(budget) / mem, 1.0 / slope), real_n / 64.0, real_n * 64.0);
-    n = std::clamp(n, 1.0, 2e8 / cells);
+    n = std::clamp(n, 1.0, kMaxShafts / cells);
   }
   if (!settled) n = feasible_n;
   pilot_ms = ms_since(t_start);
@@ -144,7 +147,9 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
       if (!have_best && mem < 0.4 * double(budget) && round == 1 && grid.voxel_count() > 1) {
         best = std::move(col);
         have_best = true;
-        n *= std::pow(0.9 * double(budget) / std::max(mem, 1.0), 1.2);
+        n = std::min(n * std::pow(0.9 * double(budget) / std::max(mem, 1.0), 1.2), kMaxShafts / cells);
+        if (ShaftGrid(box, ShaftGrid::cubical_resolution(box, n), 1).voxel_count() == grid.voxel_count())
+          return finish(std::move(best), round);  // already the largest grid
         continue;
       }
       return finish(std::move(col), round);

@@ -17,6 +17,7 @@
 
 #include "entry_box_codec.h"
 #include "group_list_builder.h"
+#include "rayscout/core/machine_memory.h"
 #include "rayscout/core/stopwatch.h"
 #include "shaft_samples.h"
 #include "shaft_selection.h"
@@ -342,8 +343,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   if (config.entry_boxes.value()) col.entry_codec_ = std::make_shared<const detail::EntryBoxCodec>(grid.box());
   const uint32_t cells = grid.cells_per_voxel();
   const size_t nvox = grid.voxel_count();
+  const std::string grid_name = std::to_string(grid.res()[0]) + "x" + std::to_string(grid.res()[1]) + "x" +
+                                std::to_string(grid.res()[2]) + " voxels x " + std::to_string(cells) + " direction cells";
   if (nvox * cells >= (size_t(1) << 32) - 64)
-    throw InputError("shafts: too many shafts (" + std::to_string(nvox * cells) + ")");
+    throw InputError("shafts: a grid of " + grid_name + " is " + std::to_string(nvox * cells) +
+                     " shafts, more than 2^32; lower voxels or dir_res");
 
   Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
   const double select_ms = ms_since(t_start);
@@ -353,6 +357,17 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   std::vector<uint32_t> listed;
   for (uint32_t v = 0; v < nvox; ++v)
     if (voxel_listed[v]) listed.push_back(v);
+  const size_t per = size_t(config.samples.value());
+  // What the build holds at once, a lower bound (the lists themselves are not counted): the
+  // shared sample rays, each voxel's lists before packing, the entry and dedup tables, the
+  // voxel tables. It can be 10-30x the collection (Cornell box, shafts-wide, budget_mib=512:
+  // 8.1 GB estimated, 10.1 GB measured, for 0.41 GB), so a grid the machine cannot build is
+  // refused up front.
+  const double listed_shafts = double(listed.size()) * cells;
+  require_memory(listed_shafts * ((config.reuse_rays.value() ? double(per * sizeof(PooledSample) + 2) : 0.0) + 30.0) +
+                     double(listed.size()) * sizeof(detail::VoxelLists) + 5.0 * double(nvox),
+                 "shafts: building a grid of " + grid_name + " (" + std::to_string(listed.size()) +
+                     " voxels listed; budget_mib, budget_rel or voxels decide the grid) needs");
 
   std::vector<detail::VoxelLists> out(listed.size());  // per listed voxel, its lists before packing
   const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
@@ -365,7 +380,6 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   const std::vector<CellGroup> groups = cell_groups(grid, tree.split_order);
   std::vector<Shaft> group_shafts;
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
-  const size_t per = size_t(config.samples.value());
   std::vector<PooledSample> pool;
   const auto t_samples = SteadyClock::now();
   if (config.reuse_rays.value() && tree.size() > 0) {

@@ -89,6 +89,8 @@ expect(2 "option 'leaf_block': 4294967297 is not in \\[1, 15\\]" ${T} --accel bv
 expect(2 "option 'budget_rel': 'inf' is not a finite number" ${T} --accel shafts --accel-opt budget_rel=inf)
 expect(2 "option 'budget_mib': 1e\\+30 is not in \\[0, 4096\\]" ${T} --accel shafts --accel-opt budget_mib=1e30)
 expect(2 "option 'min_prob': 'nan' is not a finite number" ${T} --accel shafts-wide --accel-opt min_prob=nan)
+# The grid addresses at most 2^32 shafts; the message names the options that size it.
+expect(2 "shafts: a grid of [0-9x]+ voxels x 6144 direction cells is [0-9]+ shafts, more than 2\\^32; lower voxels or dir_res" ${T} --accel shafts --accel-opt voxels=1000000 --accel-opt dir_res=32)
 expect(2 "option 'C_tri': 'inf' is not a finite number" ${T} --accel dacrt-rs --accel-opt C_tri=inf)
 # "auto" is a value of the keys whose default it is; the wide BVH's collapse method and the
 # shafts walk are separate keys (both used to be "collapse").
