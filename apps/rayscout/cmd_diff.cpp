@@ -28,6 +28,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this (or NaN)")
       ->transform(in_range(0.0));
   cmd->callback([opts] {
+    if (!opts->out.empty()) check_image_path(opts->out);  // before the work, not after it
     const Image a = read_image(opts->a), b = read_image(opts->b);
     if (a.width != b.width || a.height != b.height)
       throw InputError(fmt::format("{} and {}: images differ in size: {}x{} vs {}x{}", opts->a, opts->b, a.width,

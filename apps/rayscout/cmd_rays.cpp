@@ -60,7 +60,11 @@ CommandRegistration registration{[](CLI::App& app) {
       ->transform(in_range(0.0f));
   cmd->add_option("--accel", args->accel, "Accelerator that finds the primary hits")->capture_default_str();
   cmd->add_option("--out", args->out, "Output RAYS file")->required();
-  cmd->callback([args] { run_rays(*args); });
+  cmd->callback([args, cmd] {
+    if (cmd->count("--ao-radius") > 0 && args->workload != "ao")
+      fmt::print(stderr, "rayscout: warning: --ao-radius is ignored by --workload {}\n", args->workload);
+    run_rays(*args);
+  });
 }};
 
 }  // namespace

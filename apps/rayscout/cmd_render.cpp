@@ -103,6 +103,10 @@ void run(RenderOptions& o) {
       : fmt::format(" ({:.3f} s tracing {} rays, {:.2f} Mrays/s)", stats.trace_ms * 1e-3, stats.rays(), stats.mrays_per_s());
   fmt::print("time: {:.3f} s render{}, {:.3f} s scene load, {:.3f} s build\n", stats.total_ms * 1e-3, tracing,
              load_ms * 1e-3, build_ms * 1e-3);
+  if (const TraceStats w = stats.counters(); w.rays > 0)
+    fmt::print("work: {} rays, per ray {:.2f} traversal steps, {:.2f} ray-box tests, {:.2f} ray-triangle tests\n", w.rays,
+               double(w.traversal_steps) / double(w.rays), double(w.ray_box_tests) / double(w.rays),
+               double(w.ray_tri_tests) / double(w.rays));
   if (!o.stats.empty()) {
     nlohmann::json j = nlohmann::json::parse(stats.to_json());
     j["scene"] = o.scene.empty() ? "cornell" : o.scene;
@@ -144,7 +148,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--ray-epsilon", c.ray_epsilon, "tmin of secondary rays (0 = 1e-5 x scene size)")->capture_default_str()->transform(in_range(0.0f));
   cmd->add_option("--max-batch", c.max_batch_rays, "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced in passes of whole samples that stay under this; an image with more pixels is traced in bands of rows, one sample per pass (0 = 2^24)")->capture_default_str()->transform(in_range(0L));
   cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
-  cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower)");
+  cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower); printed, and in --stats");
   cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout)");
   cmd->add_option("--out", opts->out, "output image: .png, .exr or .pfm")->capture_default_str();
 
@@ -172,6 +176,9 @@ CommandRegistration registration{[](CLI::App& app) {
     if (manylight->count_all() > 0 && opts->integrator != "manylight")
       fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n",
                  opts->integrator);
+    if (const ManylightRunOptions& ml = manylight_cli_options();
+        opts->integrator == "manylight" && !ml.rmse_log.empty() && ml.reference.empty())
+      fmt::print(stderr, "rayscout: warning: --rmse-log without --reference logs passes and skip rates only (rmse -1)\n");
     run(*opts);
   });
 }};

@@ -116,10 +116,16 @@ expect(2 "--stats .*no-such-dir/s.json: folder" render --width 8 --height 8 --ou
 expect(2 "--out .*no-such-dir/r.rays: folder" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/no-such-dir/r.rays)
 expect(2 "--out .*: is a directory" trace --scene cornell --rays ${WORK}/ok.rays --out ${WORK})
 expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
+# diff checks --out before it compares: nothing on stdout before the error.
+expect(2 "^rayscout: error: .*no-such-dir does not exist" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --out ${WORK}/no-such-dir/d.png)
 # Options of another integrator are not silently dropped.
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
 expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
 expect(0 "--count is ignored by --integrator manylight" render --integrator manylight --width 8 --height 8 --vpls 50 --count --out ${WORK}/x.png)
+expect(0 "--ao-radius is ignored by --workload shadow" rays --scene cornell --workload shadow --width 8 --height 8 --ao-radius 1 --out ${WORK}/s.rays)
+expect(0 "--rmse-log without --reference logs passes and skip rates only" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 1 --rmse-log ${WORK}/log.csv --out ${WORK}/x.pfm)
+# --count prints the work per ray even without --stats (64 camera and 64 AO rays).
+expect(0 "work: 128 rays, per ray [0-9.]+ traversal steps, [0-9.]+ ray-box tests, [0-9.]+ ray-triangle tests" render --integrator ao --ao-samples 1 --width 8 --height 8 --spp 1 --count --out ${WORK}/x.png)
 # Manylight costs: two positive numbers; given, the skipping modes are repeatable (no timing in
 # the skip probabilities), so two runs with the same seed write the same bytes.
 expect(2 "--costs: At least 2 required" ${R} --integrator manylight --costs 0.5)
