@@ -32,7 +32,7 @@ class Fields {
   explicit Fields(std::string file) : file_(std::move(file)) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& msg) const {
-    throw InputError(file_ + ": " + (field.empty() ? std::string("(root)") : field) + ": " + msg);
+    throw InputError(printable(file_ + ": " + (field.empty() ? std::string("(root)") : field) + ": " + msg));
   }
   const std::string& file() const { return file_; }
 
@@ -175,6 +175,8 @@ Transform parse_single_transform(const Fields& f, const Json& j, const std::stri
     Transform t;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) t.m[r][c] = v[size_t(r * 4 + c)];
+    // Float entries: the determinant is finite in double; 0 is the singular case.
+    if (t.determinant() == 0) f.fail(mf, "matrix must not be singular (determinant 0 flattens the mesh)");
     return t;
   }
   Transform s, r, t;
@@ -246,7 +248,8 @@ class DocumentBuilder : public Json::json_sax_t {
   }
   bool key(string_t& k) override {
     Open& o = open_.back();
-    if (!o.keys.insert(k).second) throw InputError(file_ + ": key \"" + k + "\" appears twice in one object");
+    if (!o.keys.insert(k).second)
+      throw InputError(printable(file_ + ": key \"" + k + "\" appears twice in one object"));
     o.key = std::move(k);
     return true;
   }
@@ -367,6 +370,7 @@ class JsonSceneLoader {
       const Json& mats = root["materials"];
       f_.expect_object(mats, "materials");
       for (const auto& [name, value] : mats.items()) {
+        if (name == "comment") continue;  // allowed in every object, as in check_keys
         const std::string field = Fields::join("materials", name);
         Material m;
         if (auto existing = builder.find(name)) m = builder.material(*existing);
@@ -408,7 +412,7 @@ class JsonSceneLoader {
     std::vector<uint8_t> used(scene.materials.size(), 0);
     for (uint32_t id : scene.material_ids) used[id] = 1;
     for (const auto& [name, value] : root["materials"].items())
-      if (auto index = builder.find(name); index && !used[*index])
+      if (auto index = builder.find(name); name != "comment" && index && !used[*index])
         scene.warnings.push_back(f_.file() + ": " + Fields::join("materials", name) +
                                  ": no triangle uses this material (a misspelt name?)");
   }
@@ -439,11 +443,21 @@ class JsonSceneLoader {
     return mesh;
   }
 
+  // A shape key that the chosen form does not use (a quad's "up" beside its corner, a box's "size")
+  // is an error, as unknown keys are: it would be ignored.
+  void check_form_keys(const Json& j, const std::string& field, const std::string& form,
+                       std::initializer_list<std::string_view> used) const {
+    for (const char* k : {"corner", "edge1", "edge2", "center", "normal", "size", "up", "min", "max"})
+      if (j.contains(k) && std::find(used.begin(), used.end(), k) == used.end())
+        f_.fail(Fields::join(field, k), "does not belong to " + form);
+  }
+
   // A quad from corner + edge1 + edge2, or center + normal + size [+ up].
   std::shared_ptr<const Mesh> quad(const Json& j, const std::string& field) {
     if (j.contains("corner") || j.contains("edge1") || j.contains("edge2")) {
       for (const char* k : {"corner", "edge1", "edge2"})
         if (!j.contains(k)) f_.fail(Fields::join(field, k), "missing (a quad needs corner, edge1 and edge2)");
+      check_form_keys(j, field, "a quad given by corner, edge1 and edge2", {"corner", "edge1", "edge2"});
       return std::make_shared<const Mesh>(make_quad(f_.vec3(j["corner"], Fields::join(field, "corner")),
                                                     f_.vec3(j["edge1"], Fields::join(field, "edge1")),
                                                     f_.vec3(j["edge2"], Fields::join(field, "edge2"))));
@@ -451,6 +465,7 @@ class JsonSceneLoader {
     for (const char* k : {"center", "normal", "size"})
       if (!j.contains(k))
         f_.fail(Fields::join(field, k), "missing (a quad needs corner/edge1/edge2 or center/normal/size)");
+    check_form_keys(j, field, "a quad given by center, normal and size", {"center", "normal", "size", "up"});
     const std::string sf = Fields::join(field, "size");
     float w, h;
     if (j["size"].is_number()) {
@@ -473,6 +488,7 @@ class JsonSceneLoader {
     if (kind == "box") {
       for (const char* k : {"min", "max"})
         if (!j.contains(k)) f_.fail(Fields::join(field, k), "missing (a box needs min and max)");
+      check_form_keys(j, field, "a box (given by min and max)", {"min", "max"});
       const Vec3 lo = f_.vec3(j["min"], Fields::join(field, "min"));
       const Vec3 hi = f_.vec3(j["max"], Fields::join(field, "max"));
       if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) f_.fail(Fields::join(field, "max"), "must exceed min on every axis");
@@ -520,6 +536,7 @@ class JsonSceneLoader {
     pl.field = field;
     if (j.contains("file")) {
       if (j.contains("shape")) f_.fail(field, "needs \"file\" or a shape, not both");
+      check_form_keys(j, field, "an area light given by a file", {});
       pl.mesh = mesh_file(j["file"], Fields::join(field, "file"), pl.source);
     } else if (j.contains("shape")) {
       pl.mesh = shape(j, field, pl.source);

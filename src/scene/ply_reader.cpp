@@ -43,11 +43,29 @@ size_t scalar_size(Scalar s) {
   return 0;
 }
 
+// The name and range of an integer type, for ascii values beyond it ("300 for uchar").
+struct IntRange {
+  const char* name;
+  long long lo, hi;
+};
+
+IntRange int_range(Scalar s) {
+  switch (s) {
+    case Scalar::Int8: return {"char", INT8_MIN, INT8_MAX};
+    case Scalar::UInt8: return {"uchar", 0, UINT8_MAX};
+    case Scalar::Int16: return {"short", INT16_MIN, INT16_MAX};
+    case Scalar::UInt16: return {"ushort", 0, UINT16_MAX};
+    case Scalar::Int32: return {"int", INT32_MIN, INT32_MAX};
+    default: return {"uint", 0, UINT32_MAX};
+  }
+}
+
 struct Property {
   std::string name;
   Scalar type = Scalar::Float32;
   bool is_list = false;
   Scalar count_type = Scalar::UInt8;
+  size_t header_line = 0;
 };
 
 struct Element {
@@ -98,9 +116,9 @@ struct Header {
 
 // Reads the header from p (left after end_header); line counts the lines read.
 Header read_header(const std::filesystem::path& path, const char*& p, const char* end, size_t& line) {
-  // Next header line, without its newline.
   Header h;
   if (end - p >= 5 && std::string_view(p, 4) == "ply\r" && p[4] != '\n') h.eol = '\r';
+  // Next header line, without its newline.
   auto header_line = [&](std::string_view& out) {
     if (p >= end) return false;
     const char* nl = static_cast<const char*>(memchr(p, h.eol, size_t(end - p)));
@@ -127,6 +145,9 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       else if (f == "binary_little_endian") h.format = Format::BinaryLittle;
       else if (f == "binary_big_endian") h.format = Format::BinaryBig;
       else fail_at(path, line, "unknown PLY format '" + std::string(f) + "'");
+      const std::string_view version = next_token(q, e);
+      if (double v; !detail::parse_double(version, v) || v != 1.0)
+        fail_at(path, line, "unsupported PLY version '" + std::string(version) + "' (1.0 is the only one)");
       have_format = true;
     } else if (key == "element") {
       Element el;
@@ -163,7 +184,13 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       if (!scalar_from_name(t, prop.type)) fail_at(path, line, "unknown PLY type '" + std::string(t) + "'");
       prop.name = std::string(next_token(q, e));
       if (prop.name.empty()) fail_at(path, line, "property without a name");
-      h.elements.back().props.push_back(std::move(prop));
+      Element& el = h.elements.back();
+      for (const auto& other : el.props)
+        if (other.name == prop.name)
+          fail_at(path, line, "a second property " + prop.name + " in element " + el.name + " (the first is on line " +
+                                  std::to_string(other.header_line) + ")");
+      prop.header_line = line;
+      el.props.push_back(std::move(prop));
     } else {
       fail_at(path, line, "unknown header keyword '" + std::string(key) + "'");
     }
@@ -232,8 +259,8 @@ Mesh read_ply(const std::filesystem::path& path) {
       const size_t byte = size_t(p - data.data());
       auto fail = [&](const std::string& msg) -> void {
         if (binary)
-          throw InputError(detail::display_name(path) + ": " + el.name + " " + std::to_string(k) + " (byte " +
-                           std::to_string(byte) + "): " + msg);
+          throw InputError(detail::printable(detail::display_name(path) + ": " + el.name + " " + std::to_string(k) +
+                                             " (byte " + std::to_string(byte) + "): " + msg));
         fail_at(path, line, msg);
       };
       // Ascii: each element instance is one line [q, e).
@@ -274,6 +301,9 @@ Mesh read_ply(const std::filesystem::path& path) {
         }
         long long i;
         if (!detail::parse_int(t, i)) fail("'" + std::string(t) + "' is not an integer");
+        if (const IntRange r = int_range(type); i < r.lo || i > r.hi)
+          fail("'" + std::string(t) + "' is out of range for " + r.name + " (" + std::to_string(r.lo) + " to " +
+               std::to_string(r.hi) + ")");
         return double(i);
       };
 
@@ -317,6 +347,17 @@ Mesh read_ply(const std::filesystem::path& path) {
         }
       }
     }
+  }
+  // Ascii: only white space may follow the last element. Binary: bytes after it are ignored, as
+  // rply does (it stops after the declared elements); writers pad files or append data the header
+  // does not describe, and the declared elements were all read whole.
+  for (const char* q = p; !binary && q < end;) {
+    const char* nl = static_cast<const char*>(memchr(q, header.eol, size_t(end - q)));
+    const char* e = nl ? nl : end;
+    ++line;
+    if (std::string_view t = next_token(q, e); !t.empty())
+      fail_at(path, line, "data after the last element ('" + std::string(t) + "')");
+    q = nl ? nl + 1 : end;
   }
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no faces (empty mesh)");
   return mesh;

@@ -38,8 +38,24 @@ std::string read_file(const std::filesystem::path& path) {
   return data;
 }
 
+std::string printable(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;  // UTF-8 bytes too: names in other scripts stay readable
+      continue;
+    }
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(u));
+    out += buf;
+  }
+  return out;
+}
+
 void fail_at(const std::filesystem::path& file, size_t line, const std::string& message) {
-  throw InputError(display_name(file) + ":" + std::to_string(line) + ": " + message);
+  throw InputError(printable(display_name(file) + ":" + std::to_string(line) + ": " + message));
 }
 
 void check_json_nesting(std::string_view text, const std::string& file) {

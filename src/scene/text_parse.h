@@ -3,12 +3,15 @@
 
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "rayscout/core/input_error.h"
 
@@ -22,7 +25,11 @@ inline const char* skip_bom(const std::string& data) {
   return data.size() >= 3 && data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? data.data() + 3 : data.data();
 }
 
-/// Throws InputError "file:line: message".
+/// Text for an error message that quotes input: control bytes (NUL, ESC, ...) as \xNN, so that
+/// the message prints whole (what() is a C string: a NUL ended it) and plainly on a terminal.
+std::string printable(std::string_view text);
+
+/// Throws InputError "file:line: message", the message made printable.
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 
 /// Deepest nesting of arrays and objects accepted in JSON text (scene files, glTF).
@@ -60,6 +67,8 @@ inline std::string_view rest_trimmed(const char* p, const char* end) {
 
 /// Parses a whole token as a number of type T (a leading '+' allowed; for floats "nan"/"inf"
 /// parse so the caller can name them). False when the token is not entirely a number or overflows.
+/// A float too small for T (1e-50 for float) gives the nearest T, a denormal or a signed 0, as a
+/// JSON number does (read as double, then rounded to float); from_chars refuses it.
 template <typename T>
 inline bool parse_number(std::string_view tok, T& out) {
   const char* b = tok.data();
@@ -67,6 +76,14 @@ inline bool parse_number(std::string_view tok, T& out) {
   if (b < e && *b == '+') ++b;
   if (b == e) return false;
   auto [ptr, ec] = std::from_chars(b, e, out);
+  if constexpr (std::is_floating_point_v<T>) {
+    // strtod (the token is a whole number, so it reads it the same) rounds an underflow to the
+    // nearest double and an overflow to HUGE_VAL; then the cast to T decides as in JSON.
+    if (ec == std::errc::result_out_of_range && ptr == e) {
+      out = static_cast<T>(std::strtod(std::string(b, e).c_str(), nullptr));
+      return std::isfinite(out);
+    }
+  }
   return ec == std::errc() && ptr == e;
 }
 inline bool parse_float(std::string_view tok, float& out) { return parse_number(tok, out); }

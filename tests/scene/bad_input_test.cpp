@@ -182,6 +182,70 @@ TEST(SceneBadInput, PlyHeaderLayoutAndCounts) {
   expect_contains(error_loading(dir, "empty_el.ply", bin), {"empty_el.ply: face 0 (byte", "face index 3 out of range"});
 }
 
+// Audit: a property declared twice, integers beyond their type, data after the last element and
+// format versions other than 1.0 were accepted.
+TEST(SceneBadInput, PlyPropertyDeclaredTwice) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "dup.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                "property float y\nproperty float z\nproperty float x\nend_header\n"),
+                  {"dup.ply:7: a second property x in element vertex (the first is on line 4)"});
+}
+
+TEST(SceneBadInput, PlyAsciiIntegerBeyondItsType) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "uchar.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n"),
+                  {"uchar.ply:13: '300' is out of range for uchar (0 to 255)"});
+  const std::string flags =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uint flags\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  expect_contains(error_loading(dir, "uint.ply", flags + "0 0 0 0\n1 0 0 -1\n0 1 0 0\n3 0 1 2\n"),
+                  {"uint.ply:12: '-1' is out of range for uint (0 to 4294967295)"});
+  expect_contains(error_loading(dir, "int.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2147483648\n"),
+                  {"int.ply:13: '2147483648' is out of range for int (-2147483648 to 2147483647)"});
+  // The limits themselves are fine.
+  const Scene s = load_scene(dir.write("ok.ply", flags + "0 0 0 4294967295\n1 0 0 0\n0 1 0 0\n3 0 1 2\n"));
+  EXPECT_EQ(s.triangles.size(), 1u);
+}
+
+TEST(SceneBadInput, PlyDataAfterTheLastElement) {
+  TempDir dir;
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  expect_contains(error_loading(dir, "extra.ply", kPlyHeader + body + "\n3 0 1 2\n"),
+                  {"extra.ply:15: data after the last element ('3')"});
+  // Blank lines and spaces at the end are fine.
+  EXPECT_EQ(load_scene(dir.write("blank.ply", kPlyHeader + body + "\n  \n\t\n")).triangles.size(), 1u);
+  // Binary: bytes after the last element are ignored, as rply and most readers do.
+  std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) bin.append(reinterpret_cast<const char*>(&f), 4);
+  bin += char(3);
+  for (int i : {0, 1, 2}) bin.append(reinterpret_cast<const char*>(&i), 4);
+  const Scene s = load_scene(dir.write("tail.ply", bin + std::string("\n\0\0\0", 4)));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  EXPECT_EQ(s.triangles[0].v1.x, 1.0f);
+}
+
+TEST(SceneBadInput, PlyFormatVersion) {
+  TempDir dir;
+  const std::string rest = kPlyHeader.substr(kPlyHeader.find("element")) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  expect_contains(error_loading(dir, "v2.ply", "ply\nformat ascii 2.0\n" + rest),
+                  {"v2.ply:2: unsupported PLY version '2.0' (1.0 is the only one)"});
+  expect_contains(error_loading(dir, "none.ply", "ply\nformat ascii\n" + rest),
+                  {"none.ply:2: unsupported PLY version '' (1.0 is the only one)"});
+  EXPECT_EQ(load_scene(dir.write("v1.ply", "ply\nformat ascii 1.0\n" + rest)).triangles.size(), 1u);
+}
+
+// Audit: a NUL in a quoted token ended the message there (what() is a C string).
+TEST(SceneBadInput, ControlBytesInQuotedInputAreEscaped) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "nul.obj", std::string("v 0 0 0\nv 1 a\0b 0\n", 18)),
+                  {"nul.obj:2: vertex: 'a\\x00b' is not a number"});
+  expect_contains(error_loading(dir, "esc.obj", kTriangle + "f 1 2 \x1b[2J\n"),
+                  {"esc.obj:4: face vertex '\\x1b[2J' is not an index"});
+  expect_contains(error_loading(dir, "nul.json", R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "a\u0000b": 1}]})"),
+                  {"nul.json: meshes[0].a\\x00b: unknown key"});
+}
+
 // Found by fuzzing.
 TEST(SceneBadInput, ObjSmallestIndexAndDirectoryMtllib) {
   TempDir dir;
@@ -251,6 +315,34 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": {"matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,1,1]}}]})"),
                   {"scene.json: meshes[0].transform.matrix: last row must be 0 0 0 1"});
   expect_contains(json_error(dir, R"({"meshes": []})"), {"scene.json: no triangles"});
+}
+
+// Audit: keys of the other form of a shape were ignored.
+TEST(SceneBadInput, JsonShapeKeysOfAnotherForm) {
+  TempDir dir;
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "up": [0, 0, 1]}]})"),
+                  {"scene.json: meshes[0].up: does not belong to a quad given by corner, edge1 and edge2"});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": 1, "max": [1, 1, 1]}]})"),
+                  {"scene.json: meshes[0].max: does not belong to a quad given by center, normal and size"});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "size": 2}]})"),
+                  {"scene.json: meshes[0].size: does not belong to a box (given by min and max)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "corner": [0, 0, 0]}]})"),
+                  {"scene.json: meshes[0].corner: does not belong to a box (given by min and max)"});
+  const std::string tri = R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 1, )";
+  expect_contains(json_error(dir, tri + R"("center": [0, 0, 0], "normal": [0, 0, 1], "size": 1, "min": [0, 1, 0]}]})"),
+                  {"scene.json: lights[0].min: does not belong to a quad given by center, normal and size"});
+  expect_contains(json_error(dir, tri + R"("file": "tri.obj", "size": 1}]})"),
+                  {"scene.json: lights[0].size: does not belong to an area light given by a file"});
+}
+
+// Audit: a singular matrix gave "no triangles (empty scene)", unlike "scale": 0.
+TEST(SceneBadInput, JsonSingularMatrix) {
+  TempDir dir;
+  for (const char* m : {"[0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,1]", "[[1,0,0,5], [0,1,0,0], [1,1,0,0], [0,0,0,1]]"})
+    expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": {"matrix": )" + std::string(m) + "}}]}"),
+                    {"scene.json: meshes[0].transform.matrix: matrix must not be singular (determinant 0 flattens the mesh)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": [{"translate": [1, 0, 0]}, {"matrix": [0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,1]}]}]})"),
+                  {"scene.json: meshes[0].transform[1].matrix: matrix must not be singular"});
 }
 
 // docs/scene-format.md: reflectances in [0, 1], and a glossy material's diffuse + specular

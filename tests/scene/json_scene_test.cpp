@@ -111,6 +111,21 @@ TEST(JsonScene, ShapesWithExactVertices) {
   expect_near(box.hi, {1, 2, 3}, 0);
 }
 
+// Audit: "comment" was taken for a material name in "materials" ("expected an object, found string").
+TEST(JsonScene, CommentIsAllowedInMaterials) {
+  TempDir dir;
+  write_room(dir);
+  const Scene s = load_scene(dir.write("scene.json", R"({
+    "meshes": [{"file": "room.obj"}],
+    "materials": {"comment": "the floor becomes a mirror", "floor": {"comment": "polished", "type": "mirror"}}})"));
+  ASSERT_EQ(s.triangles.size(), 4u);
+  EXPECT_EQ(s.material_of(0).name, "floor");
+  EXPECT_EQ(s.material_of(0).type, Material::Type::Mirror);
+  ASSERT_EQ(s.materials.size(), 2u);  // floor and wall, no material "comment"
+  EXPECT_EQ(s.materials[1].name, "wall");
+  for (const auto& w : s.warnings) EXPECT_EQ(w.find("comment"), std::string::npos) << w;
+}
+
 // An override whose name no mesh uses is most likely misspelt: it is kept, with a warning.
 TEST(JsonScene, UnusedMaterialWarns) {
   TempDir dir;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "rayscout/scene/load_scene.h"
@@ -165,6 +166,36 @@ TEST(ObjReader, MissingMtlAndUnknownMaterialAreWarnings) {
   ASSERT_EQ(s.warnings.size(), 2u);
   EXPECT_NE(s.warnings[0].find("w.obj:1: material library 'nothere.mtl' not found"), std::string::npos);
   EXPECT_NE(s.warnings[1].find("material 'x' is not defined"), std::string::npos);
+}
+
+// Audit: OBJ refused 1e-50 ("out of float range") where JSON reads 0. Every text reader now
+// gives what JSON gives: the nearest float (a denormal, or 0 with the sign); overflow stays an error.
+TEST(ObjReader, UnderflowGivesTheNearestFloatAsInJson) {
+  TempDir dir;
+  const Vec3 tiny(0.0f, float(1e-40), -0.0f);
+  ASSERT_NE(tiny.y, 0.0f);  // a denormal
+  const Scene json = load_scene(dir.write("q.json", R"({"meshes": [{"shape": "quad", "corner": [1e-50, 1e-40, -1e-400],
+      "edge1": [1, 0, 0], "edge2": [0, 1, 0]}]})"));
+  expect_vec(json.triangles[0].v0, tiny);
+  EXPECT_TRUE(std::signbit(json.triangles[0].v0.z));
+  dir.write("u.mtl", "newmtl m\nKd 1e-50 0.5 7e-46\nNs 1e-60\n");
+  const Mesh obj = read_mesh(dir.write("u.obj", "mtllib u.mtl\nv 1e-50 1e-40 -1e-400\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n"));
+  expect_vec(obj.positions[0], tiny);
+  EXPECT_TRUE(std::signbit(obj.positions[0].z));
+  expect_vec(obj.materials[0].diffuse, {0.0f, 0.5f, 0.0f});
+  EXPECT_EQ(obj.materials[0].exponent, 0.0f);
+  const Mesh ply = read_mesh(dir.write("u.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                "property float y\nproperty double z\nelement face 1\n"
+                                                "property list uchar int vertex_indices\nend_header\n"
+                                                "1e-50 1e-40 -1e-400\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  expect_vec(ply.positions[0], tiny);
+  // Overflow is still an error.
+  expect_contains(input_error_of([&] { read_mesh(dir.write("big.obj", "v 0 0 1e39\n")); }),
+                  {"big.obj:1: vertex: coordinate 1e39 is out of float range"});
+  expect_contains(input_error_of([&] { read_mesh(dir.write("big.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"
+                                                                      "property float x\nproperty float y\n"
+                                                                      "property float z\nend_header\n0 -1e39 0\n")); }),
+                  {"big.ply:8: '-1e39' is out of float range"});
 }
 
 // The same mesh (a quad and a triangle, coordinates exact in float) as PLY of each format.
