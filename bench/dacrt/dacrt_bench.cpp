@@ -39,7 +39,7 @@ struct Options {
   int reps = 3;
   int threads = 1;
   std::vector<std::string> experiments{"resolution", "ablation", "sampling", "counts", "peers"};
-  std::string json = "docs/dacrt_results.json";
+  std::string json;  // none unless asked: a trial run must not overwrite the committed results
   int study_res = 2048;
   std::vector<std::string> study_views{"sibenik-a", "sponza-a"};
   std::string source = "render";
@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
   app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
-  app.add_option("--json", o.json, "results file for plot_dacrt.py ('' = none)")->capture_default_str();
+  app.add_option("--json", o.json, "results file for plot_dacrt.py (default none; docs/dacrt_results.json holds the committed results)");
   app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
       ->check(CLI::IsMember({"render", "own"}));
   app.add_option("--batches", o.batches, "only these batches (e.g. primary,shadow,mirror@1; default all)")->delimiter(',');
@@ -150,9 +150,12 @@ int main(int argc, char** argv) {
     out["clock"] = g_cpu_time ? "process CPU time" : "wall";
     fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
                g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
-    fmt::print("# dacrt:    {}\n# dacrt-rs: {}\n\n", DacrtConfig::afra().describe(), DacrtConfig::ray_sampled().describe());
-    out["dacrt_config"] = DacrtConfig::afra().describe();
-    out["dacrt_rs_config"] = DacrtConfig::ray_sampled().describe();
+    // The configurations as make() builds them: parallel follows --threads.
+    DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
+    afra.parallel = rs.parallel = o.threads > 1;
+    fmt::print("# dacrt:    {}\n# dacrt-rs: {}\n\n", afra.describe(), rs.describe());
+    out["dacrt_config"] = afra.describe();
+    out["dacrt_rs_config"] = rs.describe();
 
     std::map<std::string, std::shared_ptr<Scene>> scenes;
     const bool render = o.source == "render";

@@ -88,9 +88,11 @@ int main(int argc, char** argv) {
   app.add_option("--clamp-fraction", o.clamp_fraction, "G clamp distance / scene diagonal (0 = off)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e6));
-  app.add_option("--accel", o.accel)->capture_default_str();
-  app.add_option("--out-dir", o.out_dir)->capture_default_str();
-  app.add_option("--json", o.json)->capture_default_str();
+  app.add_option("--accel", o.accel, "accelerator of the shadow rays (rayscout accelerators lists them)")->capture_default_str();
+  app.add_option("--out-dir", o.out_dir, "folder for rmse_over_time.csv and the images (the default holds the committed results)")
+      ->capture_default_str();
+  app.add_option("--json", o.json, "results file for manylight_tables.py (the default is the committed results)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   return bench::run_bench("manylight_bench", [&] {
     // Every name is checked before the output folder and files are touched: a misspelt scene
