@@ -121,11 +121,8 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
   // Next header line, without its newline.
   auto header_line = [&](std::string_view& out) {
     if (p >= end) return false;
-    const char* nl = static_cast<const char*>(memchr(p, h.eol, size_t(end - p)));
-    const char* e = nl ? nl : end;
-    out = std::string_view(p, size_t(e - p));
+    out = detail::next_line(p, end, h.eol);
     if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
-    p = nl ? nl + 1 : end;
     ++line;
     return true;
   };
@@ -269,10 +266,9 @@ Mesh read_ply(const std::filesystem::path& path) {
       if (!binary) {
         if (p >= end) fail_at(path, line + 1, "unexpected end of file in " + el.name + " " + std::to_string(k) +
                                                   " of " + std::to_string(el.count));
-        const char* nl = static_cast<const char*>(memchr(p, header.eol, size_t(end - p)));
-        q = p;
-        e = nl ? nl : end;
-        p = nl ? nl + 1 : end;
+        const std::string_view text = detail::next_line(p, end, header.eol);
+        q = text.data();
+        e = q + text.size();
         ++line;
       }
       // The next value of the instance. Ascii numbers are parsed by their declared type, so
@@ -351,13 +347,12 @@ Mesh read_ply(const std::filesystem::path& path) {
   // Ascii: only white space may follow the last element. Binary: bytes after it are ignored, as
   // rply does (it stops after the declared elements); writers pad files or append data the header
   // does not describe, and the declared elements were all read whole.
-  for (const char* q = p; !binary && q < end;) {
-    const char* nl = static_cast<const char*>(memchr(q, header.eol, size_t(end - q)));
-    const char* e = nl ? nl : end;
+  while (!binary && p < end) {
+    const std::string_view text = detail::next_line(p, end, header.eol);
+    const char* q = text.data();
     ++line;
-    if (std::string_view t = next_token(q, e); !t.empty())
+    if (std::string_view t = next_token(q, q + text.size()); !t.empty())
       fail_at(path, line, "data after the last element ('" + std::string(t) + "')");
-    q = nl ? nl + 1 : end;
   }
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no faces (empty mesh)");
   return mesh;

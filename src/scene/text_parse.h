@@ -90,6 +90,14 @@ inline bool parse_float(std::string_view tok, float& out) { return parse_number(
 inline bool parse_double(std::string_view tok, double& out) { return parse_number(tok, out); }
 inline bool parse_int(std::string_view tok, long long& out) { return parse_number(tok, out); }
 
+/// The line at p up to the line end eol (excluded), or to end; p moves past the line end.
+inline std::string_view next_line(const char*& p, const char* end, char eol) {
+  const char* nl = static_cast<const char*>(std::memchr(p, eol, size_t(end - p)));
+  const std::string_view line(p, size_t((nl ? nl : end) - p));
+  p = nl ? nl + 1 : end;
+  return line;
+}
+
 /// Calls f(line, key, p, end) for every non-empty statement of a line-based text file (OBJ,
 /// MTL): line is 1-based, key the first token, [p, end) the rest with any '#' comment cut off.
 /// Lines end in LF or CR LF, or in CR alone in a file without any LF (classic Mac OS).
@@ -101,10 +109,9 @@ void for_each_statement(const std::string& data, F&& f) {
   const char line_end_char = cr_only ? '\r' : '\n';
   size_t line = 0;
   while (p < end) {
-    const char* nl = static_cast<const char*>(std::memchr(p, line_end_char, size_t(end - p)));
-    const char* line_end = nl ? nl : end;
-    const char* q = p;
-    p = nl ? nl + 1 : end;
+    const std::string_view text = next_line(p, end, line_end_char);
+    const char* q = text.data();
+    const char* line_end = q + text.size();
     ++line;
     if (const void* hash = std::memchr(q, '#', size_t(line_end - q))) line_end = static_cast<const char*>(hash);
     const std::string_view key = next_token(q, line_end);
