@@ -13,7 +13,8 @@ namespace {
 ShaftSelect parse_select(const std::string& name) {
   if (name == "occupied") return ShaftSelect::Occupied;
   if (name == "camera") return ShaftSelect::Camera;
-  bad("select must be occupied or camera (got '" + name + "')");
+  if (name == "camera-voxels") return ShaftSelect::CameraVoxels;
+  bad("select must be occupied, camera or camera-voxels (got '" + name + "')");
 }
 
 }  // namespace

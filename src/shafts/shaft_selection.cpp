@@ -59,25 +59,33 @@ Selection select_shafts(const ShaftGrid& grid, std::span<const Triangle> tris, c
   if (config.select == ShaftSelect::Occupied) {
     sel.voxel_listed = occupied_voxels(grid, tris);
     sel.shafts = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1)) * cells;
-  } else {  // ShaftSelect::Camera
-    std::unordered_map<uint64_t, uint32_t> counts;
-    size_t classified = 0;
-    for (size_t i = 0; i < sample_rays.size(); ++i) {
-      ShaftCoord c;
-      if (!grid.classify(sample_rays[i], c)) continue;
-      ++counts[uint64_t(c.voxel) * cells + c.cell];
-      ++classified;
-    }
-    std::vector<std::pair<uint32_t, uint64_t>> order;
-    for (const auto& [id, n] : counts) order.push_back({n, id});
-    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-      return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-    sel.shaft_selected.assign(nvox * cells, 0);
-    size_t covered = 0;
-    for (const auto& [n, id] : order) {
-      if (double(covered) >= config.coverage * double(classified)) break;
-      covered += n;
+    return sel;
+  }
+  // Camera, CameraVoxels: count the pre-pass rays per shaft (or per voxel), then list the most
+  // used until config.coverage of the classified rays is covered.
+  const bool by_voxel = config.select == ShaftSelect::CameraVoxels;
+  std::unordered_map<uint64_t, uint32_t> counts;
+  size_t classified = 0;
+  for (size_t i = 0; i < sample_rays.size(); ++i) {
+    ShaftCoord c;
+    if (!grid.classify(sample_rays[i], c)) continue;
+    ++counts[by_voxel ? uint64_t(c.voxel) : uint64_t(c.voxel) * cells + c.cell];
+    ++classified;
+  }
+  std::vector<std::pair<uint32_t, uint64_t>> order;
+  for (const auto& [id, n] : counts) order.push_back({n, id});
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
+  if (!by_voxel) sel.shaft_selected.assign(nvox * cells, 0);
+  size_t covered = 0;
+  for (const auto& [n, id] : order) {
+    if (double(covered) >= config.coverage * double(classified)) break;
+    covered += n;
+    if (by_voxel) {
+      sel.voxel_listed[id] = 1;
+      sel.shafts += cells;
+    } else {
       sel.shaft_selected[id] = 1;
       sel.voxel_listed[id / cells] = 1;
       ++sel.shafts;

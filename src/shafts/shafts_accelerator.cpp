@@ -50,7 +50,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   };
   if (box.empty()) box = Bounds3{Vec3{0.0f}, Vec3{0.0f}};
   RayBatch prepass;
-  if (config.select == ShaftSelect::Camera) prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
+  if (config.select != ShaftSelect::Occupied) prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
   info_.build_ms = ms_since(t0);

@@ -223,6 +223,31 @@ TEST_P(ShaftsBoth, CameraSelectionListsOnlyTheUsedShafts) {
   EXPECT_TRUE(compare_hits(ref, got, 0.0f).ok());
 }
 
+// camera-voxels lists whole voxels: every direction cell of the voxels the pre-pass rays
+// start in, fewer than select=occupied lists, more shafts than select=camera at equal coverage.
+TEST_P(ShaftsBoth, CameraVoxelSelectionListsWholeVoxels) {
+  const Base base = GetParam();
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 500 : 2000, 2));
+  ShaftConfig c = fine_config(512, 3);
+  c.coverage = 0.9;
+  c.prepass_width = 32;
+  const ShaftsAccelerator occupied(scene, base, c);
+  c.select = ShaftSelect::Camera;
+  const ShaftsAccelerator camera(scene, base, c);
+  c.select = ShaftSelect::CameraVoxels;
+  const ShaftsAccelerator voxels(scene, base, c);
+  const ShaftStats& s = voxels.stats();
+  EXPECT_GT(s.listed_voxels, 0u);
+  EXPECT_EQ(s.listed_shafts, s.listed_voxels * 6 * 3 * 3);
+  EXPECT_LT(s.listed_voxels, occupied.stats().listed_voxels);
+  EXPECT_GT(s.listed_shafts, camera.stats().listed_shafts);
+  const RayBatch rays = testing::nasty_rays(scene.triangles, 4);
+  HitBatch ref, got;
+  BruteForce(scene.triangles).intersect(rays, ref);
+  voxels.intersect(rays, got);
+  EXPECT_TRUE(compare_hits(ref, got, 0.0f).ok());
+}
+
 TEST(ShaftsBinary, ListsCutTraversalStepsOnSecondaryRays) {
   const Base base = Base::Binary;
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 2000 : 5000, 12));
@@ -267,6 +292,9 @@ TEST(ShaftsOptions, AutoValuesResolvePerArity) {
   o.set("reuse_rays=auto");
   o.set("select=camera");
   const ShaftConfig c = ShaftConfig::from_options(o, 2);
+  AcceleratorOptions v;
+  v.set("select=camera-voxels");
+  EXPECT_EQ(ShaftConfig::from_options(v, 2).select, ShaftSelect::CameraVoxels);
   EXPECT_FALSE(c.samples.has_value());
   EXPECT_FALSE(c.reuse_rays.has_value());
   EXPECT_FALSE(c.entry_boxes.has_value());

@@ -76,7 +76,7 @@ class ShaftCollection {
 
   /// Builds over tree (the lists hold tree.ref values) for the scene box `box`. memory of
   /// the BVH sets the relative budget; sample_rays (may be empty) are the pre-pass rays
-  /// for select=camera. Parallel (oneTBB); same result for any thread count.
+  /// for select=camera and camera-voxels. Parallel (oneTBB); same result for any thread count.
   static ShaftCollection build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
                                std::span<const Triangle> tris, const TraceFn& trace,
                                const RayBatch& sample_rays, const ShaftConfig& config);

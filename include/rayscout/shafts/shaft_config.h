@@ -11,6 +11,9 @@ namespace rayscout {
 enum class ShaftSelect {
   Occupied,  ///< "occupied": every direction of each voxel holding geometry
   Camera,    ///< "camera": the most used shafts of a ray-sampling pre-pass (paper sec. 4.4)
+  /// "camera-voxels": every direction of the voxels the pre-pass rays start in most often
+  /// (ours: the pre-pass decides where, not in which direction, so sparse bounces suffice)
+  CameraVoxels,
 };
 
 /// Tunables of a shaft collection. Defaults follow the authors' reference implementation
@@ -47,11 +50,11 @@ struct ShaftConfig {
   /// On overflow the threshold becomes min_prob + (i+1)/20 for i < retries; after that the
   /// list is the single node cullNodeSubtree(root).
   int retries = 10;
-  /// Which shafts get lists; Camera samples from scene.camera.
+  /// Which shafts get lists; Camera and CameraVoxels sample from scene.camera.
   ShaftSelect select = ShaftSelect::Occupied;
-  /// Camera: fraction of the pre-pass rays whose shafts get lists.
+  /// Camera, CameraVoxels: fraction of the pre-pass rays whose shafts (voxels) get lists.
   double coverage = 0.95;
-  /// Camera: pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
+  /// Camera, CameraVoxels: pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
   /// plus one diffuse bounce and one shadow ray per point light at each hit.
   int prepass_width = 96;
   /// Trace the sample rays with a temporary 8-wide BVH collapsed from the binary one (same

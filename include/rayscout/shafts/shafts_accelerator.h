@@ -22,7 +22,7 @@ class ShaftsAccelerator final : public Accelerator {
  public:
   enum class Base { Binary, Wide };
   /// Builds over scene.triangles (the scene must outlive the accelerator; its camera and
-  /// lights feed the select=camera pre-pass).
+  /// lights feed the select=camera and camera-voxels pre-pass).
   ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config = {},
                     const BvhBuildConfig& bvh_config = {});
 
