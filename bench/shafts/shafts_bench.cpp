@@ -129,9 +129,9 @@ int main(int argc, char** argv) {
   int width = 512, height = 384, reps = 5, threads = 1;
   bool sweep = false;
   std::string csv;
-  app.add_option("--scenes", scenes, "comma-separated scene files: a path as given (absolute or from the current folder), else relative to "
-                 "$RAYSCOUT_SCENES; a file found in neither is skipped (default: bench/scenes/sibenik-a.json, "
-                 "sponza.json, conference.json)");
+  app.add_option("--scenes", scenes, "comma-separated scene files: a path as given (absolute or from the current folder), else a "
+                 "bench view by name (sponza = bench/scenes/sponza.json), else relative to $RAYSCOUT_SCENES; a file found "
+                 "nowhere is skipped (default: sibenik-a, sponza, conference)");
   app.add_option("--workloads", workloads, "primary,shadow,ao,diffuse,path, or none (builds only, for build times)")
       ->capture_default_str();
   app.add_option("--base", bases, "binary,wide")->capture_default_str();
@@ -174,6 +174,8 @@ int main(int argc, char** argv) {
 
     for (const std::string& s : split(scenes)) {
       std::filesystem::path path = s;
+      const std::filesystem::path view = std::filesystem::path(dir) / (s + ".json");  // a bench view by name
+      if (!std::filesystem::exists(path) && std::filesystem::exists(view)) path = view;
       if (!std::filesystem::exists(path)) {
         const auto found = find_scene_file(s);
         if (!found) { fmt::print("skip {}: not found under {}\n", s, scenes_dir().string()); continue; }
