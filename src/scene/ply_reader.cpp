@@ -143,6 +143,7 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       else if (f == "binary_big_endian") h.format = Format::BinaryBig;
       else fail_at(path, line, "unknown PLY format '" + std::string(f) + "'");
       const std::string_view version = next_token(q, e);
+      if (version.empty()) fail_at(path, line, "format line without a version (expected 'format " + std::string(f) + " 1.0')");
       if (double v; !detail::parse_double(version, v) || v != 1.0)
         fail_at(path, line, "unsupported PLY version '" + std::string(version) + "' (1.0 is the only one)");
       have_format = true;

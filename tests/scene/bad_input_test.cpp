@@ -231,7 +231,7 @@ TEST(SceneBadInput, PlyFormatVersion) {
   expect_contains(error_loading(dir, "v2.ply", "ply\nformat ascii 2.0\n" + rest),
                   {"v2.ply:2: unsupported PLY version '2.0' (1.0 is the only one)"});
   expect_contains(error_loading(dir, "none.ply", "ply\nformat ascii\n" + rest),
-                  {"none.ply:2: unsupported PLY version '' (1.0 is the only one)"});
+                  {"none.ply:2: format line without a version (expected 'format ascii 1.0')"});
   EXPECT_EQ(load_scene(dir.write("v1.ply", "ply\nformat ascii 1.0\n" + rest)).triangles.size(), 1u);
 }
 
