@@ -142,6 +142,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--spp", c.spp, "camera samples per pixel")->capture_default_str()->transform(in_range(1, 1 << 16));
   cmd->add_option("--seed", c.seed, "random seed (same seed, same image; manylight's skipping modes also need --costs and no --time-budget)")->capture_default_str()->transform(in_range<uint64_t>(0));
   cmd->add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")->capture_default_str()->transform(in_range(0));
+  cmd->add_option("--rr-depth", c.rr_depth, "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)")->capture_default_str()->transform(in_range(0));
   cmd->add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")->capture_default_str()->transform(in_range(0.0f));
@@ -162,6 +163,7 @@ CommandRegistration registration{[](CLI::App& app) {
     // An option the chosen integrator does not read is reported, not dropped silently.
     static const std::vector<std::pair<std::string, std::vector<std::string>>> readers = {
         {"--max-depth", {"direct", "area", "path"}},
+        {"--rr-depth", {"path"}},
         {"--light-samples", {"area", "path"}},
         {"--ao-samples", {"ao"}},
         {"--ao-radius", {"ao"}},

@@ -1,4 +1,7 @@
-// `path`: path tracing with next-event estimation, pbrt-style maxdepth, wavefront order.
+// `path`: path tracing with next-event estimation, pbrt-style maxdepth and Russian roulette,
+// wavefront order.
+#include <algorithm>
+
 #include "direct_lighting.h"
 #include "rayscout/render/renderer.h"
 
@@ -30,8 +33,15 @@ class PathIntegrator final : public WavefrontIntegrator {
     if (!bs.valid) return;
     // The vertex after the last bounce only adds emission, which a non-mirror bounce ignores.
     if (ctx.bounce + 1 == max_depth && !bs.specular) return;
-    const Vec3 throughput = state.throughput * bs.weight;
+    Vec3 throughput = state.throughput * bs.weight;
     if (!(max_component(throughput) > 0)) return;
+    if (ctx.bounce > ctx.config->rr_depth) {
+      // Russian roulette as pbrt-v3's PathIntegrator: go on with probability p = the largest
+      // throughput component (at least 0.05, at most 1) and weight by 1 / p, so E is unchanged.
+      const float p = std::clamp(max_component(throughput), 0.05f, 1.0f);
+      if (sampler.get(kDimRoulette) >= p) return;
+      throughput = throughput * (1.0f / p);
+    }
     out.continue_path({sp.p, ctx.epsilon, bs.wi, kInfinity}, {state.pixel, state.sample, throughput, bs.specular});
   }
 };

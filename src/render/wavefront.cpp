@@ -25,6 +25,7 @@ void check_config(const RenderConfig& c) {
   if (uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.spp) > (uint64_t(1) << 32) - 1)
     throw InputError("render: width * height * spp must stay below 2^32");
   if (c.max_depth < 0) throw InputError("render: max_depth must be >= 0");
+  if (c.rr_depth < 0) throw InputError("render: rr_depth must be >= 0");
   if (c.light_samples < 1 || c.ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");
 }
 

@@ -90,6 +90,49 @@ TEST(Analytic, PathFurnaceInEmissiveSphere) {
   }
 }
 
+// Russian roulette keeps the furnace's expectation and cuts the long paths. With rho = 0.5 and
+// rr_depth = 1 the throughput is rho^3 = 0.125 at the first roulette (bounce 2) and 1 after it,
+// so a path goes on with probability 0.125, then 0.5 at every vertex: the path rays of depth 12
+// fall from 11 per sample to 1 + 1 + 0.125 (1 + 0.5 + ... + 0.5^8), about 2.25.
+TEST(Analytic, RussianRouletteKeepsTheFurnaceRadiance) {
+  const float r = 1.5f, rho = 0.5f, le = 2.0f;
+  Scene scene;
+  testing::add_part(scene, testing::inward_sphere({0, 0, 0}, r, 3),
+                    Material{.diffuse = Vec3{rho}, .emission = Vec3{le}});
+  scene.camera = inside_camera(r);
+  RenderConfig cfg;
+  cfg.width = cfg.height = testing::small_scale() ? 8 : 16;
+  cfg.spp = 64;
+  cfg.max_depth = 12;
+  double expected = 0;
+  for (int k = 0; k <= cfg.max_depth; ++k) expected += le * std::pow(rho, k);
+  auto path_rays = [](const RenderStats& stats) {
+    uint64_t n = 0;
+    for (const BatchStats& b : stats.batches) n += b.info.kind == "path" ? b.rays : 0;
+    return n;
+  };
+  const auto accel = make_accelerator(fast_accel(), scene);
+  const auto path = make_path_integrator();
+  RenderStats off_stats, on_stats;
+  cfg.rr_depth = cfg.max_depth;
+  const Image off = path->render(scene, *accel, cfg, &off_stats);
+  cfg.rr_depth = 1;
+  const Image on = path->render(scene, *accel, cfg, &on_stats);
+  const double paths = double(cfg.width * cfg.height * cfg.spp);
+  // Without: bounces 0..10 each send a path ray (the 12th vertex only adds emission), but for a
+  // few of ~1e-3 whose sampled direction is invalid.
+  EXPECT_LE(double(path_rays(off_stats)), 11 * paths);
+  EXPECT_GT(double(path_rays(off_stats)), 10.99 * paths);
+  EXPECT_LT(double(path_rays(on_stats)), 2.35 * paths);
+  EXPECT_GT(double(path_rays(on_stats)), 2.15 * paths);
+  EXPECT_NEAR(mean_channel(off, 0), expected, 0.01 * expected);
+  // The roulette's noise: a path's tail beyond bounce 2 (expected Le rho^3 / (1 - rho) = 0.5 Le)
+  // is ~4 Le with probability 0.125, a standard deviation of ~1.3 Le; over >= 4096 paths
+  // that is 0.5 % of the expected ~4 Le.
+  EXPECT_NEAR(mean_channel(on, 0), expected, 0.02 * expected);
+  EXPECT_NE(mean_channel(on, 0), mean_channel(off, 0));  // the roulette did play
+}
+
 // A closed box whose walls emit Le and reflect with albedo <= 1 holds radiance <= Le (D + 1)
 // after D bounces. CornellBox-Glossy's sphere material as its MTL gives it (Kd up to 0.663,
 // Ks 0.9, Ns 400) reflects up to ~1.5 and gave 313410 at D = 48; scaled by the MTL reader's

@@ -40,6 +40,10 @@ struct RenderConfig {
   int spp = 4;             ///< camera samples per pixel, stratified
   uint64_t seed = 1;
   int max_depth = 3;       ///< path: bounces (pbrt's maxdepth); direct/area: mirror reflections
+  /// path: Russian roulette at the vertices after this many bounces (pbrt-v3's `bounces > 3`):
+  /// a path goes on with probability max(0.05, min(1, largest throughput component)) and its
+  /// throughput is divided by it; >= max_depth - 1 never plays.
+  int rr_depth = 3;
   int light_samples = 1;   ///< area/path: shadow rays to area lights per hit
   int ao_samples = 4;      ///< ao: rays per hit
   float ao_radius = 0;     ///< ao: ray length; 0 = 10% of the scene diagonal
@@ -105,8 +109,8 @@ std::unique_ptr<Integrator> make_area_integrator();
 /// a pixel is the unoccluded fraction (1 = open).
 std::unique_ptr<Integrator> make_ao_integrator();
 /// Path tracing up to max_depth bounces with next-event estimation (every point light and
-/// light_samples area-light samples per vertex), diffuse, mirror and glossy materials,
-/// thin-lens depth of field from the camera.
+/// light_samples area-light samples per vertex), Russian roulette after rr_depth bounces,
+/// diffuse, mirror and glossy materials, thin-lens depth of field from the camera.
 std::unique_ptr<Integrator> make_path_integrator();
 
 }  // namespace rayscout

@@ -10,7 +10,7 @@ namespace rayscout {
 
 /// Random numbers of one path vertex: the key (seed, pixel, sample, bounce) is hashed once,
 /// dimension d is then output d of a SplitMix64 stream seeded with it. Dimensions in use:
-/// 0-3 camera (pixel jitter, lens) at bounce 0; 4-6 BSDF sampling; 8 and up light and AO
+/// 0-3 camera (pixel jitter, lens) at bounce 0; 4-6 BSDF sampling; 7 Russian roulette; 8 and up light and AO
 /// samples (see kDimLights).
 class PathSampler {
  public:
@@ -36,6 +36,7 @@ class PathSampler {
 inline constexpr uint32_t kDimPixel = 0;   ///< 2 dims: position inside the pixel
 inline constexpr uint32_t kDimLens = 2;    ///< 2 dims: thin-lens position
 inline constexpr uint32_t kDimBsdf = 4;    ///< 3 dims: lobe choice, direction
+inline constexpr uint32_t kDimRoulette = 7;  ///< 1 dim: Russian roulette of the path
 inline constexpr uint32_t kDimLights = 8;  ///< 3 dims per light/AO sample k: 8 + 3k ...
 
 }  // namespace rayscout
