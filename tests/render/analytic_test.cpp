@@ -69,23 +69,34 @@ TEST(Analytic, DirectPointLightInSphere) {
   EXPECT_NEAR(mean_channel(path, 1), expected_path, 0.02 * expected_path);
 }
 
-// White furnace with emission: a closed sphere whose inside emits Le and reflects rho.
+// White furnace with emission: a closed sphere of radius 1.5 whose inside emits Le and reflects rho.
 // Path tracing with max_depth D sees L = Le (1 + rho + ... + rho^D). Next-event estimation
 // inside a sphere is exact (cos cos' / d^2 = 1 / (4 r^2) everywhere), so the noise is small.
-TEST(Analytic, PathFurnaceInEmissiveSphere) {
-  const float r = 1.5f, rho = 0.5f, le = 2.0f;
+struct Furnace {
+  float rho = 0.5f, le = 2.0f;
   Scene scene;
-  testing::add_part(scene, testing::inward_sphere({0, 0, 0}, r, 3),
-                    Material{.diffuse = Vec3{rho}, .emission = Vec3{le}});
-  scene.camera = inside_camera(r);
+  Furnace() {
+    const float r = 1.5f;
+    testing::add_part(scene, testing::inward_sphere({0, 0, 0}, r, 3),
+                      Material{.diffuse = Vec3{rho}, .emission = Vec3{le}});
+    scene.camera = inside_camera(r);
+  }
+  double radiance(int max_depth) const {
+    double sum = 0;
+    for (int k = 0; k <= max_depth; ++k) sum += le * std::pow(rho, k);
+    return sum;
+  }
+};
+
+TEST(Analytic, PathFurnaceInEmissiveSphere) {
+  const Furnace furnace;
   RenderConfig cfg;
   cfg.width = cfg.height = testing::small_scale() ? 8 : 16;
   cfg.spp = 4;
   for (int depth : {0, 1, 3}) {
     cfg.max_depth = depth;
-    const Image img = render_with(*make_path_integrator(), scene, cfg);
-    double expected = 0;
-    for (int k = 0; k <= depth; ++k) expected += le * std::pow(rho, k);
+    const Image img = render_with(*make_path_integrator(), furnace.scene, cfg);
+    const double expected = furnace.radiance(depth);
     EXPECT_NEAR(mean_channel(img, 0), expected, 0.02 * expected) << "max_depth " << depth;
   }
 }
@@ -95,17 +106,13 @@ TEST(Analytic, PathFurnaceInEmissiveSphere) {
 // so a path goes on with probability 0.125, then 0.5 at every vertex: the path rays of depth 12
 // fall from 11 per sample to 1 + 1 + 0.125 (1 + 0.5 + ... + 0.5^8), about 2.25.
 TEST(Analytic, RussianRouletteKeepsTheFurnaceRadiance) {
-  const float r = 1.5f, rho = 0.5f, le = 2.0f;
-  Scene scene;
-  testing::add_part(scene, testing::inward_sphere({0, 0, 0}, r, 3),
-                    Material{.diffuse = Vec3{rho}, .emission = Vec3{le}});
-  scene.camera = inside_camera(r);
+  const Furnace furnace;
+  const Scene& scene = furnace.scene;
   RenderConfig cfg;
   cfg.width = cfg.height = testing::small_scale() ? 8 : 16;
   cfg.spp = 64;
   cfg.max_depth = 12;
-  double expected = 0;
-  for (int k = 0; k <= cfg.max_depth; ++k) expected += le * std::pow(rho, k);
+  const double expected = furnace.radiance(cfg.max_depth);
   auto path_rays = [](const RenderStats& stats) {
     uint64_t n = 0;
     for (const BatchStats& b : stats.batches) n += b.info.kind == "path" ? b.rays : 0;
@@ -126,9 +133,9 @@ TEST(Analytic, RussianRouletteKeepsTheFurnaceRadiance) {
   EXPECT_LT(double(path_rays(on_stats)), 2.35 * paths);
   EXPECT_GT(double(path_rays(on_stats)), 2.15 * paths);
   EXPECT_NEAR(mean_channel(off, 0), expected, 0.01 * expected);
-  // The roulette's noise: a path's tail beyond bounce 2 (expected Le rho^3 / (1 - rho) = 0.5 Le)
-  // is ~4 Le with probability 0.125, a standard deviation of ~1.3 Le; over >= 4096 paths
-  // that is 0.5 % of the expected ~4 Le.
+  // The roulette's noise: a path's tail beyond bounce 2 (expected Le rho^3 / (1 - rho) = Le / 4)
+  // is ~2 Le with probability 0.125, a standard deviation of ~0.66 Le; over >= 4096 paths
+  // that is 0.5 % of the expected ~2 Le.
   EXPECT_NEAR(mean_channel(on, 0), expected, 0.02 * expected);
   EXPECT_NE(mean_channel(on, 0), mean_channel(off, 0));  // the roulette did play
 }
