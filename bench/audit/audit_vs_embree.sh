@@ -5,6 +5,8 @@
 # any hit, --hits-a/--hits-b excuse a disagreement whose blocker is a grazing contact).
 # usage: bench/audit/audit_vs_embree.sh BUILD_DIR SCENE.json OUT_DIR [N]
 # prints one line per (ray set, query, accelerator) and the disagreements in full.
+# ACCELS="bvh shafts@select=camera-voxels" audits these instead of every accelerator
+# (name@key=value,key=value: with those --accel-opt tunables).
 set -u
 build=$1 scene=$2 out=$3 n=${4:-40000}
 R=$build/rayscout
@@ -22,8 +24,10 @@ for rays in "$out"/*.rays; do
     ext=hits flag=
     [ $query = occluded ] && ext=occl flag=--occluded
     $R trace --scene "$scene" --rays "$rays" --accel embree --repeat 1 $flag --out "$out/$set_name.embree.$ext" >/dev/null || exit 1
-    for accel in $($R accelerators | awk '$1 != "brute" && $1 != "embree" {print $1}'); do
-      $R trace --scene "$scene" --rays "$rays" --accel $accel --repeat 1 $flag --out "$out/$set_name.$accel.$ext" >/dev/null || exit 1
+    for accel in ${ACCELS:-$($R accelerators | awk '$1 != "brute" && $1 != "embree" {print $1}')}; do
+      name=${accel%%@*} tunables=()
+      [ "$name" != "$accel" ] && for kv in $(tr , " " <<< "${accel#*@}"); do tunables+=(--accel-opt "$kv"); done
+      $R trace --scene "$scene" --rays "$rays" --accel "$name" "${tunables[@]}" --repeat 1 $flag --out "$out/$set_name.$accel.$ext" >/dev/null || exit 1
       # Any hit: a disagreement whose blocker is a grazing closest hit (traced just before) is excused.
       opts="--rays $rays"
       [ $ext = occl ] && opts="$opts --hits-a $out/$set_name.embree.hits --hits-b $out/$set_name.$accel.hits"
