@@ -92,6 +92,25 @@ inline void load_ray16(const RayBatch& rays, size_t p, RTCRay16& r, int valid[16
   }
 }
 
+// body(ctx, p) for every packet p of 16 consecutive rays of n, in parallel.
+template <typename Body>
+void for_each_packet(size_t n, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + 15) / 16), [&](const auto& range) {
+    RTCIntersectContext ctx = make_context();
+    for (size_t p = range.begin(); p != range.end(); ++p) body(ctx, p);
+  });
+}
+
+// body(ctx, i) for every ray i that Embree can trace, in parallel; the others stay misses.
+template <typename Body>
+void for_each_traceable_ray(const RayBatch& rays, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 64), [&](const auto& range) {
+    RTCIntersectContext ctx = make_context();
+    for (size_t i = range.begin(); i != range.end(); ++i)
+      if (embree_can_trace(rays, i)) body(ctx, i);
+  });
+}
+
 }  // namespace
 
 EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const EmbreeConfig& config)
@@ -145,33 +164,24 @@ void EmbreeAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceSta
   RTCScene scene = state_->scene;
   const size_t n = rays.size();
   if (config_.packet == 16) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + 15) / 16), [&](const auto& range) {
-      RTCIntersectContext ctx = make_context();
-      for (size_t p = range.begin(); p != range.end(); ++p) {
-        alignas(64) RTCRayHit16 rh;
-        alignas(64) int valid[16];
-        const size_t base = p * 16;
-        load_ray16(rays, p, rh.ray, valid);
-        for (int k = 0; k < 16; ++k) rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect16(valid, scene, &ctx, &rh);
-        for (int k = 0; k < 16 && base + k < n; ++k)
-          if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
-            hits.set(base + k, {rh.ray.tfar[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k]});
-      }
+    for_each_packet(n, [&](RTCIntersectContext& ctx, size_t p) {
+      alignas(64) RTCRayHit16 rh;
+      alignas(64) int valid[16];
+      load_ray16(rays, p, rh.ray, valid);
+      for (int k = 0; k < 16; ++k) rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect16(valid, scene, &ctx, &rh);
+      for (int k = 0; k < 16 && p * 16 + k < n; ++k)
+        if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
+          hits.set(p * 16 + k, {rh.ray.tfar[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k]});
     });
   } else {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& range) {
-      RTCIntersectContext ctx = make_context();
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        if (!embree_can_trace(rays, i)) continue;  // a miss
-        RTCRayHit rh;
-        load_ray(rays, i, rh.ray);
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &ctx, &rh);
-        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
-          hits.set(i, {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v});
-      }
+    for_each_traceable_ray(rays, [&](RTCIntersectContext& ctx, size_t i) {
+      RTCRayHit rh;
+      load_ray(rays, i, rh.ray);
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &ctx, &rh);
+      if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) hits.set(i, {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v});
     });
   }
   if (stats) stats->rays += n;  // Embree has no work counters
@@ -181,29 +191,21 @@ void EmbreeAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occ
   occluded.assign(rays.size(), 0);
   RTCScene scene = state_->scene;
   const size_t n = rays.size();
+  // Embree marks an occluded ray by setting tfar to -inf.
   if (config_.packet == 16) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + 15) / 16), [&](const auto& range) {
-      RTCIntersectContext ctx = make_context();
-      for (size_t p = range.begin(); p != range.end(); ++p) {
-        alignas(64) RTCRay16 r;
-        alignas(64) int valid[16];
-        const size_t base = p * 16;
-        load_ray16(rays, p, r, valid);
-        rtcOccluded16(valid, scene, &ctx, &r);
-        // Embree marks an occluded ray by setting tfar to -inf.
-        for (int k = 0; k < 16 && base + k < n; ++k) occluded[base + k] = r.tfar[k] == -kInfinity;
-      }
+    for_each_packet(n, [&](RTCIntersectContext& ctx, size_t p) {
+      alignas(64) RTCRay16 r;
+      alignas(64) int valid[16];
+      load_ray16(rays, p, r, valid);
+      rtcOccluded16(valid, scene, &ctx, &r);
+      for (int k = 0; k < 16 && p * 16 + k < n; ++k) occluded[p * 16 + k] = r.tfar[k] == -kInfinity;
     });
   } else {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& range) {
-      RTCIntersectContext ctx = make_context();
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        if (!embree_can_trace(rays, i)) continue;  // clear
-        RTCRay r;
-        load_ray(rays, i, r);
-        rtcOccluded1(scene, &ctx, &r);
-        occluded[i] = r.tfar == -kInfinity;
-      }
+    for_each_traceable_ray(rays, [&](RTCIntersectContext& ctx, size_t i) {
+      RTCRay r;
+      load_ray(rays, i, r);
+      rtcOccluded1(scene, &ctx, &r);
+      occluded[i] = r.tfar == -kInfinity;
     });
   }
   if (stats) stats->rays += n;
