@@ -36,11 +36,14 @@ class Fields {
   }
   const std::string& file() const { return file_; }
 
-  // Unknown keys are errors, so typos are caught; "comment" is allowed everywhere.
+  // "comment" is allowed in every object, also where keys are names (materials).
+  static bool is_comment(const std::string& key) { return key == "comment"; }
+
+  // Unknown keys are errors, so typos are caught; comments are allowed everywhere.
   void check_keys(const Json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
     expect_object(obj, field);
     for (const auto& [key, value] : obj.items()) {
-      if (key == "comment") continue;
+      if (is_comment(key)) continue;
       bool ok = false;
       for (const char* a : allowed) ok = ok || key == a;
       if (!ok) {
@@ -370,7 +373,7 @@ class JsonSceneLoader {
       const Json& mats = root["materials"];
       f_.expect_object(mats, "materials");
       for (const auto& [name, value] : mats.items()) {
-        if (name == "comment") continue;  // allowed in every object, as in check_keys
+        if (Fields::is_comment(name)) continue;
         const std::string field = Fields::join("materials", name);
         Material m;
         if (auto existing = builder.find(name)) m = builder.material(*existing);
@@ -412,7 +415,7 @@ class JsonSceneLoader {
     std::vector<uint8_t> used(scene.materials.size(), 0);
     for (uint32_t id : scene.material_ids) used[id] = 1;
     for (const auto& [name, value] : root["materials"].items())
-      if (auto index = builder.find(name); name != "comment" && index && !used[*index])
+      if (auto index = builder.find(name); !Fields::is_comment(name) && index && !used[*index])
         scene.warnings.push_back(f_.file() + ": " + Fields::join("materials", name) +
                                  ": no triangle uses this material (a misspelt name?)");
   }
