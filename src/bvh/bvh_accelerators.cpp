@@ -90,7 +90,7 @@ Bvh2Accelerator::Bvh2Accelerator(std::span<const Triangle> triangles, const BvhB
   info_.memory_bytes = bvh_.memory_bytes();
 }
 
-void Bvh2Accelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void Bvh2Accelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   hits.reset(rays.size());
   for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
     const Hit h = bvh_.intersect<S>(rays[i], triangles_, {}, s);
@@ -98,7 +98,7 @@ void Bvh2Accelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats
   });
 }
 
-void Bvh2Accelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void Bvh2Accelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   occluded.assign(rays.size(), 0);
   for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
     occluded[i] = bvh_.occluded<S>(rays[i], triangles_, {}, s) ? 1 : 0;
@@ -110,7 +110,7 @@ WideBvhAccelerator::WideBvhAccelerator(std::span<const Triangle> triangles, cons
   info_.memory_bytes = bvh_.memory_bytes();
 }
 
-void WideBvhAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void WideBvhAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   hits.reset(rays.size());
   for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
     const Hit h = bvh_.intersect<S>(rays[i], {}, s);
@@ -118,7 +118,7 @@ void WideBvhAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceSt
   });
 }
 
-void WideBvhAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void WideBvhAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   occluded.assign(rays.size(), 0);
   for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
     occluded[i] = bvh_.occluded<S>(rays[i], {}, s) ? 1 : 0;

@@ -7,7 +7,7 @@
 
 namespace rayscout {
 
-void BruteForce::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void BruteForce::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   hits.reset(rays.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size()), [&](const auto& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -30,7 +30,7 @@ void BruteForce::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* sta
   }
 }
 
-void BruteForce::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void BruteForce::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   occluded.assign(rays.size(), 0);
   std::atomic<uint64_t> tests{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size()), [&](const auto& range) {

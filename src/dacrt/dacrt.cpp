@@ -184,11 +184,11 @@ DacrtDetails Dacrt::last_details() const {
   return last_details_;
 }
 
-void Dacrt::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void Dacrt::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   trace<false>(rays, &hits, nullptr, stats);
 }
 
-void Dacrt::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void Dacrt::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   trace<true>(rays, nullptr, &occluded, stats);
 }
 

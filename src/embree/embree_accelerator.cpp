@@ -159,7 +159,7 @@ EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const 
 
 EmbreeAccelerator::~EmbreeAccelerator() = default;
 
-void EmbreeAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void EmbreeAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   hits.reset(rays.size());
   RTCScene scene = state_->scene;
   const size_t n = rays.size();
@@ -187,7 +187,7 @@ void EmbreeAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceSta
   if (stats) stats->rays += n;  // Embree has no work counters
 }
 
-void EmbreeAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void EmbreeAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   occluded.assign(rays.size(), 0);
   RTCScene scene = state_->scene;
   const size_t n = rays.size();

@@ -215,11 +215,11 @@ void ShaftsAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occ
   else trace<true>(collection_, SeededWide(wide_), rays, nullptr, &occluded, stats, use_lists);
 }
 
-void ShaftsAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void ShaftsAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   intersect(rays, hits, stats, true);
 }
 
-void ShaftsAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void ShaftsAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   this->occluded(rays, occluded, stats, true);
 }
 

@@ -170,6 +170,49 @@ TEST_P(AcceleratorSuite, OddRaysMatchBruteForce) {
   EXPECT_GE(hits, 3u) << "the rays aimed at triangle 0 (tmin -1, scaled, plain) should hit it";
 }
 
+// Directions whose every component is subnormal (unit directions times 2^-129) have no finite
+// reciprocal. Accelerator::intersect traces them scaled by a power of two, so each must give
+// the hit of the same ray with the direction scaled up (and tmin, tmax down), its t scaled back:
+// finite for hits nearer than ~0.5, inf (but still a hit) beyond.
+TEST_P(AcceleratorSuite, SubnormalDirectionsHitWhatTheirScaledRaysHit) {
+  const auto& p = GetParam();
+  const Scene scene = testing::scene_from_triangles(p.mesh.triangles);
+  const RayBatch nasty = testing::nasty_rays(scene.triangles, 13);
+  constexpr int k = 129;
+  RayBatch tiny, scaled;
+  for (size_t i = 0; i < nasty.size(); ++i) {
+    Ray r = nasty[i];
+    if (!(max_component(abs(r.dir)) > 0.0f) || !std::isfinite(length(r.dir)) || !(r.tmin >= 0.0f)) continue;
+    r.dir = normalize(r.dir);
+    r.dir = {std::ldexp(r.dir.x, -k), std::ldexp(r.dir.y, -k), std::ldexp(r.dir.z, -k)};
+    r.tmin = 0.0f;
+    r.tmax = i % 2 ? kInfinity : std::ldexp(1.0f, k);  // a segment of length 1
+    ASSERT_LT(max_component(abs(r.dir)), std::numeric_limits<float>::min());
+    tiny.push_back(r);
+    scaled.push_back({r.org, 0.0f, {std::ldexp(r.dir.x, k), std::ldexp(r.dir.y, k), std::ldexp(r.dir.z, k)},
+                      std::ldexp(r.tmax, -k)});
+  }
+  ASSERT_GT(tiny.size(), 100u);
+  const auto accel = make_accelerator(p.accel, scene);
+  HitBatch got, ref;
+  std::vector<uint8_t> got_occ, ref_occ;
+  accel->intersect(tiny, got);
+  accel->intersect(scaled, ref);
+  accel->occluded(tiny, got_occ);
+  accel->occluded(scaled, ref_occ);
+  size_t finite = 0, overflowed = 0;
+  for (size_t i = 0; i < tiny.size(); ++i) {
+    ASSERT_EQ(got.prim[i], ref.prim[i]) << "ray " << i;
+    EXPECT_EQ(got_occ[i], ref_occ[i]) << "ray " << i;
+    if (ref.prim[i] == kInvalidId) continue;
+    EXPECT_EQ(got.t[i], std::ldexp(ref.t[i], k)) << "ray " << i;
+    EXPECT_EQ(got.u[i], ref.u[i]) << "ray " << i;
+    (std::isfinite(got.t[i]) ? finite : overflowed) += 1;
+  }
+  EXPECT_GT(finite, tiny.size() / 20) << "hits nearer than ~0.5 keep a finite distance";
+  EXPECT_GT(overflowed, 0u) << "hits beyond FLT_MAX are hits at t = inf, not misses";
+}
+
 INSTANTIATE_TEST_SUITE_P(All, AcceleratorSuite, ::testing::ValuesIn(all_params()),
                          [](const auto& info) {
                            std::string n = info.param.accel + "_" + info.param.mesh.name;

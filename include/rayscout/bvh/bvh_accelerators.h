@@ -36,13 +36,13 @@ class Bvh2Accelerator final : public Accelerator {
   /// Builds over triangles, which must outlive the accelerator.
   explicit Bvh2Accelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config = {});
   std::string name() const override { return "bvh2"; }
-  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
-  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return info_; }
   const Bvh2& bvh() const { return bvh_; }
 
  private:
+  void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
+  void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
+
   std::span<const Triangle> triangles_;
   Bvh2 bvh_;
   BuildInfo info_;
@@ -55,13 +55,13 @@ class WideBvhAccelerator final : public Accelerator {
   explicit WideBvhAccelerator(std::span<const Triangle> triangles,
                               const BvhBuildConfig& config = wide_bvh_default_config());
   std::string name() const override { return "bvh"; }
-  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
-  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return info_; }
   const WideBvh& bvh() const { return bvh_; }
 
  private:
+  void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
+  void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
+
   WideBvh bvh_;
   BuildInfo info_;
 };

@@ -31,10 +31,14 @@ class Accelerator {
   virtual std::string name() const = 0;
   /// Closest hit of every ray (ties: smaller triangle id, see is_closer).
   /// hits is reset to rays.size() entries. stats, when non-null, receives exact counts.
-  virtual void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const = 0;
-  /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0.
-  virtual void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                        TraceStats* stats = nullptr) const = 0;
+  /// A hit's t is in units of the ray's direction. A direction whose every component is
+  /// subnormal (below FLT_MIN, not zero) has no finite reciprocal, so it is traced scaled up by
+  /// a power of two (exact) with tmin and tmax scaled down, and t is scaled back: it may then
+  /// overflow to inf on a real hit. A zero or NaN direction misses.
+  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const;
+  /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0. Tiny
+  /// directions as in intersect().
+  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats = nullptr) const;
   /// Build time and memory.
   virtual BuildInfo build_info() const = 0;
   /// Peak scratch memory of the last trace call (DACRT's index arrays); 0 when none.
@@ -42,6 +46,12 @@ class Accelerator {
   /// Whether stats receive work counts (steps, box and triangle tests); false for a peer
   /// library that does not expose them (Embree), whose stats count rays only.
   virtual bool counts_work() const { return true; }
+
+ protected:
+  /// What intersect() and occluded() run, on rays whose directions have a component of at
+  /// least FLT_MIN (or are zero or NaN).
+  virtual void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const = 0;
+  virtual void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const = 0;
 };
 
 /// The reference: tests every ray against every triangle. Single source of truth in tests.
@@ -50,12 +60,11 @@ class BruteForce final : public Accelerator {
   /// Keeps a view of triangles: they must outlive the accelerator.
   explicit BruteForce(std::span<const Triangle> triangles) : triangles_(triangles) {}
   std::string name() const override { return "brute"; }
-  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
-  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return {}; }
 
  private:
+  void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
+  void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
   std::span<const Triangle> triangles_;
 };
 

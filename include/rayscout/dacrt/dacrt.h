@@ -40,9 +40,6 @@ class Dacrt final : public Accelerator {
   ~Dacrt() override;
 
   std::string name() const override { return name_; }
-  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
-  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return {}; }
   /// Scratch bytes of the last trace call: scratch_bytes(|R|, |T|, tasks). With concurrent
   /// calls, of the one that finished last (here and in last_details).
@@ -55,6 +52,9 @@ class Dacrt final : public Accelerator {
   static size_t scratch_bytes(size_t n_rays, size_t n_triangles, size_t tasks);
 
  private:
+  void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
+  void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
+
   template <bool kOccluded>
   void trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occluded, TraceStats* stats) const;
 

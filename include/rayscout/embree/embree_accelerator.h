@@ -46,13 +46,13 @@ class EmbreeAccelerator final : public Accelerator {
   EmbreeAccelerator& operator=(const EmbreeAccelerator&) = delete;
 
   std::string name() const override { return "embree"; }
-  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
-  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                TraceStats* stats = nullptr) const override;
   BuildInfo build_info() const override { return info_; }
   bool counts_work() const override { return false; }
 
  private:
+  void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
+  void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
+
   struct State;
   std::unique_ptr<State> state_;
   EmbreeConfig config_;

@@ -36,12 +36,11 @@ class ShaftsAccelerator final : public Accelerator {
   static Settings settings_from_options(const AcceleratorOptions& options, Base base);
 
   std::string name() const override { return base_ == Base::Binary ? "shafts" : "shafts-wide"; }
-  void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const override;
-  void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded,
-                TraceStats* stats = nullptr) const override;
   /// BVH + collection build time and memory.
   BuildInfo build_info() const override { return info_; }
 
+  using Accelerator::intersect;
+  using Accelerator::occluded;
   /// use_lists = false traces the very same BVH from the root: the side-by-side baseline.
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats, bool use_lists) const;
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
@@ -56,6 +55,9 @@ class ShaftsAccelerator final : public Accelerator {
   const WideBvh& wide_bvh() const { return wide_; }
 
  private:
+  void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
+  void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
+
   std::span<const Triangle> triangles_;
   Base base_;
   Bvh2 bvh2_;
