@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "rayscout/scene/mesh.h"
@@ -65,7 +66,6 @@ struct Property {
   Scalar type = Scalar::Float32;
   bool is_list = false;
   Scalar count_type = Scalar::UInt8;
-  size_t header_line = 0;
 };
 
 struct Element {
@@ -130,6 +130,7 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
   std::string_view hl;
   if (!header_line(hl) || hl != "ply") fail_at(path, 1, "not a PLY file (first line must be 'ply')");
   bool have_format = false, have_end = false;
+  std::unordered_map<std::string, size_t> property_lines;  // of the current element: a header may hold 10^6
   while (header_line(hl)) {
     const char* q = hl.data();
     const char* e = q + hl.size();
@@ -167,6 +168,7 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       el.count = size_t(n);
       el.header_line = line;
       h.elements.push_back(std::move(el));
+      property_lines.clear();
     } else if (key == "property") {
       if (h.elements.empty()) fail_at(path, line, "property before any element");
       Property prop;
@@ -183,11 +185,9 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       prop.name = std::string(next_token(q, e));
       if (prop.name.empty()) fail_at(path, line, "property without a name");
       Element& el = h.elements.back();
-      for (const auto& other : el.props)
-        if (other.name == prop.name)
-          fail_at(path, line, "a second property " + prop.name + " in element " + el.name + " (the first is on line " +
-                                  std::to_string(other.header_line) + ")");
-      prop.header_line = line;
+      if (const auto [first, fresh] = property_lines.emplace(prop.name, line); !fresh)
+        fail_at(path, line, "a second property " + prop.name + " in element " + el.name + " (the first is on line " +
+                                std::to_string(first->second) + ")");
       el.props.push_back(std::move(prop));
     } else {
       fail_at(path, line, "unknown header keyword '" + std::string(key) + "'");
