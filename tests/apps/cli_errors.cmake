@@ -33,6 +33,14 @@ expect(0 "wrote" rays --scene cornell --workload diffuse --width 8 --height 8 --
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --out ${WORK}/p.hits)
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/d.rays --accel bvh --out ${WORK}/d.hits)
 expect(1 "result" compare-hits ${WORK}/p.hits ${WORK}/d.hits)
+# A candidate that claims t = 0 on another triangle for every hit would excuse itself as grazing
+# contacts: beyond --max-grazing (1 % of the rays) the files differ.
+execute_process(COMMAND /usr/bin/python3 -c "import struct,sys; b=bytearray(open(sys.argv[1],'rb').read())
+for o in range(16, len(b), 16):
+    if struct.unpack_from('<I', b, o + 4)[0] != 0xFFFFFFFF: struct.pack_into('<fI', b, o, 0.0, struct.unpack_from('<I', b, o + 4)[0] ^ 1)
+open(sys.argv[2], 'wb').write(b)" ${WORK}/p.hits ${WORK}/t0.hits RESULT_VARIABLE rc)
+expect(1 "too many grazing: +[0-9]+ of 64 rays, above --max-grazing 0.01" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --rays ${WORK}/ok.rays)
+expect(0 "result: +OK" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --max-grazing 1)
 # Every file of a comparison holds as many results as the first (or the RAYS file), whichever
 # position the odd one is in; --hits-a/--hits-b belong to OCCL files.
 expect(0 "wrote" rays --scene cornell --workload primary --width 4 --height 4 --out ${WORK}/small.rays)
