@@ -22,19 +22,21 @@ struct RaysArgs {
 };
 
 // The rays are held twice, as the batch and as the encoded file: at least 64 bytes per camera
-// ray (more for the secondary workloads). Asked for more than the machine's memory and swap,
-// the kernel killed the process mid-run (--width 2147483647 --height 1: 24 GB used, then
-// SIGKILL) instead of an error; refused here, before the scene is loaded.
-void check_memory(const WorkloadConfig& c) {
+// ray, 112 measured for the secondary workloads (primary rays, hits and the new rays). Asked
+// for more than the machine's memory and swap, the kernel killed the process mid-run (--width
+// 2147483647 --height 1: 24 GB used, then SIGKILL) instead of an error; refused here, before
+// the scene is loaded.
+void check_memory(const WorkloadConfig& c, Workload workload) {
   const double rays = double(c.width) * double(c.height) * double(c.spp);
-  require_memory(64.0 * rays, fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays (64 bytes a ray) need",
-                                          c.width, c.height, c.spp, rays));
+  const double per_ray = workload == Workload::Primary ? 64.0 : 112.0;
+  require_memory(per_ray * rays, fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays ({:.0f} bytes a ray) need",
+                                             c.width, c.height, c.spp, rays, per_ray));
 }
 
 void run_rays(const RaysArgs& a) {
   const Workload workload = parse_workload(a.workload);
   check_output_path(a.out, "--out " + a.out);
-  check_memory(a.config);
+  check_memory(a.config, workload);
   const auto start = SteadyClock::now();
   const Scene scene = resolve_scene(a.scene);
   // Secondary workloads start at the primary hits, found with this accelerator.

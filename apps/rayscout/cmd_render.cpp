@@ -49,16 +49,23 @@ void draw_progress(const RenderProgress& p) {
   std::fflush(stderr);
 }
 
-// Film and image hold 12 bytes a pixel each, and a pass at least ~200 bytes a camera ray. A
-// 32768 x 32768 image asked for ~26 GB on a 23 GB machine and the kernel killed the process
-// after the scene load; refused here, before any work.
-void check_memory(const RenderConfig& c) {
+// Film and image hold 12 bytes a pixel each, a pass ~200 bytes a camera ray and ~100 bytes for
+// each occlusion ray a camera ray's hit sends in the same batch (ao: --ao-samples; area and
+// path: --light-samples; measured 72-96), and manylight keeps ~130 bytes per shading point of
+// the whole image (--max-batch does not split it). A 32768 x 32768 image asked for ~26 GB on a
+// 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB: the kernel killed the
+// process after the scene load. Refused here, before any work.
+void check_memory(const RenderConfig& c, const std::string& integrator) {
   const double pixels = double(c.width) * double(c.height);
   const double pass_rays = std::min(pixels * double(c.spp), double(c.camera_batch_limit()));
-  require_memory(24.0 * pixels + 200.0 * pass_rays,
+  const int fan_out = integrator == "ao" ? c.ao_samples : integrator == "area" || integrator == "path" ? c.light_samples : 0;
+  const double points = integrator == "manylight" ? pixels * double(c.spp) : 0.0;
+  require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + 130.0 * points,
                  fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
-                             "a pass at ~200 bytes) need",
-                             c.width, c.height, pixels, pass_rays));
+                             "a pass (--max-batch) at ~200 bytes{}{}) need",
+                             c.width, c.height, pixels, pass_rays,
+                             fan_out > 1 ? fmt::format(" with {} occlusion rays each at ~100 bytes", fan_out) : "",
+                             points > 0 ? fmt::format(", {:.0f} shading points at ~130 bytes", points) : ""));
 }
 
 void run(RenderOptions& o) {
@@ -67,7 +74,7 @@ void run(RenderOptions& o) {
   // Output paths are checked before the work, not after it.
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
-  check_memory(o.config);
+  check_memory(o.config, o.integrator);
   if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
     if (!ml.rmse_log.empty()) check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);

@@ -71,12 +71,20 @@ expect(2 "--visibility-samples: '0' is not a number >= 1" ${R} --integrator many
 expect(2 "--shading-clusters: '-4' is not a number >= 1" ${R} --integrator manylight --shading-clusters -4)
 expect(2 "--seed: '-1' is not a number" rays --scene cornell --seed -1 --out ${WORK}/x.rays)
 expect(2 "--ao-radius: '-1' is not a number >= 0" rays --scene cornell --workload ao --ao-radius -1 --out ${WORK}/x.rays)
-# More rays than memory holds (here 137 GB): refused before the work, not killed by the kernel.
+# More rays than memory holds (here 137 GB): refused before the work, not killed by the kernel;
+# a secondary workload holds the primary rays and hits too (112 bytes a ray).
 expect(2 "--width 2147483647 x --height 1 x --spp 1 = 2147483647 rays \\(64 bytes a ray\\) need at least 137.4 GB, more than this machine's"
        rays --scene cornell --width 2147483647 --height 1 --out ${WORK}/x.rays)
+expect(2 "= 1600000000 rays \\(112 bytes a ray\\) need at least 179.2 GB" rays --scene cornell --workload ao --width 40000 --height 40000 --out ${WORK}/x.rays)
 # A render bigger than memory (here ~200,000 GB in one pass) is refused before the scene loads.
-expect(2 "--width 32768 x --height 32768 \\(1073741824 pixels at 24 bytes for film and image, 1000000000000 camera rays a pass at ~200 bytes\\) need at least"
+expect(2 "--width 32768 x --height 32768 \\(1073741824 pixels at 24 bytes for film and image, 1000000000000 camera rays a pass \\(--max-batch\\) at ~200 bytes\\) need at least"
        render --width 32768 --height 32768 --spp 1000 --max-batch 1000000000000 --out ${WORK}/x.png)
+# The occlusion rays of a hit share its batch (~110 GB here), and manylight's shading points are
+# not split into passes (~140 GB): both counted.
+expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes\\) need at least 11[0-9]\\.[0-9] GB"
+       render --integrator ao --ao-samples 64 --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
+expect(2 "1073741824 shading points at ~130 bytes\\) need at least 14[0-9]\\.[0-9] GB"
+       render --integrator manylight --width 8192 --height 8192 --spp 16 --out ${WORK}/x.png)
 expect(2 "--threads: '-3' is not a number >= 0" trace --scene cornell --rays ${WORK}/ok.rays --threads -3)
 expect(2 "--repeat: '0' is not a number >= 1" trace --scene cornell --rays ${WORK}/ok.rays --repeat 0)
 # Integers are decimal: CLI11 alone reads 010 as 8.
