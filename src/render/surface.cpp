@@ -2,6 +2,7 @@
 #include "rayscout/render/surface.h"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "rayscout/core/triangle.h"
@@ -34,7 +35,9 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
 float scene_ray_epsilon(const Bounds3& bounds) {
   if (bounds.empty()) return 1e-5f;
   const float extent = std::max(length(bounds.diagonal()), max_component(max(abs(bounds.lo), abs(bounds.hi))));
-  return 1e-5f * std::max(extent, 1e-3f);
+  // Relative to the scene at every scale (a floor of 1e-8 once made a 3e-8 scene's offsets a
+  // third of it); FLT_MIN keeps a point-sized scene's epsilon positive.
+  return std::max(1e-5f * extent, std::numeric_limits<float>::min());
 }
 
 bool shadow_ray_to(const Vec3& p, const Vec3& target, float eps, Ray& ray, float& dist) {

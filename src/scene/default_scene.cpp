@@ -8,12 +8,22 @@
 #include "scene_builder.h"
 
 namespace rayscout {
+namespace {
+
+// Half the diagonal: a camera at any scene scale (a floor of 1e-6 once put the camera of a
+// 1e-8 scene a hundred widths away); 1 for a point-sized scene.
+float framing_radius(const Bounds3& b) {
+  const float r = 0.5f * length(b.diagonal());
+  return r > 0.0f && std::isfinite(r) ? r : 1.0f;
+}
+
+}  // namespace
 
 Camera framing_camera(const Bounds3& b, float fov_deg) {
   Camera c;
   c.fov_deg = fov_deg;
   const Vec3 center = b.center();
-  const float radius = std::max(0.5f * length(b.diagonal()), 1e-6f);
+  const float radius = framing_radius(b);
   const float half_fov = 0.5f * c.fov_deg * std::numbers::pi_v<float> / 180.0f;
   const float distance = radius / std::sin(half_fov);
   c.look_at = center;
@@ -24,7 +34,7 @@ Camera framing_camera(const Bounds3& b, float fov_deg) {
 }
 
 PointLight framing_light(const Bounds3& b, const Camera& camera) {
-  const float radius = std::max(0.5f * length(b.diagonal()), 1e-6f);
+  const float radius = framing_radius(b);
   PointLight l;
   const CameraFrame frame = camera_frame(camera, 1.0f);  // up and back of any length
   l.position = camera.eye + (frame.up - frame.forward) * (0.25f * radius);

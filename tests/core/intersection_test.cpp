@@ -139,3 +139,26 @@ TEST(IsCloser, TiesGoToTheSmallerTriangleId) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// |a| where the sum of squares over- or underflows but |a| does not: the normal of a triangle
+// with edges of 1e10 (squares ~1e40) or of 1e-12 (squares ~1e-48), and the area from it.
+TEST(VectorLength, ExactWhereTheSquaresLeaveFloatRange) {
+  EXPECT_FLOAT_EQ(length(Vec3(3e19f, 4e19f, 0.0f)), 5e19f);
+  EXPECT_FLOAT_EQ(length(Vec3(0.0f, -3e-25f, 4e-25f)), 5e-25f);
+  EXPECT_FLOAT_EQ(length(Vec3(2e-30f, 0.0f, 0.0f)), 2e-30f);
+  const Vec3 n = normalize(Vec3(3e20f, 0.0f, 4e20f));
+  EXPECT_FLOAT_EQ(n.x, 0.6f);
+  EXPECT_FLOAT_EQ(n.z, 0.8f);
+  const Triangle big{{0, 0, 0}, {1e10f, 0, 0}, {0, 1e10f, 0}};
+  EXPECT_FLOAT_EQ(big.area(), 5e19f);
+  EXPECT_EQ(length(Vec3(0.0f)), 0.0f);
+  EXPECT_EQ(length(Vec3(kInfinity, 1.0f, 0.0f)), kInfinity);
+  EXPECT_TRUE(std::isnan(length(Vec3(std::nanf(""), 1.0f, 0.0f))));
+  EXPECT_EQ(length(Vec3(3.0f, 4.0f, 0.0f)), 5.0f);  // the usual range: sqrt of the sum, as before
+}
+
+}  // namespace
+}  // namespace rayscout

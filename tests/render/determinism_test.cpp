@@ -128,6 +128,43 @@ TEST(Determinism, SeedSelectsTheImage) {
   EXPECT_NE(first_difference(a, path->render(scene, *accel, cfg)), -1);
 }
 
+// The same scene in other units: every length times s (a power of two, so exact), point-light
+// intensities times s^2 (same irradiance), area emission unchanged (radiance).
+Scene scaled(Scene s, float scale) {
+  for (Triangle& t : s.triangles) t = {t.v0 * scale, t.v1 * scale, t.v2 * scale};
+  s.camera.eye = s.camera.eye * scale;
+  s.camera.look_at = s.camera.look_at * scale;
+  s.camera.lens_radius *= scale;
+  s.camera.focus_distance *= scale;
+  for (PointLight& l : s.point_lights) {
+    l.position = l.position * scale;
+    l.intensity = l.intensity * (scale * scale);
+  }
+  return s;
+}
+
+double mean(const Image& image) {
+  double sum = 0;
+  for (const Vec3& p : image.pixels) sum += double(p.x) + double(p.y) + double(p.z);
+  return sum / double(3 * image.pixels.size());
+}
+
+// Offsets and lengths follow the scene: a 1e-8 scene once lost its indirect light to a fixed
+// ray offset, and edges of 1e10 overflowed the normal's length (shading with the view direction).
+TEST(Determinism, ImagesDoNotDependOnTheSceneScale) {
+  const Scene unit = test_scene();
+  const RenderConfig cfg = small_config();
+  for (const float scale : {0x1p-27f, 0x1p33f}) {
+    const Scene other = scaled(unit, scale);
+    for (const auto& integrator : all_integrators()) {
+      const double a = mean(integrator->render(unit, *make_accelerator("bvh", unit), cfg));
+      const double b = mean(integrator->render(other, *make_accelerator("bvh", other), cfg));
+      EXPECT_GT(a, 0.01);
+      EXPECT_NEAR(b, a, 0.005 * a) << integrator->name() << " at scale " << scale;
+    }
+  }
+}
+
 // Renders cfg's path-traced image whole, then with max_batch_rays = max_batch: expects the same
 // image up to float summation order and returns the sizes of the second render's camera batches.
 std::vector<size_t> camera_batches_of_split_render(RenderConfig cfg, long max_batch) {

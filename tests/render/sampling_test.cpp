@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <vector>
@@ -139,14 +140,15 @@ TEST(ConcentricDisk, KnownPointsOnBothBranchesAndTheDiagonal) {
 }
 
 // The ray epsilon is 1e-5 of the larger of the scene's diagonal and its largest coordinate
-// magnitude (floats are coarser far from the origin), at least 1e-8; the AO radius 10 % of the
-// diagonal unless configured.
+// magnitude (floats are coarser far from the origin), at every scale (FLT_MIN for a point); the
+// AO radius 10 % of the diagonal unless configured.
 TEST(SceneScales, RayEpsilonAndAoRadiusFromTheBounds) {
   const Bounds3 box{{0, 0, 0}, {3, 4, 12}};  // diagonal 13
   EXPECT_FLOAT_EQ(scene_ray_epsilon(box), 1e-5f * 13.0f);
   EXPECT_FLOAT_EQ(scene_ray_epsilon({{-1001, -1001, -1001}, {-1000, -1000, -1000}}), 1e-5f * 1001.0f);
   EXPECT_FLOAT_EQ(scene_ray_epsilon({{1000, 0, 0}, {1001, 1, 1}}), 1e-5f * 1001.0f);
-  EXPECT_FLOAT_EQ(scene_ray_epsilon({{0, 0, 0}, {1e-6f, 1e-6f, 1e-6f}}), 1e-8f);
+  EXPECT_FLOAT_EQ(scene_ray_epsilon({{0, 0, 0}, {3e-8f, 4e-8f, 12e-8f}}), 1e-5f * 13e-8f);
+  EXPECT_EQ(scene_ray_epsilon({{0, 0, 0}, {0, 0, 0}}), std::numeric_limits<float>::min());
   EXPECT_FLOAT_EQ(scene_ray_epsilon(Bounds3{}), 1e-5f);
   EXPECT_FLOAT_EQ(ao_radius_for(0.0f, box), 1.3f);
   EXPECT_EQ(ao_radius_for(2.5f, box), 2.5f);
