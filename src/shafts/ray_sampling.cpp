@@ -3,7 +3,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
+#include "rayscout/core/machine_memory.h"
 #include "rayscout/core/random.h"
 
 namespace rayscout {
@@ -30,6 +32,13 @@ RayBatch camera_prepass_rays(const Scene& scene, const std::function<Hit(const R
   RayBatch out;
   if (scene.triangles.empty() || width < 1) return out;
   const int height = std::max(1, width * 3 / 4);
+  // Up to 1 + 2 (1 + lights) rays a pixel, 32 bytes each, twice while the batch grows: refused
+  // before the work (prepass_width 16384 asked for ~25 GB and the kernel killed the process).
+  const double pixels = double(width) * double(height);
+  const size_t per_pixel = 1 + 2 * (1 + std::min<size_t>(4, scene.point_lights.size()));
+  require_memory(pixels * double(per_pixel) * 64.0,
+                 "shafts pre-pass: prepass_width " + std::to_string(width) + " (" + std::to_string(size_t(pixels)) +
+                     " pixels, up to " + std::to_string(per_pixel) + " rays each at 32 bytes, twice while growing) needs");
   const Camera& cam = scene.camera;
   const CameraFrame frame = camera_frame(cam, float(width) / float(height));
   const float eps = 1e-4f * length(scene.bounds().diagonal());

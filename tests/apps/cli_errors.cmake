@@ -85,6 +85,9 @@ expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 oc
        render --integrator ao --ao-samples 64 --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
 expect(2 "1073741824 shading points at ~130 bytes\\) need at least 14[0-9]\\.[0-9] GB"
        render --integrator manylight --width 8192 --height 8192 --spp 16 --out ${WORK}/x.png)
+# The shafts' camera pre-pass grows with prepass_width^2 (here ~40-64 GB): refused, not killed.
+expect(2 "shafts pre-pass: prepass_width 16384 \\(201326592 pixels, up to [0-9]+ rays each at 32 bytes, twice while growing\\) needs at least"
+       trace --scene cornell --rays ${WORK}/ok.rays --accel shafts --accel-opt select=camera --accel-opt prepass_width=16384)
 expect(2 "--threads: '-3' is not a number >= 0" trace --scene cornell --rays ${WORK}/ok.rays --threads -3)
 expect(2 "--repeat: '0' is not a number >= 1" trace --scene cornell --rays ${WORK}/ok.rays --repeat 0)
 # Integers are decimal: CLI11 alone reads 010 as 8.
