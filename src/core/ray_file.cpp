@@ -189,7 +189,7 @@ void write_hits(const std::filesystem::path& file, const HitBatch& hits) {
     put_f32(out, hit ? hits.u[i] : 0.0f);
     put_f32(out, hit ? hits.v[i] : 0.0f);
   }
-  write_file(file, out, "ray file");
+  write_file(file, out, what_of(RayFileKind::Hits));
 }
 
 HitBatch read_hits(const std::filesystem::path& file) {
@@ -201,7 +201,7 @@ HitBatch read_hits(const std::filesystem::path& file) {
 void write_occlusion(const std::filesystem::path& file, const std::vector<uint8_t>& occluded) {
   std::string out = header(RayFileKind::Occlusion, occluded.size());
   for (uint8_t o : occluded) out.push_back(char(o ? 1 : 0));
-  write_file(file, out, "ray file");
+  write_file(file, out, what_of(RayFileKind::Occlusion));
 }
 
 std::vector<uint8_t> read_occlusion(const std::filesystem::path& file) {

@@ -278,7 +278,7 @@ Mesh read_ply(const std::filesystem::path& path) {
         if (binary) {
           double x = 0;
           if (!read_binary(p, end, type, swap, x))
-            fail("unexpected end of data (" + std::to_string(el.count) + " " + el.name + "s declared)");
+            fail("unexpected end of data (" + std::to_string(el.count) + " " + (el.name == "vertex" ? "vertices" : el.name + "s") + " declared)");
           return x;
         }
         std::string_view t = next_token(q, e);
@@ -333,7 +333,7 @@ Mesh read_ply(const std::filesystem::path& path) {
         mesh.positions.push_back(v);
       }
       if (is_face) {
-        if (poly.size() < 3) fail("face with " + std::to_string(poly.size()) + " vertices (at least 3 needed)");
+        if (poly.size() < 3) fail("face with " + std::to_string(poly.size()) + (poly.size() == 1 ? " vertex" : " vertices") + " (at least 3 needed)");
         for (double idx : poly)
           if (!(idx >= 0 && idx < double(vertices.count)))
             fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertices.count) +
