@@ -14,7 +14,7 @@ namespace {
 /// is subnormal and one is not zero; else 0. Such a direction has no finite reciprocal
 /// (1 / 2.9e-39 overflows), so the slab tests and the watertight test's 1/d_kz would see inf.
 int tiny_direction_exponent(float dx, float dy, float dz) {
-  const float m = std::fmax(std::fabs(dx), std::fmax(std::fabs(dy), std::fabs(dz)));
+  const float m = max_component(abs(Vec3(dx, dy, dz)));
   if (std::isnan(dx) || std::isnan(dy) || std::isnan(dz) || m == 0.0f || m >= FLT_MIN) return 0;
   return -std::ilogb(m);
 }
@@ -24,7 +24,7 @@ int tiny_direction_exponent(float dx, float dy, float dz) {
 std::vector<std::pair<size_t, int>> tiny_directions(const RayBatch& rays) {
   bool any = false;
   for (size_t i = 0; i < rays.size(); ++i) {
-    const float m = std::fmax(std::fabs(rays.dx[i]), std::fmax(std::fabs(rays.dy[i]), std::fabs(rays.dz[i])));
+    const float m = max_component(abs(Vec3(rays.dx[i], rays.dy[i], rays.dz[i])));
     any |= (m > 0.0f) & (m < FLT_MIN);
   }
   std::vector<std::pair<size_t, int>> tiny;

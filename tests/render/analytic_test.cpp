@@ -25,12 +25,6 @@ Image render_with(const Integrator& integrator, const Scene& scene, const Render
   return integrator.render(scene, *accel, cfg);
 }
 
-double mean_channel(const Image& img, int c) {
-  double s = 0;
-  for (const Vec3& p : img.pixels) s += p[c];
-  return s / double(img.pixels.size());
-}
-
 // A camera inside a sphere of radius r centred at the origin, looking sideways.
 Camera inside_camera(float r) {
   Camera cam;
@@ -66,7 +60,7 @@ TEST(Analytic, DirectPointLightInSphere) {
   cfg.spp = 16;
   const Image path = render_with(*make_path_integrator(), scene, cfg);
   const double expected_path = expected * (1 + rho + rho * rho);
-  EXPECT_NEAR(mean_channel(path, 1), expected_path, 0.02 * expected_path);
+  EXPECT_NEAR(testing::mean_channel(path, 1), expected_path, 0.02 * expected_path);
 }
 
 // White furnace with emission: a closed sphere of radius 1.5 whose inside emits Le and reflects rho.
@@ -97,7 +91,7 @@ TEST(Analytic, PathFurnaceInEmissiveSphere) {
     cfg.max_depth = depth;
     const Image img = render_with(*make_path_integrator(), furnace.scene, cfg);
     const double expected = furnace.radiance(depth);
-    EXPECT_NEAR(mean_channel(img, 0), expected, 0.02 * expected) << "max_depth " << depth;
+    EXPECT_NEAR(testing::mean_channel(img, 0), expected, 0.02 * expected) << "max_depth " << depth;
   }
 }
 
@@ -132,12 +126,12 @@ TEST(Analytic, RussianRouletteKeepsTheFurnaceRadiance) {
   EXPECT_GT(double(path_rays(off_stats)), 10.99 * paths);
   EXPECT_LT(double(path_rays(on_stats)), 2.35 * paths);
   EXPECT_GT(double(path_rays(on_stats)), 2.15 * paths);
-  EXPECT_NEAR(mean_channel(off, 0), expected, 0.01 * expected);
+  EXPECT_NEAR(testing::mean_channel(off, 0), expected, 0.01 * expected);
   // The roulette's noise: a path's tail beyond bounce 2 (expected Le rho^3 / (1 - rho) = Le / 4)
   // is ~2 Le with probability 0.125, a standard deviation of ~0.66 Le; over >= 4096 paths
   // that is 0.5 % of the expected ~2 Le.
-  EXPECT_NEAR(mean_channel(on, 0), expected, 0.02 * expected);
-  EXPECT_NE(mean_channel(on, 0), mean_channel(off, 0));  // the roulette did play
+  EXPECT_NEAR(testing::mean_channel(on, 0), expected, 0.02 * expected);
+  EXPECT_NE(testing::mean_channel(on, 0), testing::mean_channel(off, 0));  // the roulette did play
 }
 
 // A closed box whose walls emit Le and reflect with albedo <= 1 holds radiance <= Le (D + 1)
@@ -159,9 +153,9 @@ TEST(Analytic, GlossyFurnaceOfAnMtlMaterialStaysBounded) {
   cfg.max_depth = depth;
   const Image img = render_with(*make_path_integrator(), scene, cfg);
   for (const Vec3& p : img.pixels) EXPECT_LE(max_component(p), le * (depth + 1));
-  EXPECT_GT(mean_channel(img, 2), 3 * le);  // it does reflect: far above Le alone (measured 4.67)
+  EXPECT_GT(testing::mean_channel(img, 2), 3 * le);  // it does reflect: far above Le alone (measured 4.67)
   scene.materials[0] = raw;  // the test's counter-check: the unscaled material breaks the bound
-  EXPECT_GT(mean_channel(render_with(*make_path_integrator(), scene, cfg), 2), le * (depth + 1));
+  EXPECT_GT(testing::mean_channel(render_with(*make_path_integrator(), scene, cfg), 2), le * (depth + 1));
 }
 
 // Irradiance of a square light (side a, radiance Le, facing down) at height h above the
@@ -189,9 +183,9 @@ TEST(Analytic, AreaLightIrradianceOnPlane) {
   const double A = a / (2 * h), s = std::sqrt(1 + A * A);
   const double f_corner = (1 / (2 * std::numbers::pi)) * 2 * (A / s) * std::atan(A / s);
   const double expected = rho * le * 4 * f_corner;
-  EXPECT_NEAR(mean_channel(img, 0), expected, 0.03 * expected);
+  EXPECT_NEAR(testing::mean_channel(img, 0), expected, 0.03 * expected);
   // Direct ignores area lights: the floor is black.
-  EXPECT_EQ(mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
+  EXPECT_EQ(testing::mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
 }
 
 TEST(Analytic, AmbientOcclusionOpenPlaneIsOne) {
@@ -222,7 +216,7 @@ TEST(Analytic, AmbientOcclusionClosedBoxIsZero) {
   // With a radius far below the box size the rays are free again except near edges.
   cfg.ao_radius = 1e-3f;
   const Image open = render_with(*make_ao_integrator(), scene, cfg);
-  EXPECT_GT(mean_channel(open, 0), 0.95);
+  EXPECT_GT(testing::mean_channel(open, 0), 0.95);
 }
 
 // Between two parallel planes h apart, a cosine-distributed ray of length R escapes when
@@ -245,7 +239,7 @@ TEST(Analytic, AmbientOcclusionBetweenParallelPlanes) {
     const double expected = double(h / radius) * (h / radius);
     const double rays = double(cfg.width) * cfg.height * cfg.spp * cfg.ao_samples;
     const double se = std::sqrt(expected * (1 - expected) / rays);
-    EXPECT_NEAR(mean_channel(render_with(*make_ao_integrator(), scene, cfg), 0), expected, 4 * se) << "R " << radius;
+    EXPECT_NEAR(testing::mean_channel(render_with(*make_ao_integrator(), scene, cfg), 0), expected, 4 * se) << "R " << radius;
   }
 }
 
@@ -266,9 +260,9 @@ TEST(Analytic, MirrorReflectsRadianceUnchanged) {
   cfg.spp = 1;
   const Image img = render_with(*make_direct_integrator(), scene, cfg);
   const float expected = rho / kPi * 3.0f / 1.0f;  // point light 1 above the floor point (0, 0, 0)
-  EXPECT_NEAR(mean_channel(img, 0), expected, 0.002 * expected);
+  EXPECT_NEAR(testing::mean_channel(img, 0), expected, 0.002 * expected);
   cfg.max_depth = 0;  // no reflection rays: black
-  EXPECT_EQ(mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
+  EXPECT_EQ(testing::mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
 }
 
 }  // namespace

@@ -144,9 +144,7 @@ Scene scaled(Scene s, float scale) {
 }
 
 double mean(const Image& image) {
-  double sum = 0;
-  for (const Vec3& p : image.pixels) sum += double(p.x) + double(p.y) + double(p.z);
-  return sum / double(3 * image.pixels.size());
+  return (testing::mean_channel(image, 0) + testing::mean_channel(image, 1) + testing::mean_channel(image, 2)) / 3.0;
 }
 
 // Offsets and lengths follow the scene: a 1e-8 scene once lost its indirect light to a fixed

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "generated_scenes.h"
+#include "rayscout/image/image.h"
 #include "rayscout/scene/scene.h"
 
 namespace rayscout::testing {
@@ -14,6 +15,13 @@ namespace rayscout::testing {
 inline bool small_scale() {
   const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
   return s && std::strcmp(s, "small") == 0;
+}
+
+/// Mean of channel c over the image's pixels.
+inline double mean_channel(const Image& img, int c) {
+  double s = 0;
+  for (const Vec3& p : img.pixels) s += p[c];
+  return s / double(img.pixels.size());
 }
 
 /// Appends triangles with one new material; returns the material id.

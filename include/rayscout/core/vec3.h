@@ -40,18 +40,6 @@ constexpr float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y
 constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-/// |a|. When the sum of squares leaves float's normal range (components above ~1.8e19 or
-/// below ~1e-19, e.g. the unnormalised normal of a triangle with edges of 4e9 or 1e-10) while
-/// |a| itself is representable, it is computed from a scaled by its largest component.
-inline float length(const Vec3& a) {
-  const float d = dot(a, a);
-  if (d >= std::numeric_limits<float>::min() && d <= std::numeric_limits<float>::max()) return std::sqrt(d);
-  const float m = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)});
-  if (!(m > 0.0f) || !(m <= std::numeric_limits<float>::max())) return std::sqrt(d);  // zero, inf or NaN
-  const Vec3 s{a.x / m, a.y / m, a.z / m};
-  return m * std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
-}
-inline Vec3 normalize(const Vec3& a) { return a / length(a); }
 inline Vec3 min(const Vec3& a, const Vec3& b) {
   return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
 }
@@ -60,6 +48,18 @@ inline Vec3 max(const Vec3& a, const Vec3& b) {
 }
 inline Vec3 abs(const Vec3& a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
 inline float max_component(const Vec3& a) { return std::max(a.x, std::max(a.y, a.z)); }
+/// |a|. When the sum of squares leaves float's normal range (components above ~1.8e19 or
+/// below ~1e-19, e.g. the unnormalised normal of a triangle with edges of 4e9 or 1e-10) while
+/// |a| itself is representable, it is computed from a scaled by its largest component.
+inline float length(const Vec3& a) {
+  const float d = dot(a, a);
+  if (d >= std::numeric_limits<float>::min() && d <= std::numeric_limits<float>::max()) return std::sqrt(d);
+  const float m = max_component(abs(a));
+  if (!(m > 0.0f) || !(m <= std::numeric_limits<float>::max())) return std::sqrt(d);  // zero, inf or NaN
+  const Vec3 s = a / m;
+  return m * std::sqrt(dot(s, s));
+}
+inline Vec3 normalize(const Vec3& a) { return a / length(a); }
 /// Index (0, 1, 2) of the largest component.
 inline int max_axis(const Vec3& a) { return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2); }
 inline bool is_finite(const Vec3& a) {
