@@ -11,7 +11,7 @@ const std::vector<IntegratorEntry>& integrator_table() {
       {"direct", "point lights + mirror reflections (papers' Sibenik (a), (b))", [] { return make_direct_integrator(); }},
       {"area", "direct + --light-samples shadow rays to area lights per hit (Sibenik (c))", [] { return make_area_integrator(); }},
       {"ao", "ambient occlusion: --ao-samples rays of length --ao-radius per hit", [] { return make_ao_integrator(); }},
-      {"path", "path tracing, --max-depth bounces, next-event estimation, depth of field", [] { return make_path_integrator(); }},
+      {"path", "path tracing, --max-depth bounces, next-event estimation with MIS for area lights, depth of field", [] { return make_path_integrator(); }},
       {"manylight", "VPLs + VisibilityCluster + probabilistic visibility (--vpls, --visibility, --time-budget; docs/manylight.md)", [] { return make_manylight_cli_integrator(); }},
       // New integrators: one line each above this comment.
   };

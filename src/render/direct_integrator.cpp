@@ -15,7 +15,7 @@ class DirectIntegrator final : public WavefrontIntegrator {
   void shade(const ShadeContext& ctx, const PathState& state, const Ray& ray, const SurfacePoint& sp,
              ShadeOutput& out) const override {
     const Material& m = ctx.scene->material_of(sp.prim);
-    detail::add_specular_emission(state, m, sp, ray, out);
+    detail::add_emission(ctx, state, m, sp, ray, out);
     const Vec3 wo = -ray.dir;
     if (m.type == Material::Type::Mirror) {
       const Vec3 throughput = state.throughput * m.specular;

@@ -11,6 +11,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(&scene) {
   if (candidates.empty())  // scenes built by hand may not fill emissive_triangles
     for (uint32_t i = 0; i < scene.triangles.size(); ++i)
       if (scene.material_of(i).emissive()) candidates.push_back(i);
+  std::sort(candidates.begin(), candidates.end());  // pdf_area searches them
   std::vector<double> weights;
   for (uint32_t prim : candidates) {
     const Vec3 e = scene.material_of(prim).emission;
@@ -34,6 +35,12 @@ LightSample LightSampler::sample(uint64_t choice_bits, float u1, float u2) const
   ls.choice_probability = choice_.probability(k);
   ls.pdf_area = float(ls.choice_probability / double(tri.area()));
   return ls;
+}
+
+float LightSampler::pdf_area(uint32_t prim) const {
+  const auto it = std::lower_bound(prims_.begin(), prims_.end(), prim);
+  if (it == prims_.end() || *it != prim) return 0.0f;
+  return float(choice_.probability(size_t(it - prims_.begin())) / double(scene_->triangles[prim].area()));
 }
 
 }  // namespace rayscout

@@ -1,5 +1,5 @@
-// `path`: path tracing with next-event estimation, pbrt-style maxdepth and Russian roulette,
-// wavefront order.
+// `path`: path tracing with next-event estimation and MIS for area lights, pbrt-style maxdepth and
+// Russian roulette, wavefront order.
 #include <algorithm>
 
 #include "direct_lighting.h"
@@ -14,25 +14,30 @@ class PathIntegrator final : public WavefrontIntegrator {
 
  protected:
   const char* continuation_kind() const override { return "path"; }
-  // Emission is counted at hits only after camera and mirror bounces; every other bounce
-  // gets its direct light from next-event estimation (no double counting, no MIS).
+  // Area lights are reached two ways from a non-mirror vertex: next-event estimation and the
+  // BSDF-sampled bounce, combined by MIS with the power heuristic (pbrt's PathIntegrator).
+  // The last bounce (bounce max_depth - 1) traces no bounce ray, whose vertex could only add
+  // emission: there next-event estimation takes the full weight, which keeps the estimate
+  // unbiased (the weights of every light point still sum to 1) and saves a batch of rays.
+  // Point lights and mirrors are delta: next-event estimation only, and emission in full
+  // after camera and mirror bounces.
   void shade(const ShadeContext& ctx, const PathState& state, const Ray& ray, const SurfacePoint& sp,
              ShadeOutput& out) const override {
     const Material& m = ctx.scene->material_of(sp.prim);
-    detail::add_specular_emission(state, m, sp, ray, out);
+    detail::add_emission(ctx, state, m, sp, ray, out);
     const int max_depth = ctx.config->max_depth;
     if (ctx.bounce >= max_depth) return;
     const Vec3 wo = -ray.dir;
+    const bool last_bounce = ctx.bounce + 1 == max_depth;
     if (m.type != Material::Type::Mirror) {
       detail::add_point_light_rays(ctx, state, m, sp, wo, out);
-      detail::add_area_light_rays(ctx, state, m, sp, wo, out);
+      detail::add_area_light_rays(ctx, state, m, sp, wo, out, /*mis=*/!last_bounce);
     }
     const PathSampler sampler = ctx.sampler(state);
     const BsdfSample bs =
         sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf), sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
     if (!bs.valid) return;
-    // The vertex after the last bounce only adds emission, which a non-mirror bounce ignores.
-    if (ctx.bounce + 1 == max_depth && !bs.specular) return;
+    if (last_bounce && !bs.specular) return;
     Vec3 throughput = state.throughput * bs.weight;
     if (!(max_component(throughput) > 0)) return;
     if (ctx.bounce > ctx.config->rr_depth) {
@@ -42,7 +47,7 @@ class PathIntegrator final : public WavefrontIntegrator {
       if (sampler.get(kDimRoulette) >= p) return;
       throughput = throughput * (1.0f / p);
     }
-    out.continue_path({sp.p, ctx.epsilon, bs.wi, kInfinity}, {state.pixel, state.sample, throughput, bs.specular});
+    out.continue_path({sp.p, ctx.epsilon, bs.wi, kInfinity}, {state.pixel, state.sample, throughput, bs.specular, bs.pdf});
   }
 };
 

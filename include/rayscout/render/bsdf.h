@@ -38,10 +38,23 @@ inline Vec3 eval_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const Ve
   return f;
 }
 
+/// Solid-angle density with which sample_bsdf returns wi (non-delta part; 0 for mirrors and
+/// below the surface): cosine for Diffuse, the lobe mixture for Glossy.
+inline float pdf_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+  const float cos_n = dot(wi, n);
+  if (m.type == Material::Type::Mirror || !(cos_n > 0)) return 0.0f;
+  const float pdf_d = cos_n * kInvPi;
+  if (m.type == Material::Type::Diffuse) return pdf_d;
+  const float ps = glossy_lobe_probability(m);
+  const float pdf_s = (m.exponent + 1.0f) * 0.5f * kInvPi * phong_cos_power(m, n, wo, wi);
+  return (1.0f - ps) * pdf_d + ps * pdf_s;
+}
+
 /// A sampled scattering direction with weight f cos / pdf.
 struct BsdfSample {
   Vec3 wi;
   Vec3 weight{0.0f};
+  float pdf = 0;          ///< solid-angle density of wi (0 for a mirror bounce)
   bool specular = false;  ///< a mirror (delta) bounce
   bool valid = false;
 };
@@ -59,6 +72,7 @@ inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, 
   if (m.type == Material::Type::Diffuse) {
     s.wi = sample_cosine_hemisphere(n, u1, u2);
     s.weight = m.diffuse;
+    s.pdf = pdf_bsdf(m, n, wo, s.wi);
     s.valid = true;
     return s;
   }
@@ -75,14 +89,10 @@ inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, 
   } else {
     s.wi = sample_cosine_hemisphere(n, u1, u2);
   }
-  const float cos_n = dot(s.wi, n);
-  if (!(cos_n > 0)) return s;
-  const float cos_pow = phong_cos_power(m, n, wo, s.wi);
-  const float pdf_d = cos_n * kInvPi;
-  const float pdf_s = (m.exponent + 1.0f) * 0.5f * kInvPi * cos_pow;
-  const float pdf = (1.0f - ps) * pdf_d + ps * pdf_s;
+  const float pdf = pdf_bsdf(m, n, wo, s.wi);
   if (!(pdf > 0)) return s;
-  s.weight = eval_bsdf(m, n, wo, s.wi) * (cos_n / pdf);
+  s.weight = eval_bsdf(m, n, wo, s.wi) * (dot(s.wi, n) / pdf);
+  s.pdf = pdf;
   s.valid = true;
   return s;
 }

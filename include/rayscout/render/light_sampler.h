@@ -36,6 +36,9 @@ class LightSampler {
   LightSample sample(uint64_t choice_bits, float u1, float u2) const;
   /// The choice among the emissive triangles (in the order of their primitive ids).
   const DiscreteDistribution& distribution() const { return choice_; }
+  /// Density per unit area with which sample() returns a point of triangle prim (the
+  /// LightSample::pdf_area of its points); 0 for a triangle it never chooses.
+  float pdf_area(uint32_t prim) const;
 
  private:
   const Scene* scene_;

@@ -17,6 +17,9 @@ struct PathState {
   uint32_t sample = 0;     ///< camera sample index in the pixel
   Vec3 throughput{1.0f};
   bool specular = true;    ///< the last bounce was a mirror (or it is the camera ray): emission counts
+  /// Solid-angle pdf of the non-mirror bounce that made the ray, when next-event estimation at
+  /// that vertex shares area lights with it by MIS (path); 0 = it does not, emission is skipped.
+  float bsdf_pdf = 0;
 };
 
 /// Per-render constants handed to shading.
