@@ -528,6 +528,8 @@ class JsonSceneLoader {
       PointLight l;
       l.position = f_.position(j["position"], Fields::join(field, "position"));
       if (j.contains("intensity")) l.intensity = f_.color(j["intensity"], Fields::join(field, "intensity"));
+      // A dark light is a mistake that would give a silently black image (as for area lights).
+      if (!(max_component(l.intensity) > 0)) f_.fail(Fields::join(field, "intensity"), "a point light must emit (> 0)");
       scene.point_lights.push_back(l);
       return;
     }

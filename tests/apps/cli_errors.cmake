@@ -172,11 +172,14 @@ if(EXISTS /dev/full)
          --out ${WORK}/full.rays)
   expect(2 "image: cannot write .*full\\.png" diff ${WORK}/ml1.pfm ${WORK}/ml2.pfm --out ${WORK}/full.png)
 endif()
-# A scene whose only light is dark: manylight says so (it made all-NaN pixels, exit 0).
+# A scene whose only light is dark is refused when it is read (manylight made all-NaN pixels
+# from it, exit 0, and the other integrators a black image).
 file(WRITE ${WORK}/dark.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
   "lights": [{"type": "point", "position": [0.5, 0.5, 3], "intensity": 0}]}]=])
-expect(2 "no light that emits" render --scene ${WORK}/dark.json --integrator manylight --width 4 --height 4 --vpls 10
-       --passes 1 --out ${WORK}/x.pfm)
+foreach(integrator manylight direct)
+  expect(2 "dark\.json: lights\[0\]\.intensity: a point light must emit" render --scene ${WORK}/dark.json
+         --integrator ${integrator} --width 4 --height 4 --vpls 10 --passes 1 --out ${WORK}/x.pfm)
+endforeach()
 # A scene lit only by area lights renders dark under the default integrator: say so.
 file(WRITE ${WORK}/area-only.json [=[{"meshes": [{"shape": "box", "min": [-1, -1, -1], "max": [1, 1, 1]}],
   "lights": [{"type": "area", "center": [0, 3, 0], "normal": [0, -1, 0], "size": 1, "emission": 10}]}]=])

@@ -89,6 +89,29 @@ TEST(ManylightIntegrator, WritesImageLogAndSkipImage) {
   EXPECT_THROW(make_manylight_integrator(o)->render(scene, *accel, rc), InputError);
 }
 
+// A scene made in code whose lights are dark (scene files refuse them when read): an input
+// error, not an image of NaN.
+TEST(ManylightIntegrator, SceneWithoutALightThatEmitsIsAnInputError) {
+  Scene scene = default_scene();
+  for (Material& m : scene.materials) m.emission = Vec3{0.0f};
+  scene.emissive_triangles.clear();
+  for (PointLight& l : scene.point_lights) l.intensity = Vec3{0.0f};
+  ASSERT_FALSE(scene.point_lights.empty());
+  auto accel = make_accelerator("brute", scene);
+  RenderConfig rc;
+  rc.width = rc.height = 4;
+  ManylightRunOptions o;
+  o.config.vpl_count = 10;
+  o.passes = 1;
+  o.verbose = false;
+  try {
+    make_manylight_integrator(o)->render(scene, *accel, rc);
+    FAIL() << "rendered";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no light that emits"), std::string::npos) << e.what();
+  }
+}
+
 // A skip image shows the rate in every format: .pfm and .exr store it, a .png's 8-bit pixel
 // value is rate * 255 (rounded) after the writer's sRGB encoding.
 TEST(ManylightIntegrator, SkipImageStoresTheRateInEveryFormat) {

@@ -315,6 +315,11 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "transform": {"matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,1,1]}}]})"),
                   {"scene.json: meshes[0].transform.matrix: last row must be 0 0 0 1"});
   expect_contains(json_error(dir, R"({"meshes": []})"), {"scene.json: no triangles"});
+  // Dark lights: the image would be black without a word.
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "point", "position": [0,0,1], "intensity": [0,0,0]}]})"),
+                  {"scene.json: lights[0].intensity: a point light must emit (> 0)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 0, "shape": "quad", "corner": [0,0,1], "edge1": [1,0,0], "edge2": [0,1,0]}]})"),
+                  {"scene.json: lights[0].emission: an area light must emit (> 0)"});
 }
 
 // Audit: keys of the other form of a shape were ignored.
