@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -102,6 +103,12 @@ void run(RenderOptions& o) {
   const Image image = integrator->render(scene, *accel, o.config, &stats);
   if (show_progress) fmt::print(stderr, "\n");
   write_image(image, o.out);
+  // Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
+  size_t nonfinite = 0;
+  for (const Vec3& p : image.pixels) nonfinite += !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  if (nonfinite > 0)
+    fmt::print(stderr, "rayscout: warning: {} of {} pixels are not finite (inf or NaN): radiance beyond the float "
+               "range; lower the scene's light intensities or emission\n", nonfinite, image.pixels.size());
 
   fmt::print("wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
              o.config.height, o.config.spp, integrator->name(), accel->name(), n_threads);

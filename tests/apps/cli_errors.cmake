@@ -177,7 +177,7 @@ endif()
 file(WRITE ${WORK}/dark.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
   "lights": [{"type": "point", "position": [0.5, 0.5, 3], "intensity": 0}]}]=])
 foreach(integrator manylight direct)
-  expect(2 "dark\.json: lights\[0\]\.intensity: a point light must emit" render --scene ${WORK}/dark.json
+  expect(2 "dark\\.json: lights\\[0\\]\\.intensity: a point light must emit" render --scene ${WORK}/dark.json
          --integrator ${integrator} --width 4 --height 4 --vpls 10 --passes 1 --out ${WORK}/x.pfm)
 endforeach()
 # A scene lit only by area lights renders dark under the default integrator: say so.
@@ -185,3 +185,9 @@ file(WRITE ${WORK}/area-only.json [=[{"meshes": [{"shape": "box", "min": [-1, -1
   "lights": [{"type": "area", "center": [0, 3, 0], "normal": [0, -1, 0], "size": 1, "emission": 10}]}]=])
 expect(0 "direct lights with point lights only.*2 emissive triangles" render --scene ${WORK}/area-only.json
        --width 8 --height 8 --out ${WORK}/x.png)
+# Radiance beyond the float range gives inf pixels: said, not passed off as a bright image.
+file(WRITE ${WORK}/hot.json [=[{"meshes": [{"shape": "quad", "corner": [-5, -5, 0], "edge1": [10, 0, 0], "edge2": [0, 10, 0]}],
+  "lights": [{"type": "area", "center": [0, 0, 1], "normal": [0, 0, -1], "size": 10, "emission": 3e38}],
+  "camera": {"eye": [0, -3, 0.5], "look_at": [0, 0, 0], "up": [0, 0, 1]}}]=])
+expect(0 "warning: [0-9]+ of 64 pixels are not finite" render --scene ${WORK}/hot.json --integrator area
+       --width 8 --height 8 --spp 1 --out ${WORK}/x.pfm)
