@@ -2,7 +2,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -105,7 +104,7 @@ void run(RenderOptions& o) {
   write_image(image, o.out);
   // Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
   size_t nonfinite = 0;
-  for (const Vec3& p : image.pixels) nonfinite += !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (const Vec3& p : image.pixels) nonfinite += !is_finite(p);
   if (nonfinite > 0)
     fmt::print(stderr, "rayscout: warning: {} of {} pixels are not finite (inf or NaN): radiance beyond the float "
                "range; lower the scene's light intensities or emission\n", nonfinite, image.pixels.size());

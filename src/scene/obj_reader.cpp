@@ -212,7 +212,7 @@ class ObjReader {
     for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end))
       poly_.push_back(face_vertex(line, tok));
     if (poly_.size() < 3)
-      fail_at(path_, line, "face with " + std::to_string(poly_.size()) + (poly_.size() == 1 ? " vertex" : " vertices") + " (at least 3 needed)");
+      fail_at(path_, line, detail::face_too_small(poly_.size()));
     if (current_ == UINT32_MAX) current_ = material_index("default");
     for (size_t k = 1; k + 1 < poly_.size(); ++k) {
       mesh_.faces.push_back({poly_[0], poly_[k], poly_[k + 1]});

@@ -333,7 +333,7 @@ Mesh read_ply(const std::filesystem::path& path) {
         mesh.positions.push_back(v);
       }
       if (is_face) {
-        if (poly.size() < 3) fail("face with " + std::to_string(poly.size()) + (poly.size() == 1 ? " vertex" : " vertices") + " (at least 3 needed)");
+        if (poly.size() < 3) fail(detail::face_too_small(poly.size()));
         for (double idx : poly)
           if (!(idx >= 0 && idx < double(vertices.count)))
             fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertices.count) +

@@ -32,6 +32,11 @@ std::string printable(std::string_view text);
 /// Throws InputError "file:line: message", the message made printable.
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 
+/// "face with n vertices (at least 3 needed)", "vertex" for n = 1: the OBJ and PLY readers' message.
+inline std::string face_too_small(size_t n) {
+  return "face with " + std::to_string(n) + (n == 1 ? " vertex" : " vertices") + " (at least 3 needed)";
+}
+
 /// Deepest nesting of arrays and objects accepted in JSON text (scene files, glTF).
 inline constexpr int kMaxJsonDepth = 256;
 
