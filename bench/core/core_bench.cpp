@@ -202,6 +202,7 @@ int run(const Options& opt) {
       }
     }
   }
+  fmt::print("# machine: {}\n\n", bench::machine_description());
   fmt::print("### Trace throughput (median of {} interleaved repetitions after a warm-up, {}x{})\n\n{}\n", opt.repeat,
              opt.width, opt.height, trace_table);
   fmt::print("### Build time (median of {} builds) and memory\n\n{}\n", opt.build_repeat, build_table);

@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
     out["threads"] = o.threads;
     out["reps"] = o.reps;
     out["clock"] = g_cpu_time ? "process CPU time" : "wall";
+    fmt::print("# machine: {}\n", machine_description());
     fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
                g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
     // The configurations as make() builds them: parallel follows --threads.

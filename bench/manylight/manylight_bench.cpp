@@ -107,6 +107,7 @@ int main(int argc, char** argv) {
     const std::vector<VisibilityMode> modes = {VisibilityMode::Exact, VisibilityMode::Veach,
                                                VisibilityMode::Conservative, VisibilityMode::Proposed};
     nlohmann::json results = nlohmann::json::array();
+    fmt::print("# machine: {}\n", bench::machine_description());
     std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
     if (!csv) throw InputError(o.out_dir + "/rmse_over_time.csv: cannot open for writing");
     csv << "scene,mode,rep,seconds,passes,rmse_raw,rmse,skip_rate\n";

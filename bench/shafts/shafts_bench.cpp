@@ -162,6 +162,7 @@ int main(int argc, char** argv) {
     const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
     g_cpu_clock = nthreads == 1;
+    fmt::print("# machine: {}\n", bench::machine_description());
     fmt::print("# shafts_bench: {} thread(s), trace times = {}, {}x{} workloads, median of {} reps\n", nthreads,
                g_cpu_clock ? "thread CPU time" : "wall clock", width, height, reps);
     std::ofstream out;

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/core.h>
@@ -28,6 +30,36 @@ inline void check_names(const std::string& option, const std::vector<std::string
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
       throw InputError(option + ": unknown '" + g + "' (known: " + list + ")");
     }
+}
+
+/// One line naming the machine a table was measured on, for the drivers' headers: absolute
+/// times and even side-by-side ratios move between CPUs (docs/performance.md, session 22).
+/// "AMD EPYC (family 26, model 2), 2 logical CPUs, AVX-512, g++ 12.2.0"; on a system
+/// without /proc/cpuinfo, "unknown CPU, ...".
+inline std::string machine_description() {
+  std::string model, family, number;
+  bool avx512 = false;
+  std::ifstream in("/proc/cpuinfo");
+  auto value = [](const std::string& line) {
+    const size_t colon = line.find(':');
+    return colon == std::string::npos || colon + 2 > line.size() ? std::string() : line.substr(colon + 2);
+  };
+  for (std::string line; std::getline(in, line) && !line.empty();) {  // the first CPU's block
+    if (line.rfind("model name", 0) == 0) model = value(line);
+    else if (line.rfind("cpu family", 0) == 0) family = value(line);
+    else if (line.rfind("model\t", 0) == 0) number = value(line);
+    else if (line.rfind("flags", 0) == 0) avx512 = line.find(" avx512f") != std::string::npos;
+  }
+  std::string s = model.empty() ? "unknown CPU" : model;
+  if (!family.empty()) s += fmt::format(" (family {}, model {})", family, number);
+  s += fmt::format(", {} logical CPUs", std::thread::hardware_concurrency());
+  if (avx512) s += ", AVX-512";
+#if defined(__clang__)
+  s += ", clang " __clang_version__;
+#elif defined(__GNUC__)
+  s += ", g++ " __VERSION__;
+#endif
+  return s;
 }
 
 /// Runs a driver's body once its options are parsed: bad input (an unknown scene, a bad
