@@ -34,15 +34,19 @@ inline float power_heuristic(float nf, float f, float ng, float g) {
   return std::isnan(r) ? 0.5f : 1.0f / (1.0f + r * r);
 }
 
+/// An area density at a light point turned into a solid-angle density seen from dist2 away,
+/// at cosine cos_l (> 0) to the light's normal: pdf_area * d^2 / cos_l.
+inline float solid_angle_pdf(float pdf_area, float dist2, float cos_l) { return pdf_area * dist2 / cos_l; }
+
 /// Solid-angle density with which the light sampler picks the point sp of an emitter, seen
-/// from `from` (area density * d^2 / cos at the light); 0 where it never picks it.
+/// from `from`; 0 where it never picks it.
 inline float light_pdf_solid_angle(const LightSampler& lights, const SurfacePoint& sp, const Vec3& from) {
   const float pdf_area = lights.pdf_area(sp.prim);
   if (!(pdf_area > 0)) return 0.0f;
   const Vec3 d = sp.p - from;
   const float dist2 = dot(d, d);
   const float cos_l = -dot(sp.n_geometric, d) / std::sqrt(dist2);
-  return cos_l > 0 ? pdf_area * dist2 / cos_l : 0.0f;
+  return cos_l > 0 ? solid_angle_pdf(pdf_area, dist2, cos_l) : 0.0f;
 }
 
 /// light_samples shadow rays to points on the area lights (area-measure estimator:
@@ -64,7 +68,8 @@ inline void add_area_light_rays(const ShadeContext& ctx, const PathState& state,
     const float cos_s = dot(sp.n, wi), cos_l = -dot(ls.n, wi);
     if (!(cos_s > 0 && cos_l > 0)) continue;
     float weight = 1.0f;
-    if (mis) weight = power_heuristic(float(n), ls.pdf_area * dist * dist / cos_l, 1.0f, pdf_bsdf(m, sp.n, wo, wi));
+    if (mis) weight = power_heuristic(float(n), solid_angle_pdf(ls.pdf_area, dist * dist, cos_l), 1.0f,
+                                      pdf_bsdf(m, sp.n, wo, wi));
     const Vec3 c = state.throughput * eval_bsdf(m, sp.n, wo, wi) * ls.emission *
                    (weight * cos_s * cos_l / (dist * dist * ls.pdf_area * float(n)));
     if (max_component(c) > 0) out.add_occlusion_ray(ray, state.pixel, c);
