@@ -84,6 +84,15 @@ inline int vote(DacrtVotes rule, bool hl, bool hr, float dl, float fl, float dr,
   }
 }
 
+/// The child visited first, 0 (left) or 1 (right), from the votes n_L, n_R (not both 0) and
+/// the children's triangle counts: the majority (Algorithm 1, line 18; a tie goes left), or
+/// with depth_weighted the order of least expected waste, each child's votes weighed by the
+/// depth log2(|T| + 1) of the subtree its voters would otherwise cross in vain first.
+inline int first_child_by_votes(uint32_t n_l, uint32_t n_r, size_t tris_l, size_t tris_r, bool depth_weighted) {
+  if (!depth_weighted) return n_l >= n_r ? 0 : 1;
+  return double(n_l) * std::log2(double(tris_r) + 1.0) >= double(n_r) * std::log2(double(tris_l) + 1.0) ? 0 : 1;
+}
+
 /// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
 /// others follow (the set is kept whole for the sibling). scratch holds >= n ids.
 /// When prefetch is set, the entries prefetch[id] of the hitting rays are prefetched (the

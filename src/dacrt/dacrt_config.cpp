@@ -55,6 +55,7 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
       c.votes = named->second;
     }
   }
+  c.depth_weighted_votes = pick(o, "vote_weight", "depth", "none", c.depth_weighted_votes);
   c.skip_partitioning = o.get_bool("skip", c.skip_partitioning);
   c.resample_second = o.get_bool("resample", c.resample_second);
   c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
@@ -87,6 +88,7 @@ std::string DacrtConfig::order_name() const {
 std::string DacrtConfig::describe() const {
   std::ostringstream s;
   s << "cost=" << (sampled_cost ? "sampled" : "sah") << " order=" << order_name()
+    << " vote_weight=" << (depth_weighted_votes ? "depth" : "none")
     << " skip=" << (skip_partitioning ? "on" : "off")
     << " resample=" << (resample_second ? "on" : "off")
     << " strategy=" << (strategy == DacrtSampling::Stride ? "stride" : "random");

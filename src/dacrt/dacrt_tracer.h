@@ -88,7 +88,8 @@ class DacrtTracer {
 
     int first = 0;
     if (s.sampled && cfg_.sampled_order && s.votes[0] + s.votes[1] > 0) {
-      first = s.votes[0] >= s.votes[1] ? 0 : 1;  // Algorithm 1, line 18
+      // Algorithm 1, line 18; dacrt-rs weighs the votes by depth (DacrtConfig::depth_weighted_votes).
+      first = first_child_by_votes(s.votes[0], s.votes[1], s.n_left, nt - s.n_left, cfg_.depth_weighted_votes);
     } else {
       // Afra: one ray (the first of the set) decides, by its direction along the split axis.
       first = ctx_.rays[rid[0]].goes_up(s.axis) ? 0 : 1;

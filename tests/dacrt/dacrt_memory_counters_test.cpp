@@ -168,6 +168,39 @@ TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
   }
 }
 
+// Rays from both sides of two walls the root splits apart: a big one (512 triangles) at z = 0
+// and a small one (8) at z = 6. Three of five rays look +z from z = -3 and vote for the big
+// wall (they meet it first), two of five look -z from z = 9 and vote for the small one. The
+// majority sends every ray into the big wall's subtree first; the depth weight
+// (2 log2 9 = 6.3 < 3 log2 513 = 27.0, not 3 : 2) the small one, which ends the second group
+// at the small wall before the big subtree, while the first group only tests the small wall's
+// 8 triangles: fewer box tests, a few more triangle tests. Same hits either way.
+TEST(DacrtCounters, DepthWeightedVotesSendRaysIntoTheShallowChildFirst) {
+  std::vector<Triangle> tris = wall(16, 1.0f, 0.0f);
+  for (const Triangle& t : wall(2, 1.0f, 6.0f)) tris.push_back(t);
+  const Scene scene = testing::scene_from_triangles(tris);
+  const RayBatch front = testing::pinhole_rays({0, 0, -3}, {0, 0, 0}, 24.0f, 80, 80);
+  const RayBatch back = testing::pinhole_rays({0, 0, 9}, {0, 0, 6}, 24.0f, 80, 80);
+  RayBatch rays;
+  for (size_t i = 0; i < front.size(); ++i) rays.push_back(i % 5 < 3 ? front[i] : back[i]);
+  TraceStats by[2];
+  HitBatch hits[2];
+  const char* weights[2] = {"vote_weight=none", "vote_weight=depth"};
+  for (int w = 0; w < 2; ++w) {
+    auto accel = make_accelerator("dacrt-rs", scene, testing::options_of({weights[w], "parallel=off"}));
+    accel->intersect(rays, hits[w], &by[w]);
+    EXPECT_GT(dynamic_cast<const Dacrt&>(*accel).last_details().sampled_nodes, 0u);
+  }
+  ASSERT_EQ(std::count(hits[0].prim.begin(), hits[0].prim.end(), kInvalidId), 0) << "every ray must hit a wall";
+  EXPECT_TRUE(compare_hits(hits[0], hits[1], 0.0f).ok());
+  // Measured: 111,376 box and 28,456 triangle tests with the majority, 98,300 and 29,800
+  // with the depth weight.
+  EXPECT_LT(by[1].ray_box_tests, by[0].ray_box_tests * 92 / 100)
+      << "depth " << by[1].ray_box_tests << " vs majority " << by[0].ray_box_tests;
+  EXPECT_LT(by[1].ray_tri_tests, by[0].ray_tri_tests * 110 / 100)
+      << "depth " << by[1].ray_tri_tests << " vs majority " << by[0].ray_tri_tests;
+}
+
 // The sampled cost of eq. (2) weighs each side of a split by the share of sample rays that
 // reach it; eq. (1) by its surface area. Here every ray aims at a small wall in the middle of a
 // wide field of clutter that no ray reaches: the sampled cost splits the clutter off the wall

@@ -58,7 +58,7 @@ std::vector<std::vector<std::string>> switch_combinations() {
   // Samplings, thresholds and the parallel mode on the full method.
   const std::vector<std::string> rs = {"cost=sampled", "order=sampled", "skip=on", "min_rays=64"};
   for (std::vector<std::string> extra : std::vector<std::vector<std::string>>{
-           {"strategy=random", "samples=16"}, {"order=literal-votes"}, {"order=sign-votes"}, {"order=interval-votes"}, {"order=sampled", "sample_budget=0"},
+           {"strategy=random", "samples=16"}, {"order=literal-votes"}, {"order=sign-votes"}, {"order=interval-votes"}, {"order=interval-votes", "vote_weight=depth"}, {"order=sampled", "sample_budget=0"},
            {"resample=on"}, {"sample_budget=0.05"}, {"fraction=0.01"}, {"fraction=0.1", "strategy=random"},
            {"bins=2", "delta_r=1", "delta_t=2"}, {"bins=256", "delta_r=32", "delta_t=32"},
            {"midpoint_ratio=0"}, {"midpoint_ratio=1000"}, {"C_tri=0.1", "C_bv=5"}, {"parallel=on"}}) {

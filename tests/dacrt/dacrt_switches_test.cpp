@@ -44,7 +44,7 @@ TEST(DacrtOptions, BadValuesAreInputErrors) {
   const Scene scene = testing::scene_from_triangles(testing::grid(2));
   for (const char* bad : {"cost=maybe", "order=two-rays", "skip=sometimes", "strategy=zigzag", "bins=1",
                           "bins=1000", "samples=0", "fraction=2", "delta_t=0", "C_bv=0", "sample_budget=-1", "resample=maybe",
-                          "order=votes", "unknown=1"})
+                          "order=votes", "vote_weight=size", "unknown=1"})
     EXPECT_THROW(make_accelerator("dacrt-rs", scene, testing::options_of({bad})), InputError) << bad;
 }
 
@@ -52,8 +52,11 @@ TEST(DacrtOptions, DefaultsAreThePapers) {
   const DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
   EXPECT_FALSE(afra.sampled_cost || afra.sampled_order || afra.skip_partitioning);
   EXPECT_TRUE(rs.sampled_cost && rs.sampled_order && rs.skip_partitioning);
-  // rayscout's documented deviations (docs/dacrt.md): interval votes, the sampling budget.
+  // rayscout's documented deviations (docs/dacrt.md): interval votes weighted by depth, the
+  // sampling budget.
   EXPECT_EQ(rs.votes, DacrtVotes::Interval);
+  EXPECT_TRUE(rs.depth_weighted_votes);
+  EXPECT_FALSE(afra.depth_weighted_votes);
   EXPECT_DOUBLE_EQ(rs.sample_budget, 1.0);
   EXPECT_EQ(afra.sample_budget, 0.0);
   EXPECT_FALSE(rs.resample_second);

@@ -44,6 +44,23 @@ TEST(DacrtVotes, LiteralRuleIsAlgorithm2AsPrinted) {
   EXPECT_EQ(vote(DacrtVotes::Interval, true, true, 2.5f, 3.0f, 1.0f, 2.0f, true), 1);
 }
 
+TEST(DacrtVotes, DepthWeightedOrderWeighsEachSideByTheOtherSubtreesDepth) {
+  // Algorithm 1, line 18: the majority, a tie to the left, whatever the children's sizes.
+  EXPECT_EQ(first_child_by_votes(3, 2, 8, 1000, false), 0);
+  EXPECT_EQ(first_child_by_votes(2, 2, 1000, 8, false), 0);
+  EXPECT_EQ(first_child_by_votes(2, 3, 1000, 8, false), 1);
+  // Children of one size: the majority again.
+  EXPECT_EQ(first_child_by_votes(3, 2, 100, 100, true), 0);
+  EXPECT_EQ(first_child_by_votes(2, 3, 100, 100, true), 1);
+  EXPECT_EQ(first_child_by_votes(2, 2, 100, 100, true), 0);
+  // 2 votes left, 1 right, but the left subtree is log2(1001) = 9.97 deep and the right
+  // log2(9) = 3.17: the two right voters would cross 9.97 in vain, the left ones 3.17 each.
+  EXPECT_EQ(first_child_by_votes(2, 1, 1000, 8, true), 1);  // 2 * 3.17 < 1 * 9.97
+  EXPECT_EQ(first_child_by_votes(4, 1, 1000, 8, true), 0);  // 4 * 3.17 > 1 * 9.97
+  EXPECT_EQ(first_child_by_votes(1, 0, 1000000, 8, true), 0);  // unanimous stays unanimous
+  EXPECT_EQ(first_child_by_votes(0, 1, 8, 1000000, true), 1);
+}
+
 TEST(DacrtVotes, KernelCountsWhatTheScalarRuleGives) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-4.0f, 4.0f), s(0.1f, 3.0f);

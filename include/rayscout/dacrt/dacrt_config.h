@@ -34,6 +34,12 @@ struct DacrtConfig {
   /// meets that child's triangles first).
   /// Option order=sampled|literal-votes|sign-votes|interval-votes.
   DacrtVotes votes = DacrtVotes::Entry;
+  /// With sampled_order: weigh each child's votes by the depth of the other child,
+  /// log2(|T| + 1) (true), or compare n_L with n_R (false, Algorithm 1 line 18). A ray that
+  /// meets one child first but is sent into the other first crosses that other subtree in
+  /// vain, so the order with the least expected waste puts L first when
+  /// n_L log2(|T_R| + 1) >= n_R log2(|T_L| + 1) (docs/dacrt.md). Option vote_weight=depth|none.
+  bool depth_weighted_votes = false;
   /// With skip_partitioning: alpha of the child visited second is measured again with the
   /// sample rays' hit distances after the first child (what its partitioning would see), not
   /// before it. Option resample=on|off.
@@ -95,6 +101,7 @@ struct DacrtConfig {
     DacrtConfig c;
     c.sampled_cost = c.sampled_order = c.skip_partitioning = true;
     c.votes = DacrtVotes::Interval;
+    c.depth_weighted_votes = true;
     c.sample_budget = 1.0;
     return c;
   }
