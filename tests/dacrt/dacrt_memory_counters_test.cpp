@@ -171,8 +171,8 @@ TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
 // Rays from both sides of two walls the root splits apart: a big one (512 triangles) at z = 0
 // and a small one (8) at z = 6. Three of five rays look +z from z = -3 and vote for the big
 // wall (they meet it first), two of five look -z from z = 9 and vote for the small one. The
-// majority sends every ray into the big wall's subtree first; the depth weight
-// (2 log2 9 = 6.3 < 3 log2 513 = 27.0, not 3 : 2) the small one, which ends the second group
+// majority sends every ray into the big wall's subtree first; the depth weight the small one
+// (big first would need 3 log2(8 + 1) = 9.5 >= 2 log2(512 + 1) = 18.0), which ends the second group
 // at the small wall before the big subtree, while the first group only tests the small wall's
 // 8 triangles: fewer box tests, a few more triangle tests. Same hits either way.
 TEST(DacrtCounters, DepthWeightedVotesSendRaysIntoTheShallowChildFirst) {
