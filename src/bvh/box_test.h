@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "rayscout/bvh/bvh2.h"
 #include "rayscout/bvh/wide_bvh.h"
 
 #if defined(__AVX2__)
@@ -102,6 +103,102 @@ inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float
   return mask;
 #endif
 }
+
+// g++ 12 reports a false "__Y may be used uninitialized" inside its own AVX-512 headers.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#if defined(__AVX512F__)
+inline constexpr int kNodeGroup = 16;
+#else
+inline constexpr int kNodeGroup = 8;
+#endif
+
+/// Box-tests the nodes ids[0, n) (n <= kNodeGroup) of a Bvh2 against [tmin, tmax] at once;
+/// returns the hit mask (bit k = ids[k]) and writes the entry distances to dist[0, kNodeGroup).
+/// The same float operations in the same order as intersect_box_robust, lane by lane, so the
+/// result is identical to n scalar tests. For the start entries of a seeded traversal: a
+/// candidate list holds nodes from anywhere in the tree, of which a ray meets few (about 2 of
+/// 12 on Sibenik), and one test per entry, each a branch on a cold node, cost more than the rest of
+/// the list's traversal (docs/shafts.md, session 24).
+inline uint32_t intersect_nodes(const Bvh2Node* nodes, const uint32_t* ids, int n, const Vec3& org,
+                                const Vec3& inv_dir, float tmin, float tmax, float* dist) {
+  auto node = [&](int k) { return &nodes[ids[k < n ? k : 0]].bounds.lo.x; };  // missing lanes repeat ids[0]
+#if defined(__AVX512F__)
+  // Sixteen 32-byte nodes (lo.xyz, hi.xyz, first, count) transposed into field vectors:
+  // node k in the low half of r[k], node k + 8 in the high half.
+  __m512 r[8];
+  for (int k = 0; k < 8; ++k)
+    r[k] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(node(k))), _mm256_loadu_ps(node(k + 8)), 1);
+  __m512 s[8];
+  for (int q = 0; q < 2; ++q) {  // nodes 4q..4q+3 (and + 8): field f and f + 4 in alternate 128-bit lanes
+    const __m512 t0 = _mm512_unpacklo_ps(r[4 * q], r[4 * q + 1]), t1 = _mm512_unpackhi_ps(r[4 * q], r[4 * q + 1]);
+    const __m512 t2 = _mm512_unpacklo_ps(r[4 * q + 2], r[4 * q + 3]), t3 = _mm512_unpackhi_ps(r[4 * q + 2], r[4 * q + 3]);
+    s[4 * q + 0] = _mm512_shuffle_ps(t0, t2, 0x44);
+    s[4 * q + 1] = _mm512_shuffle_ps(t0, t2, 0xEE);
+    s[4 * q + 2] = _mm512_shuffle_ps(t1, t3, 0x44);
+    s[4 * q + 3] = _mm512_shuffle_ps(t1, t3, 0xEE);
+  }
+  const __m512i lo_lanes = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+  const __m512i hi_lanes = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+  const __m512 lo[3] = {_mm512_permutex2var_ps(s[0], lo_lanes, s[4]), _mm512_permutex2var_ps(s[1], lo_lanes, s[5]),
+                        _mm512_permutex2var_ps(s[2], lo_lanes, s[6])};
+  const __m512 hi[3] = {_mm512_permutex2var_ps(s[3], lo_lanes, s[7]), _mm512_permutex2var_ps(s[0], hi_lanes, s[4]),
+                        _mm512_permutex2var_ps(s[1], hi_lanes, s[5])};
+  const __m512 k = _mm512_set1_ps(kRobustScale), k_neg = _mm512_set1_ps(kRobustScaleNegative);
+  const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
+  __m512 tnear = _mm512_set1_ps(tmin), tfar = _mm512_set1_ps(tmax);
+  for (int a = 0; a < 3; ++a) {
+    const bool neg = std::signbit(inv_dir[a]);
+    const __m512 o = _mm512_set1_ps(org[a]), inv = _mm512_set1_ps(inv_dir[a]);
+    const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(neg ? hi[a] : lo[a], o), inv);
+    __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(neg ? lo[a] : hi[a], o), inv);
+    t1 = _mm512_mul_ps(t1, _mm512_mask_blend_ps(_mm512_test_epi32_mask(_mm512_castps_si512(t1), sign_bit), k, k_neg));
+    tnear = _mm512_max_ps(t0, tnear);  // NaN t0 keeps tnear, as the scalar ternary
+    tfar = _mm512_min_ps(t1, tfar);
+  }
+  _mm512_storeu_ps(dist, tnear);
+  return uint32_t(_mm512_mask_cmp_ps_mask(__mmask16((1u << n) - 1u), tnear, tfar, _CMP_LE_OQ));
+#elif defined(__AVX2__)
+  // The same with eight nodes.
+  __m256 r[8];
+  for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(node(k));
+  __m256 s[8];
+  for (int q = 0; q < 2; ++q) {  // nodes 4q..4q+3: field f (low half) and f + 4 (high half)
+    const __m256 t0 = _mm256_unpacklo_ps(r[4 * q], r[4 * q + 1]), t1 = _mm256_unpackhi_ps(r[4 * q], r[4 * q + 1]);
+    const __m256 t2 = _mm256_unpacklo_ps(r[4 * q + 2], r[4 * q + 3]), t3 = _mm256_unpackhi_ps(r[4 * q + 2], r[4 * q + 3]);
+    s[4 * q + 0] = _mm256_shuffle_ps(t0, t2, 0x44);
+    s[4 * q + 1] = _mm256_shuffle_ps(t0, t2, 0xEE);
+    s[4 * q + 2] = _mm256_shuffle_ps(t1, t3, 0x44);
+    s[4 * q + 3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+  }
+  const __m256 lo[3] = {_mm256_permute2f128_ps(s[0], s[4], 0x20), _mm256_permute2f128_ps(s[1], s[5], 0x20),
+                        _mm256_permute2f128_ps(s[2], s[6], 0x20)};
+  const __m256 hi[3] = {_mm256_permute2f128_ps(s[3], s[7], 0x20), _mm256_permute2f128_ps(s[0], s[4], 0x31),
+                        _mm256_permute2f128_ps(s[1], s[5], 0x31)};
+  const __m256 k = _mm256_set1_ps(kRobustScale), k_neg = _mm256_set1_ps(kRobustScaleNegative);
+  __m256 tnear = _mm256_set1_ps(tmin), tfar = _mm256_set1_ps(tmax);
+  for (int a = 0; a < 3; ++a) {
+    const bool neg = std::signbit(inv_dir[a]);
+    const __m256 o = _mm256_set1_ps(org[a]), inv = _mm256_set1_ps(inv_dir[a]);
+    const __m256 t0 = _mm256_mul_ps(_mm256_sub_ps(neg ? hi[a] : lo[a], o), inv);
+    __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(neg ? lo[a] : hi[a], o), inv);
+    t1 = _mm256_mul_ps(t1, _mm256_blendv_ps(k, k_neg, t1));  // blendv picks by t1's sign bit
+    tnear = _mm256_max_ps(t0, tnear);
+    tfar = _mm256_min_ps(t1, tfar);
+  }
+  _mm256_storeu_ps(dist, tnear);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(tnear, tfar, _CMP_LE_OQ))) & ((1u << n) - 1u);
+#else
+  (void)node;
+  uint32_t mask = 0;
+  for (int k = 0; k < n; ++k)
+    if (intersect_box_robust(org, inv_dir, nodes[ids[k]].bounds, tmin, tmax, dist[k])) mask |= 1u << k;
+  return mask;
+#endif
+}
+
+#pragma GCC diagnostic pop
 
 #if defined(__AVX2__)
 /// intersect_children for rays whose origin and inverse direction are finite (no slab

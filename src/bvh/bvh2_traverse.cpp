@@ -1,5 +1,9 @@
 // Bvh2 single-ray traversal: ordered closest hit and early-exit any hit.
 #include "rayscout/bvh/bvh2.h"
+
+#include <algorithm>
+#include <bit>
+
 #include "rayscout/bvh/cull_interval.h"
 #include "traversal_stack.h"
 #include "box_test.h"
@@ -31,6 +35,32 @@ void push_hit_children(Stack& stack, uint32_t first, bool hl, bool hr, float dl,
   }
 }
 
+// Calls visit(node, entry distance) for every start entry whose box the ray enters within
+// [tmin, tmax()], in list order, until visit returns false; returns the box tests made. A
+// candidate list is tested a group of entries at a time (intersect_nodes, identical to the
+// scalar test), tmax() read before each group; a lone entry (the root) takes the scalar test.
+template <class TMax, class Visit>
+uint64_t visit_hit_starts(const Bvh2Node* nodes, std::span<const uint32_t> start, const Vec3& org, const Vec3& inv_dir,
+                          float tmin, TMax tmax, Visit visit) {
+  if (start.size() == 1) {
+    float d;
+    if (detail::intersect_box_robust(org, inv_dir, nodes[start[0]].bounds, tmin, tmax(), d)) visit(start[0], d);
+    return 1;
+  }
+  uint64_t tests = 0;
+  for (size_t b = 0; b < start.size(); b += detail::kNodeGroup) {
+    const int n = int(std::min<size_t>(detail::kNodeGroup, start.size() - b));
+    float dist[detail::kNodeGroup];
+    tests += uint64_t(n);
+    for (uint32_t mask = detail::intersect_nodes(nodes, &start[b], n, org, inv_dir, tmin, tmax(), dist); mask;
+         mask &= mask - 1) {
+      const int k = std::countr_zero(mask);
+      if (!visit(start[b + k], dist[k])) return tests;
+    }
+  }
+  return tests;
+}
+
 }  // namespace
 
 template <bool CaptureStats>
@@ -47,12 +77,10 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
   if (start.empty()) start = std::span<const uint32_t>(&root, 1);
   detail::TraversalStack<Entry> stack(size_t(depth_) + 2);
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
-  // Start entries are box tested lazily, the next one only once the stack is empty (exactly
-  // where it would pop had all been pushed up front): entries beyond the hit are never tested.
-  for (const uint32_t s : start) {
-    float d;
-    ++box_tests;
-    if (!detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[s].bounds, box_tmin, cull_t, d)) continue;
+  // Each hit start entry is traversed once the stack is empty (exactly where it would pop had
+  // all been pushed up front), so an entry beyond the current hit is skipped at its pop.
+  box_tests += visit_hit_starts(nodes.data(), start, ray.org, rp.inv_dir, box_tmin, [&] { return cull_t; },
+                                [&](uint32_t s, float d) {
     stack.push({s, d});
     while (!stack.empty()) {
       const Entry e = stack.pop();
@@ -80,7 +108,8 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
       box_tests += 2;
       push_hit_children(stack, n.first, hl, hr, dl, dr, [](uint32_t c, float d) { return Entry{c, d}; });
     }
-  }
+    return true;
+  });
   if constexpr (CaptureStats) {
     stats->traversal_steps += steps;
     stats->ray_box_tests += box_tests;
@@ -102,12 +131,10 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
   detail::TraversalStack<uint32_t> stack(size_t(depth_) + 2);
   uint64_t steps = 0, box_tests = 0, tri_tests = 0;
   bool hit = false;
-  // Start entries are box tested lazily (see intersect): an early hit skips the later ones.
-  for (size_t k = 0; k < start.size() && !hit; ++k) {
-    float d;
-    ++box_tests;
-    if (!detail::intersect_box_robust(ray.org, rp.inv_dir, nodes[start[k]].bounds, box_tmin, box_tmax, d)) continue;
-    stack.push(start[k]);
+  // An early hit skips the later start entries (see intersect).
+  box_tests += visit_hit_starts(nodes.data(), start, ray.org, rp.inv_dir, box_tmin, [&] { return box_tmax; },
+                                [&](uint32_t s, float) {
+    stack.push(s);
     while (!stack.empty() && !hit) {
       ++steps;
       const Bvh2Node& n = nodes[stack.pop()];
@@ -129,7 +156,8 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
       // Near child on top: an early hit ends the ray sooner.
       push_hit_children(stack, n.first, hl, hr, dl, dr, [](uint32_t c, float) { return c; });
     }
-  }
+    return !hit;
+  });
   if constexpr (CaptureStats) {
     stats->traversal_steps += steps;
     stats->ray_box_tests += box_tests;

@@ -44,9 +44,10 @@ class Bvh2 {
 
   /// Closest hit of one ray (tmin <= t <= tmax, ties to the smaller id) against tris, the
   /// triangles the tree was built over. Traversal starts from the `start` nodes in order (start[0]
-  /// first): each is box tested only when the stack runs empty, so entries beyond the current
-  /// hit or after an any-hit are never tested; an empty span means the root. This is the
-  /// entry ray classification (shafts) uses with its candidate lists. With CaptureStats,
+  /// first), each hit one once the stack runs empty; they are box tested a SIMD group at a time
+  /// (8 or 16), so a group after an any-hit is never tested and a hit entry beyond the current
+  /// closest hit is skipped; an empty span means the root. This is the entry ray
+  /// classification (shafts) uses with its candidate lists. With CaptureStats,
   /// stats (non-null) receives traversal_steps (nodes visited), ray_box_tests, ray_tri_tests;
   /// it does not count stats->rays.
   template <bool CaptureStats>
