@@ -8,6 +8,7 @@
 
 #include "rayscout/bvh/bvh2.h"
 #include "rayscout/bvh/wide_bvh.h"
+#include "rayscout/core/record_transpose.h"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -124,28 +125,12 @@ inline constexpr int kNodeGroup = 8;
 /// seeded ray's time (Sibenik AO rays: 71 ms scalar, 57 ms grouped; docs/shafts.md, session 24).
 inline uint32_t intersect_nodes(const Bvh2Node* nodes, const uint32_t* ids, int n, const Vec3& org,
                                 const Vec3& inv_dir, float tmin, float tmax, float* dist) {
-  auto node = [&](int k) { return &nodes[ids[k < n ? k : 0]].bounds.lo.x; };  // missing lanes repeat ids[0]
+  // A node's record: lo.xyz, hi.xyz, first, count; missing lanes repeat ids[0].
+  auto node = [&](int k) { return &nodes[ids[k < n ? k : 0]].bounds.lo.x; };
 #if defined(__AVX512F__)
-  // Sixteen 32-byte nodes (lo.xyz, hi.xyz, first, count) transposed into field vectors:
-  // node k in the low half of r[k], node k + 8 in the high half.
-  __m512 r[8];
-  for (int k = 0; k < 8; ++k)
-    r[k] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(node(k))), _mm256_loadu_ps(node(k + 8)), 1);
-  __m512 s[8];
-  for (int q = 0; q < 2; ++q) {  // nodes 4q..4q+3 (and + 8): field f and f + 4 in alternate 128-bit lanes
-    const __m512 t0 = _mm512_unpacklo_ps(r[4 * q], r[4 * q + 1]), t1 = _mm512_unpackhi_ps(r[4 * q], r[4 * q + 1]);
-    const __m512 t2 = _mm512_unpacklo_ps(r[4 * q + 2], r[4 * q + 3]), t3 = _mm512_unpackhi_ps(r[4 * q + 2], r[4 * q + 3]);
-    s[4 * q + 0] = _mm512_shuffle_ps(t0, t2, 0x44);
-    s[4 * q + 1] = _mm512_shuffle_ps(t0, t2, 0xEE);
-    s[4 * q + 2] = _mm512_shuffle_ps(t1, t3, 0x44);
-    s[4 * q + 3] = _mm512_shuffle_ps(t1, t3, 0xEE);
-  }
-  const __m512i lo_lanes = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
-  const __m512i hi_lanes = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
-  const __m512 lo[3] = {_mm512_permutex2var_ps(s[0], lo_lanes, s[4]), _mm512_permutex2var_ps(s[1], lo_lanes, s[5]),
-                        _mm512_permutex2var_ps(s[2], lo_lanes, s[6])};
-  const __m512 hi[3] = {_mm512_permutex2var_ps(s[3], lo_lanes, s[7]), _mm512_permutex2var_ps(s[0], hi_lanes, s[4]),
-                        _mm512_permutex2var_ps(s[1], hi_lanes, s[5])};
+  __m512 f[8];
+  transpose_records16(node, f);
+  const __m512 lo[3] = {f[0], f[1], f[2]}, hi[3] = {f[3], f[4], f[5]};
   const __m512 k = _mm512_set1_ps(kRobustScale), k_neg = _mm512_set1_ps(kRobustScaleNegative);
   const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
   __m512 tnear = _mm512_set1_ps(tmin), tfar = _mm512_set1_ps(tmax);
@@ -162,21 +147,9 @@ inline uint32_t intersect_nodes(const Bvh2Node* nodes, const uint32_t* ids, int 
   return uint32_t(_mm512_mask_cmp_ps_mask(__mmask16((1u << n) - 1u), tnear, tfar, _CMP_LE_OQ));
 #elif defined(__AVX2__)
   // The same with eight nodes.
-  __m256 r[8];
-  for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(node(k));
-  __m256 s[8];
-  for (int q = 0; q < 2; ++q) {  // nodes 4q..4q+3: field f (low half) and f + 4 (high half)
-    const __m256 t0 = _mm256_unpacklo_ps(r[4 * q], r[4 * q + 1]), t1 = _mm256_unpackhi_ps(r[4 * q], r[4 * q + 1]);
-    const __m256 t2 = _mm256_unpacklo_ps(r[4 * q + 2], r[4 * q + 3]), t3 = _mm256_unpackhi_ps(r[4 * q + 2], r[4 * q + 3]);
-    s[4 * q + 0] = _mm256_shuffle_ps(t0, t2, 0x44);
-    s[4 * q + 1] = _mm256_shuffle_ps(t0, t2, 0xEE);
-    s[4 * q + 2] = _mm256_shuffle_ps(t1, t3, 0x44);
-    s[4 * q + 3] = _mm256_shuffle_ps(t1, t3, 0xEE);
-  }
-  const __m256 lo[3] = {_mm256_permute2f128_ps(s[0], s[4], 0x20), _mm256_permute2f128_ps(s[1], s[5], 0x20),
-                        _mm256_permute2f128_ps(s[2], s[6], 0x20)};
-  const __m256 hi[3] = {_mm256_permute2f128_ps(s[3], s[7], 0x20), _mm256_permute2f128_ps(s[0], s[4], 0x31),
-                        _mm256_permute2f128_ps(s[1], s[5], 0x31)};
+  __m256 f[8];
+  transpose_records8(node, f);
+  const __m256 lo[3] = {f[0], f[1], f[2]}, hi[3] = {f[3], f[4], f[5]};
   const __m256 k = _mm256_set1_ps(kRobustScale), k_neg = _mm256_set1_ps(kRobustScaleNegative);
   __m256 tnear = _mm256_set1_ps(tmin), tfar = _mm256_set1_ps(tmax);
   for (int a = 0; a < 3; ++a) {

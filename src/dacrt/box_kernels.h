@@ -18,6 +18,7 @@
 #include "rayscout/core/triangle.h"
 #include "rayscout/dacrt/dacrt_config.h"
 #include "avx2_util.h"
+#include "rayscout/core/record_transpose.h"
 #include "ray_record.h"
 
 // g++ 12 reports a false "__Y may be used uninitialized" inside its own AVX-512 headers.
@@ -130,29 +131,10 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     auto g = [&](int f) { return _mm512_mask_i32gather_ps(z, valid, off, base + f, 4); };
     return test_fields(g(0), g(1), g(2), g(3), g(4), g(5), g(6), g(7), valid);
   };
-  // Full chunks: 16 aligned 32-byte record loads transposed into 8 field vectors, cheaper
-  // than 8 gathers (24 shuffles instead of 128 gathered loads).
-  const __m512i lo_lanes = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
-  const __m512i hi_lanes = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+  // Full chunks: 16 records transposed into 8 field vectors, cheaper than 8 gathers.
   auto test_full = [&](const uint32_t* ids) -> __mmask16 {
-    __m512 r[8];
-    for (int k = 0; k < 8; ++k)  // record k in the low half, record k + 8 in the high half
-      r[k] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(base + 8 * size_t(ids[k]))),
-                                _mm256_load_ps(base + 8 * size_t(ids[k + 8])), 1);
-    __m512 s[8];
-    for (int q = 0; q < 2; ++q) {  // records 4q..4q+3 (and + 8)
-      const __m512 t0 = _mm512_unpacklo_ps(r[4 * q], r[4 * q + 1]), t1 = _mm512_unpackhi_ps(r[4 * q], r[4 * q + 1]);
-      const __m512 t2 = _mm512_unpacklo_ps(r[4 * q + 2], r[4 * q + 3]), t3 = _mm512_unpackhi_ps(r[4 * q + 2], r[4 * q + 3]);
-      s[4 * q + 0] = _mm512_shuffle_ps(t0, t2, 0x44);  // field f (lanes 0, 2) and f + 4 (lanes 1, 3)
-      s[4 * q + 1] = _mm512_shuffle_ps(t0, t2, 0xEE);
-      s[4 * q + 2] = _mm512_shuffle_ps(t1, t3, 0x44);
-      s[4 * q + 3] = _mm512_shuffle_ps(t1, t3, 0xEE);
-    }
     __m512 f[8];
-    for (int k = 0; k < 4; ++k) {
-      f[k] = _mm512_permutex2var_ps(s[k], lo_lanes, s[4 + k]);
-      f[k + 4] = _mm512_permutex2var_ps(s[k], hi_lanes, s[4 + k]);
-    }
+    rayscout::detail::transpose_records16([&](int k) { return base + 8 * size_t(ids[k]); }, f);
     return test_fields(f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], 0xFFFF);
   };
   constexpr size_t kAhead = 64;  // ids ahead whose records are prefetched: gathers then hit cache
