@@ -2,6 +2,7 @@
 #include "rayscout/bvh/bvh2.h"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -13,6 +14,15 @@
 namespace rayscout {
 
 Bvh2 Bvh2::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
+  Bvh2 bvh = build_tree(tris, config);
+  bvh.leaf_tris.resize(bvh.prim_ids.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, bvh.prim_ids.size(), 16384), [&](const auto& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) bvh.leaf_tris[k] = tris[bvh.prim_ids[k]];
+  });
+  return bvh;
+}
+
+Bvh2 Bvh2::build_tree(std::span<const Triangle> tris, const BvhBuildConfig& config) {
   detail::PrimReferences refs = detail::presplit_triangles(tris, config.presplit, config.presplit_max_pieces);
   Bvh2 bvh;
   bvh.depth_ = detail::build_binned_sah(refs.boxes, config, bvh.nodes, bvh.prim_ids);
@@ -42,6 +52,8 @@ std::string Bvh2::validate(std::span<const Triangle> tris) const {
     return triangle_count == 0 && prim_ids.empty() ? "" : "no nodes but " + std::to_string(triangle_count) + " triangles";
   if (split_references ? prim_ids.size() < triangle_count : prim_ids.size() != triangle_count)
     return "prim_ids has " + std::to_string(prim_ids.size()) + " entries, expected " + std::to_string(triangle_count);
+  if (leaf_tris.size() != prim_ids.size())
+    return "leaf_tris has " + std::to_string(leaf_tris.size()) + " entries, prim_ids " + std::to_string(prim_ids.size());
   std::vector<uint8_t> node_seen(nodes.size(), 0), prim_seen(triangle_count, 0);
   std::vector<uint32_t> stack{0};
   node_seen[0] = 1;
@@ -63,6 +75,8 @@ std::string Bvh2::validate(std::span<const Triangle> tris) const {
         const Bounds3 tb = tris[p].bounds();
         if (split_references ? Bounds3{max(tb.lo, n.bounds.lo), min(tb.hi, n.bounds.hi)}.empty() : !n.bounds.contains(tb))
           return at + "triangle " + std::to_string(p) + " outside the leaf box";
+        if (std::memcmp(&leaf_tris[k], &tris[p], sizeof(Triangle)) != 0)
+          return at + "leaf_tris[" + std::to_string(k) + "] is not triangle " + std::to_string(p);
         ++leaf_prims;
       }
       continue;

@@ -64,8 +64,7 @@ uint64_t visit_hit_starts(const Bvh2Node* nodes, std::span<const uint32_t> start
 }  // namespace
 
 template <bool CaptureStats>
-Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
-                    TraceStats* stats) const {
+Hit Bvh2::intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
   Hit best;
   if (nodes.empty()) return best;
   best.t = ray.tmax;
@@ -91,12 +90,11 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
       const Bvh2Node& n = nodes[e.node];
       if (n.is_leaf()) {
         for (uint32_t k = n.first; k < n.first + n.count; ++k) {
-          const uint32_t p = prim_ids[k];
           float t, u, v;
           ++tri_tests;
-          if (intersect_triangle(ray.org, rp, tris[p], ray.tmin, best.t, t, u, v) &&
-              is_closer(t, p, best.t, best.prim)) {
-            best = {t, p, u, v};
+          if (intersect_triangle(ray.org, rp, leaf_tris[k], ray.tmin, best.t, t, u, v) &&
+              is_closer(t, prim_ids[k], best.t, best.prim)) {
+            best = {t, prim_ids[k], u, v};
             cull_t = cull.far(t);
           }
         }
@@ -120,8 +118,7 @@ Hit Bvh2::intersect(const Ray& ray, std::span<const Triangle> tris, std::span<co
 }
 
 template <bool CaptureStats>
-bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<const uint32_t> start,
-                    TraceStats* stats) const {
+bool Bvh2::occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const {
   if (nodes.empty()) return false;
   const RayPrecomp rp(ray.dir);
   const CullInterval cull = cull_interval(ray);
@@ -142,7 +139,7 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
         for (uint32_t k = n.first; k < n.first + n.count; ++k) {
           float t, u, v;
           ++tri_tests;
-          if (intersect_triangle(ray.org, rp, tris[prim_ids[k]], ray.tmin, ray.tmax, t, u, v)) {
+          if (intersect_triangle(ray.org, rp, leaf_tris[k], ray.tmin, ray.tmax, t, u, v)) {
             hit = true;
             break;
           }
@@ -166,9 +163,9 @@ bool Bvh2::occluded(const Ray& ray, std::span<const Triangle> tris, std::span<co
   return hit;
 }
 
-template Hit Bvh2::intersect<false>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
-template Hit Bvh2::intersect<true>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
-template bool Bvh2::occluded<false>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
-template bool Bvh2::occluded<true>(const Ray&, std::span<const Triangle>, std::span<const uint32_t>, TraceStats*) const;
+template Hit Bvh2::intersect<false>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template Hit Bvh2::intersect<true>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template bool Bvh2::occluded<false>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
+template bool Bvh2::occluded<true>(const Ray&, std::span<const uint32_t>, TraceStats*) const;
 
 }  // namespace rayscout

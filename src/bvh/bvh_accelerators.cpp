@@ -84,8 +84,7 @@ BvhBuildConfig wide_bvh_config_from_options(const AcceleratorOptions& options) {
   return c;
 }
 
-Bvh2Accelerator::Bvh2Accelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config)
-    : triangles_(triangles) {
+Bvh2Accelerator::Bvh2Accelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config) {
   info_.build_ms = time_ms([&] { bvh_ = Bvh2::build(triangles, config); });
   info_.memory_bytes = bvh_.memory_bytes();
 }
@@ -93,7 +92,7 @@ Bvh2Accelerator::Bvh2Accelerator(std::span<const Triangle> triangles, const BvhB
 void Bvh2Accelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
   hits.reset(rays.size());
   for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
-    const Hit h = bvh_.intersect<S>(rays[i], triangles_, {}, s);
+    const Hit h = bvh_.intersect<S>(rays[i], {}, s);
     if (h.hit()) hits.set(i, h);
   });
 }
@@ -101,7 +100,7 @@ void Bvh2Accelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, Trac
 void Bvh2Accelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
   occluded.assign(rays.size(), 0);
   for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
-    occluded[i] = bvh_.occluded<S>(rays[i], triangles_, {}, s) ? 1 : 0;
+    occluded[i] = bvh_.occluded<S>(rays[i], {}, s) ? 1 : 0;
   });
 }
 

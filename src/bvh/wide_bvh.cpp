@@ -188,7 +188,7 @@ class SahCollapse {
 }  // namespace
 
 WideBvh WideBvh::build(std::span<const Triangle> tris, const BvhBuildConfig& config) {
-  return from_bvh2(Bvh2::build(tris, config), tris, config);
+  return from_bvh2(Bvh2::build_tree(tris, config), tris, config);
 }
 
 WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config) {

@@ -22,18 +22,18 @@ ShaftsAccelerator::Settings ShaftsAccelerator::settings_from_options(const Accel
 
 ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftConfig& config_in,
                                      const BvhBuildConfig& bvh_config)
-    : triangles_(scene.triangles), base_(base) {
+    : base_(base) {
   const ShaftConfig config = config_in.resolved(base == Base::Binary ? 2 : kWideWidth);
   const auto t0 = SteadyClock::now();
   TreeView tree;
   Bounds3 box;
   if (base_ == Base::Binary) {
-    bvh2_ = Bvh2::build(triangles_, bvh_config);
+    bvh2_ = Bvh2::build(scene.triangles, bvh_config);
     bvh_build_ms_ = ms_since(t0);
     tree = TreeView::from_bvh2(bvh2_, config.walk_levels);
     if (!bvh2_.nodes.empty()) box = bvh2_.nodes[0].bounds;
   } else {
-    wide_ = WideBvh::build(triangles_, bvh_config);
+    wide_ = WideBvh::build(scene.triangles, bvh_config);
     bvh_build_ms_ = ms_since(t0);
     tree = TreeView::from_wide(wide_);
     box = wide_.bounds;
@@ -43,15 +43,18 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   // the SAH collapse traces them ~10 % faster, but its 26-33 ms collapse cancels that
   // (Conference collection: 692-724 ms with it, 712-722 ms greedy; docs/shafts.md, History).
   WideBvh sampling_bvh;
-  if (base_ == Base::Binary && config.wide_sampling) sampling_bvh = WideBvh::from_bvh2(bvh2_, triangles_);
+  if (base_ == Base::Binary && config.wide_sampling) sampling_bvh = WideBvh::from_bvh2(bvh2_, scene.triangles);
   const WideBvh* sampler = base_ == Base::Wide ? &wide_ : (config.wide_sampling ? &sampling_bvh : nullptr);
   auto hit = [this, sampler](const Ray& r) {
-    return sampler ? sampler->intersect<false>(r, {}, nullptr) : bvh2_.intersect<false>(r, triangles_, {}, nullptr);
+    return sampler ? sampler->intersect<false>(r, {}, nullptr) : bvh2_.intersect<false>(r, {}, nullptr);
   };
   if (box.empty()) box = Bounds3{Vec3{0.0f}, Vec3{0.0f}};
   RayBatch prepass;
   if (config.select != ShaftSelect::Occupied) prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
-  collection_ = ShaftCollection::build(tree, box, bvh_memory_bytes(), triangles_,
+  // The budget is relative to the tree: for the Bvh2 its nodes and ids, without the
+  // triangle copy (which would double the budget, and the build, for no fewer steps).
+  const size_t budget_base = base_ == Base::Binary ? bvh2_.tree_bytes() : wide_.memory_bytes();
+  collection_ = ShaftCollection::build(tree, box, budget_base, scene.triangles,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
   info_.build_ms = ms_since(t0);
   info_.memory_bytes = bvh_memory_bytes() + collection_.memory_bytes();
@@ -69,20 +72,19 @@ namespace {
 /// the traversal box-tests with.
 class SeededBvh2 {
  public:
-  SeededBvh2(const Bvh2& bvh, std::span<const Triangle> tris) : bvh_(bvh), tris_(tris) {}
+  explicit SeededBvh2(const Bvh2& bvh) : bvh_(bvh) {}
   template <bool Stats>  // Bvh2 makes its own RayPrecomp
   Hit intersect(const Ray& ray, const RayPrecomp*, std::span<const uint32_t> start, TraceStats* stats) const {
-    return bvh_.intersect<Stats>(ray, tris_, start, stats);
+    return bvh_.intersect<Stats>(ray, start, stats);
   }
   template <bool Stats>
   bool occluded(const Ray& ray, const RayPrecomp*, std::span<const uint32_t> start, TraceStats* stats) const {
-    return bvh_.occluded<Stats>(ray, tris_, start, stats);
+    return bvh_.occluded<Stats>(ray, start, stats);
   }
   CullInterval cull_interval(const Ray& ray) const { return bvh_.cull_interval(ray); }
 
  private:
   const Bvh2& bvh_;
-  std::span<const Triangle> tris_;
 };
 
 class SeededWide {
@@ -204,14 +206,14 @@ void trace(const ShaftCollection& collection, const Seeded& bvh, const RayBatch&
 void ShaftsAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats,
                                   bool use_lists) const {
   hits.reset(rays.size());
-  if (base_ == Base::Binary) trace<false>(collection_, SeededBvh2(bvh2_, triangles_), rays, &hits, nullptr, stats, use_lists);
+  if (base_ == Base::Binary) trace<false>(collection_, SeededBvh2(bvh2_), rays, &hits, nullptr, stats, use_lists);
   else trace<false>(collection_, SeededWide(wide_), rays, &hits, nullptr, stats, use_lists);
 }
 
 void ShaftsAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
                                  bool use_lists) const {
   occluded.assign(rays.size(), 0);
-  if (base_ == Base::Binary) trace<true>(collection_, SeededBvh2(bvh2_, triangles_), rays, nullptr, &occluded, stats, use_lists);
+  if (base_ == Base::Binary) trace<true>(collection_, SeededBvh2(bvh2_), rays, nullptr, &occluded, stats, use_lists);
   else trace<true>(collection_, SeededWide(wide_), rays, nullptr, &occluded, stats, use_lists);
 }
 

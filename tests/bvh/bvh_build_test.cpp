@@ -252,6 +252,13 @@ TEST(BvhValidate, DetectsCorruptedBinaryTrees) {
   std::swap(b.prim_ids[0], b.prim_ids[last]);
   EXPECT_NE(b.validate(tris).find("outside the leaf box"), std::string::npos) << b.validate(tris);
 
+  b = good;  // the leaf-ordered copy disagrees with the ids
+  std::swap(b.leaf_tris[0], b.leaf_tris[1]);
+  EXPECT_NE(b.validate(tris).find("] is not triangle"), std::string::npos) << b.validate(tris);
+  b = good;
+  b.leaf_tris.pop_back();
+  EXPECT_NE(b.validate(tris).find("leaf_tris has"), std::string::npos) << b.validate(tris);
+
   std::vector<Triangle> more(tris.begin(), tris.end());
   more.push_back(tris[0]);
   EXPECT_NE(good.validate(more), "");  // a triangle missing

@@ -29,12 +29,12 @@ TEST(BvhTraversal, MatchesBruteForceForLeafSizesAndBins) {
       const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles);
       size_t bad = 0, bad_occ = 0;
       for (size_t i = 0; i < rays.size(); ++i) {
-        const Hit a = bvh.intersect<false>(rays[i], m.triangles, {}, nullptr);
+        const Hit a = bvh.intersect<false>(rays[i], {}, nullptr);
         const Hit b = wide.intersect<false>(rays[i], {}, nullptr);
         const Hit r = ref[i];
         bad += a.prim != r.prim || a.t != r.t || a.u != r.u || a.v != r.v;
         bad += b.prim != r.prim || b.t != r.t || b.u != r.u || b.v != r.v;
-        bad_occ += bvh.occluded<false>(rays[i], m.triangles, {}, nullptr) != bool(ref_occ[i]);
+        bad_occ += bvh.occluded<false>(rays[i], {}, nullptr) != bool(ref_occ[i]);
         bad_occ += wide.occluded<false>(rays[i], {}, nullptr) != bool(ref_occ[i]);
       }
       EXPECT_EQ(bad, 0u) << m.name << " leaf " << leaf;
@@ -50,7 +50,7 @@ TEST(BvhTraversal, CountersAreExactOnAHandCheckedScene) {
   const Bvh2 bvh = Bvh2::build(tris);
   ASSERT_EQ(bvh.nodes.size(), 3u);
   TraceStats s;
-  const Hit h = bvh.intersect<true>(down_at(0.75f, 0.25f), tris, {}, &s);
+  const Hit h = bvh.intersect<true>(down_at(0.75f, 0.25f), {}, &s);
   EXPECT_EQ(h.prim, 0u);
   EXPECT_EQ(h.t, 1.0f);
   EXPECT_EQ(s.traversal_steps, 2u);  // root, left leaf
@@ -59,7 +59,7 @@ TEST(BvhTraversal, CountersAreExactOnAHandCheckedScene) {
   EXPECT_EQ(s.rays, 0u);
 
   s = {};
-  EXPECT_FALSE(bvh.occluded<true>(down_at(5.0f, 0.5f), tris, {}, &s));  // between the quads
+  EXPECT_FALSE(bvh.occluded<true>(down_at(5.0f, 0.5f), {}, &s));  // between the quads
   EXPECT_EQ(s.traversal_steps, 1u);
   EXPECT_EQ(s.ray_box_tests, 3u);
   EXPECT_EQ(s.ray_tri_tests, 0u);
@@ -112,13 +112,13 @@ TEST(BvhTraversal, NearerChildFirstAndFartherBoxesCulledAfterAHit) {
   for (const bool down : {true, false}) {
     const char* dir = down ? "down" : "up";
     TraceStats s;
-    Hit h = bvh2.intersect<true>(through_stack(2, down), two, {}, &s);
+    Hit h = bvh2.intersect<true>(through_stack(2, down), {}, &s);
     EXPECT_EQ(h.prim, down ? 2u : 0u) << dir;
     EXPECT_EQ(h.t, 1.0f) << dir;
     EXPECT_EQ(s.traversal_steps, 2u) << dir;  // root, the near leaf
     EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
     s = {};
-    h = bvh4.intersect<true>(through_stack(4, down), four, {}, &s);
+    h = bvh4.intersect<true>(through_stack(4, down), {}, &s);
     EXPECT_EQ(h.prim, down ? 6u : 0u) << dir;
     EXPECT_EQ(h.t, 1.0f) << dir;
     EXPECT_EQ(s.traversal_steps, 3u) << dir;  // root, the near inner node, the near leaf
@@ -157,7 +157,7 @@ TEST(BvhTraversal, StatsPathGivesTheSameResultsAndSummedCounts) {
     const auto* b = dynamic_cast<Bvh2Accelerator*>(accel.get());
     for (size_t i = 0; i < rays.size(); ++i) {
       if (w) w->bvh().intersect<true>(rays[i], {}, &sum);
-      else b->bvh().intersect<true>(rays[i], scene.triangles, {}, &sum);
+      else b->bvh().intersect<true>(rays[i], {}, &sum);
     }
     EXPECT_EQ(batch.rays, rays.size());
     EXPECT_EQ(batch.traversal_steps, sum.traversal_steps) << accel->name();
@@ -187,14 +187,14 @@ TEST(BvhTraversal, StartingFromTheRootsChildrenEqualsStartingFromTheRoot) {
   const std::vector<uint32_t> wide_kids(wide.nodes[0].child, wide.nodes[0].child + wide.nodes[0].count);
   size_t hits = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
-    const Hit a = bvh.intersect<false>(rays[i], tris, {}, nullptr);
-    const Hit b = bvh.intersect<false>(rays[i], tris, kids, nullptr);
+    const Hit a = bvh.intersect<false>(rays[i], {}, nullptr);
+    const Hit b = bvh.intersect<false>(rays[i], kids, nullptr);
     const Hit c = wide.intersect<false>(rays[i], wide_kids, nullptr);
     EXPECT_EQ(a.prim, b.prim);
     EXPECT_EQ(a.t, b.t);
     EXPECT_EQ(a.prim, c.prim);
     EXPECT_EQ(a.t, c.t);
-    EXPECT_EQ(bvh.occluded<false>(rays[i], tris, {}, nullptr), bvh.occluded<false>(rays[i], tris, kids, nullptr));
+    EXPECT_EQ(bvh.occluded<false>(rays[i], {}, nullptr), bvh.occluded<false>(rays[i], kids, nullptr));
     EXPECT_EQ(wide.occluded<false>(rays[i], {}, nullptr), wide.occluded<false>(rays[i], wide_kids, nullptr));
     hits += a.hit();
   }
@@ -217,24 +217,24 @@ TEST(BvhTraversal, StartingFromNodesThatMissTheGeometryGivesAMiss) {
   ASSERT_FALSE(near_nodes.empty());
   ASSERT_FALSE(near_refs.empty());
   const Ray far_ray = down_at(100.5f, 0.25f), near_ray = down_at(3.25f, 0.75f);
-  EXPECT_TRUE(bvh.intersect<false>(far_ray, tris, {}, nullptr).hit());
+  EXPECT_TRUE(bvh.intersect<false>(far_ray, {}, nullptr).hit());
   EXPECT_TRUE(wide.intersect<false>(far_ray, {}, nullptr).hit());
-  EXPECT_FALSE(bvh.intersect<false>(far_ray, tris, near_nodes, nullptr).hit());
-  EXPECT_FALSE(bvh.occluded<false>(far_ray, tris, near_nodes, nullptr));
+  EXPECT_FALSE(bvh.intersect<false>(far_ray, near_nodes, nullptr).hit());
+  EXPECT_FALSE(bvh.occluded<false>(far_ray, near_nodes, nullptr));
   EXPECT_FALSE(wide.intersect<false>(far_ray, near_refs, nullptr).hit());
   EXPECT_FALSE(wide.occluded<false>(far_ray, near_refs, nullptr));
   // ...and still find what they do contain.
-  EXPECT_EQ(bvh.intersect<false>(near_ray, tris, near_nodes, nullptr).prim,
-            bvh.intersect<false>(near_ray, tris, {}, nullptr).prim);
-  EXPECT_EQ(wide.intersect<false>(near_ray, near_refs, nullptr).prim, bvh.intersect<false>(near_ray, tris, {}, nullptr).prim);
+  EXPECT_EQ(bvh.intersect<false>(near_ray, near_nodes, nullptr).prim,
+            bvh.intersect<false>(near_ray, {}, nullptr).prim);
+  EXPECT_EQ(wide.intersect<false>(near_ray, near_refs, nullptr).prim, bvh.intersect<false>(near_ray, {}, nullptr).prim);
   EXPECT_TRUE(wide.intersect<false>(near_ray, near_refs, nullptr).hit());
 }
 
 TEST(BvhTraversal, EmptyTreeMisses) {
   const Bvh2 bvh = Bvh2::build({});
   const WideBvh wide = WideBvh::build({});
-  EXPECT_FALSE(bvh.intersect<false>(down_at(0, 0), {}, {}, nullptr).hit());
-  EXPECT_EQ(bvh.intersect<false>(down_at(0, 0), {}, {}, nullptr).t, kInfinity);
+  EXPECT_FALSE(bvh.intersect<false>(down_at(0, 0), {}, nullptr).hit());
+  EXPECT_EQ(bvh.intersect<false>(down_at(0, 0), {}, nullptr).t, kInfinity);
   EXPECT_FALSE(wide.intersect<false>(down_at(0, 0), {}, nullptr).hit());
   EXPECT_FALSE(wide.occluded<false>(down_at(0, 0), {}, nullptr));
 }

@@ -51,7 +51,7 @@ TEST(GroupListBuilder, MembersGetTheirOwnAlgorithm1Lists) {
           const size_t i = m * per + size_t(k);
           samples.ox[i] = ray.org.x; samples.oy[i] = ray.org.y; samples.oz[i] = ray.org.z;
           samples.ix[i] = 1.0f / ray.dir.x; samples.iy[i] = 1.0f / ray.dir.y; samples.iz[i] = 1.0f / ray.dir.z;
-          samples.hit_t[i] = bvh.intersect<false>(ray, tris, {}, nullptr).t;
+          samples.hit_t[i] = bvh.intersect<false>(ray, {}, nullptr).t;
         }
       const int max_len = trial % 3 == 0 ? 3 : 31;  // small limit: some members overflow
       const double min_prob = trial % 2 ? 0.5 : 0.3;

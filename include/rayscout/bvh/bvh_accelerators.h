@@ -33,7 +33,7 @@ BvhBuildConfig wide_bvh_default_config();
 /// Registry "bvh2": a binned SAH Bvh2, one ray at a time, rays in parallel (oneTBB).
 class Bvh2Accelerator final : public Accelerator {
  public:
-  /// Builds over triangles, which must outlive the accelerator.
+  /// Builds over triangles (the Bvh2 keeps its own copy).
   explicit Bvh2Accelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config = {});
   std::string name() const override { return "bvh2"; }
   BuildInfo build_info() const override { return info_; }
@@ -43,7 +43,6 @@ class Bvh2Accelerator final : public Accelerator {
   void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
   void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
 
-  std::span<const Triangle> triangles_;
   Bvh2 bvh_;
   BuildInfo info_;
 };

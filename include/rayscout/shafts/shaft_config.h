@@ -22,7 +22,8 @@ struct ShaftConfig {
   /// Absolute memory budget of the collection in MiB (lookup tables + list area); 0 = use
   /// budget_rel. The spatial resolution is derived from the budget (paper sec. 4.1).
   double budget_mib = 0.0;
-  /// Budget relative to the memory of the BVH the lists point into (used when budget_mib = 0).
+  /// Budget relative to the memory of the tree the lists point into (used when budget_mib = 0):
+  /// Bvh2 nodes and ids without its triangle copy, or the whole WideBvh.
   double budget_rel = 1.0;
   /// Total voxel count; > 0 overrides the budget (sweeps). Voxels are kept near-cubical.
   long voxels = 0;

@@ -50,6 +50,7 @@ class ShaftsAccelerator final : public Accelerator {
   /// Collection figures (build time, memory, list lengths).
   const ShaftStats& stats() const { return collection_.stats(); }
   double bvh_build_ms() const { return bvh_build_ms_; }
+  /// The BVH's whole memory (a Bvh2 with its triangle copy).
   size_t bvh_memory_bytes() const;
   const Bvh2& bvh2() const { return bvh2_; }
   const WideBvh& wide_bvh() const { return wide_; }
@@ -58,7 +59,6 @@ class ShaftsAccelerator final : public Accelerator {
   void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
   void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
 
-  std::span<const Triangle> triangles_;
   Base base_;
   Bvh2 bvh2_;
   WideBvh wide_;
