@@ -52,7 +52,8 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   RayBatch prepass;
   if (config.select != ShaftSelect::Occupied) prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   // The budget is relative to the tree: for the Bvh2 its nodes and ids, without the
-  // triangle copy (which would double the budget, and the build, for no fewer steps).
+  // triangle copy (which would double the budget, and the build, for -1 to +2.5 points of
+  // steps saved on Sibenik; docs/shafts.md, History, session 25).
   const size_t budget_base = base_ == Base::Binary ? bvh2_.tree_bytes() : wide_.memory_bytes();
   collection_ = ShaftCollection::build(tree, box, budget_base, scene.triangles,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);

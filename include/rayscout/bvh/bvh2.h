@@ -13,7 +13,6 @@
 #include "rayscout/core/ray.h"
 #include "rayscout/core/trace_stats.h"
 #include "rayscout/core/triangle.h"
-#include "rayscout/core/triangle.h"
 
 namespace rayscout {
 
@@ -67,9 +66,10 @@ class Bvh2 {
 
   /// Checks the invariants against the triangles the tree was built over: every triangle id
   /// in [0, tris.size()) exactly once (at least once and once per leaf with
-  /// split_references), leaf_tris the triangles of prim_ids, each leaf's triangles inside its box (touching it with
-  /// split_references), children inside their parent, every node reachable exactly once,
-  /// child indices in range. Returns "" when all hold, else the first violation.
+  /// split_references), leaf_tris the triangles of prim_ids, each leaf's triangles inside its
+  /// box (touching it with split_references), children inside their parent, every node
+  /// reachable exactly once, child indices in range. Returns "" when all hold, else the first
+  /// violation.
   std::string validate(std::span<const Triangle> tris) const;
   /// Edges on the longest root-to-leaf path (0 for a lone leaf).
   int depth() const { return depth_; }
