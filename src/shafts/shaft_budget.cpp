@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 
@@ -42,14 +43,14 @@ void build_with_retries(const TreeView& tree, const Shaft& shaft, const detail::
 
 /// Builds the list (node indices) of one shaft on its own (budget pilots).
 void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
-               const ShaftConfig& config, double min_prob, detail::ShaftSamples& samples,
-               std::vector<uint32_t>& list, size_t& retries, size_t& fallbacks) {
+               const detail::VoxelSurfaces* surfaces, const ShaftConfig& config, double min_prob,
+               detail::ShaftSamples& samples, std::vector<uint32_t>& list, size_t& retries, size_t& fallbacks) {
   list.clear();
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples.value()));
-  detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell, trace,
-                    config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
+  detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell,
+                            surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
   build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
 }
 
@@ -92,6 +93,13 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
       }
     }
     const size_t pilots = std::min<size_t>(192, ids.size());
+    std::optional<detail::VoxelSurfaces> surfaces;
+    if (config.origins == SampleOrigins::Surface && tree.size() > 0) {
+      std::vector<uint32_t> voxels;
+      for (size_t i = 0; i < pilots; ++i) voxels.push_back(uint32_t(ids[i * ids.size() / pilots] / grid.cells_per_voxel()));
+      voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+      surfaces.emplace(grid, tris, voxels);
+    }
     std::vector<size_t> lengths(pilots, 0);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pilots, 8), [&](const auto& range) {
       detail::ShaftSamples samples;
@@ -100,7 +108,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const uint64_t id = ids[i * ids.size() / pilots];
         build_one(tree, grid, {uint32_t(id / grid.cells_per_voxel()), uint32_t(id % grid.cells_per_voxel())},
-                  trace, config, min_prob, samples, list, r, f);
+                  trace, surfaces ? &*surfaces : nullptr, config, min_prob, samples, list, r, f);
         lengths[i] = list.size();
       }
     });

@@ -380,6 +380,11 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   const std::vector<CellGroup> groups = cell_groups(grid, tree.split_order);
   std::vector<Shaft> group_shafts;
   for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
+  const std::optional<detail::VoxelSurfaces> surfaces =
+      config.origins == SampleOrigins::Surface && tree.size() > 0
+          ? std::optional<detail::VoxelSurfaces>(std::in_place, grid, tris, listed)
+          : std::nullopt;
+  const detail::VoxelSurfaces* origins = surfaces ? &*surfaces : nullptr;
   std::vector<PooledSample> pool;
   const auto t_samples = SteadyClock::now();
   if (config.reuse_rays.value() && tree.size() > 0) {
@@ -388,7 +393,8 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
     pool.resize(listed.size() * cells * per);
     std::vector<uint16_t> count(listed.size() * cells, 0);  // samples <= 1000
     col.stats_.traced_samples =
-        detail::shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, trace, config, pool, count);
+        detail::shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, origins, trace, config,
+                               pool, count);
   }
   const bool chunked = pool.empty() && tree.size() > 0;
   std::atomic<int64_t> chunk_trace_ns{0};
@@ -406,7 +412,8 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
         const auto t0 = SteadyClock::now();
         chunk_begin = li;
         chunk_end = std::min(range.end(), li + kChunk);
-        detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, trace, config, chunk_pool);
+        detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, origins, trace, config,
+                                   chunk_pool);
         chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(SteadyClock::now() - t0).count();
       }
       auto samples_of = [&](uint32_t cell) {

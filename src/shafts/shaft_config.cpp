@@ -17,6 +17,12 @@ ShaftSelect parse_select(const std::string& name) {
   bad("select must be occupied, camera or camera-voxels (got '" + name + "')");
 }
 
+SampleOrigins parse_origins(const std::string& name) {
+  if (name == "volume") return SampleOrigins::Volume;
+  if (name == "surface") return SampleOrigins::Surface;
+  bad("origins must be volume or surface (got '" + name + "')");
+}
+
 }  // namespace
 
 void ShaftConfig::validate() const {
@@ -57,6 +63,7 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o, int arity) {
     if (n != -1) c.samples = int(n);  // -1 means auto too
   }
   c.stratified = o.get_bool("stratified", c.stratified);
+  c.origins = parse_origins(o.get_string("origins", "volume"));
   if (!is_auto("reuse_rays")) c.reuse_rays = o.get_bool("reuse_rays", false);
   c.min_prob = o.get_double("min_prob", c.min_prob, -1.0, 1.0);
   c.max_list = int(o.get_int("max_list", c.max_list, 1, 31));

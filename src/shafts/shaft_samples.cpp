@@ -11,8 +11,9 @@ namespace rayscout::detail {
 
 size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
                       const std::vector<int32_t>& listed_index, const std::vector<uint8_t>& shaft_selected,
-                      const std::vector<Shaft>& cell_shafts, const ShaftCollection::TraceFn& trace,
-                      const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint16_t>& count) {
+                      const std::vector<Shaft>& cell_shafts, const VoxelSurfaces* surfaces,
+                      const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
+                      std::vector<PooledSample>& pool, std::vector<uint16_t>& count) {
   const uint32_t cells = grid.cells_per_voxel();
   const int per = config.samples.value();
   const auto res = grid.res();
@@ -58,7 +59,8 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
         for (int k = 0; wants(li); ++k) {
           float rnd[5];
           stream.next(k, rnd);
-          const Ray ray = Shaft::sample_ray(vbox, crange, rnd);
+          Ray ray = Shaft::sample_ray(vbox, crange, rnd);
+          if (surfaces && surfaces->sample(v, rnd, ray.org)) ray.tmin = surfaces->epsilon();
           const float hit_t = trace(ray);
           ++task_traced;
           deposit(li, ray.org, ray.dir, hit_t);
@@ -99,8 +101,9 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
 }
 
 void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, size_t l0, size_t l1,
-                        const std::vector<uint8_t>& shaft_selected, const ShaftCollection::TraceFn& trace,
-                        const ShaftConfig& config, std::vector<PooledSample>& pool) {
+                        const std::vector<uint8_t>& shaft_selected, const VoxelSurfaces* surfaces,
+                        const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
+                        std::vector<PooledSample>& pool) {
   const uint32_t cells = grid.cells_per_voxel();
   const size_t per = size_t(config.samples.value()), n = l1 - l0;
   pool.resize(size_t(cells) * n * per);
@@ -111,7 +114,7 @@ void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& list
       const uint64_t sid = uint64_t(v) * cells + cell;
       if (!shaft_selected.empty() && !shaft_selected[sid]) continue;
       PooledSample* out = pool.data() + (size_t(cell) * n + (li - l0)) * per;
-      trace_own_samples(grid.voxel_box(v), crange, sid, trace, config, [&](size_t s, const Ray& ray, float hit_t) {
+      trace_own_samples(grid.voxel_box(v), crange, sid, surfaces, v, trace, config, [&](size_t s, const Ray& ray, float hit_t) {
         out[s] = {{ray.org.x, ray.org.y, ray.org.z}, {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z}, hit_t};
       });
     }

@@ -10,6 +10,7 @@
 #include "rayscout/core/random.h"
 #include "rayscout/shafts/shaft_collection.h"
 #include "shaft.h"
+#include "voxel_surfaces.h"
 
 namespace rayscout::detail {
 
@@ -49,16 +50,19 @@ inline void store_sample(ShaftSamples& samples, size_t k, const Vec3& org, const
 }
 
 /// Draws the `config.samples` own sample rays of shaft `sid` (voxel box, direction cell),
-/// traces each and hands it to out(s, ray, hit_t).
+/// traces each and hands it to out(s, ray, hit_t). With surfaces (config.origins = surface)
+/// the origins lie on the voxel's surfaces when it has any.
 template <class Out>
 void trace_own_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, uint64_t sid,
-                       const ShaftCollection::TraceFn& trace, const ShaftConfig& config, Out&& out) {
+                       const VoxelSurfaces* surfaces, uint32_t voxel_id, const ShaftCollection::TraceFn& trace,
+                       const ShaftConfig& config, Out&& out) {
   SampleStream stream(sid, config);
   const int samples = config.samples.value();
   for (int s = 0; s < samples; ++s) {
     float rnd[5];
     stream.next(s, rnd);
-    const Ray ray = Shaft::sample_ray(voxel, cell, rnd);
+    Ray ray = Shaft::sample_ray(voxel, cell, rnd);
+    if (surfaces && surfaces->sample(voxel_id, rnd, ray.org)) ray.tmin = surfaces->epsilon();
     out(size_t(s), ray, trace(ray));
   }
 }
@@ -78,8 +82,9 @@ struct PooledSample {
 /// Returns the number of rays traced.
 size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
                       const std::vector<int32_t>& listed_index, const std::vector<uint8_t>& shaft_selected,
-                      const std::vector<Shaft>& cell_shafts, const ShaftCollection::TraceFn& trace,
-                      const ShaftConfig& config, std::vector<PooledSample>& pool, std::vector<uint16_t>& count);
+                      const std::vector<Shaft>& cell_shafts, const VoxelSurfaces* surfaces,
+                      const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
+                      std::vector<PooledSample>& pool, std::vector<uint16_t>& count);
 
 /// The own sample rays (trace_own_samples) of every selected shaft of listed voxels
 /// [l0, l1), traced direction cell by direction cell, into pool[(cell * (l1 - l0) + li - l0)
@@ -87,7 +92,8 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
 /// so the tracing stays in cache (a voxel's own rays scatter in all 6 d^2 directions). The
 /// caller takes chunks of a few dozen voxels: the pool stays small and warm for their walks.
 void cell_major_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed, size_t l0, size_t l1,
-                        const std::vector<uint8_t>& shaft_selected, const ShaftCollection::TraceFn& trace,
-                        const ShaftConfig& config, std::vector<PooledSample>& pool);
+                        const std::vector<uint8_t>& shaft_selected, const VoxelSurfaces* surfaces,
+                        const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
+                        std::vector<PooledSample>& pool);
 
 }  // namespace rayscout::detail

@@ -271,6 +271,11 @@ TEST(ShaftsOptions, BadValuesAreInputErrors) {
   AcceleratorOptions s;
   s.set("select=everything");
   EXPECT_THROW(ShaftConfig::from_options(s, 2), InputError);
+  AcceleratorOptions origins;
+  origins.set("origins=walls");
+  EXPECT_THROW(ShaftConfig::from_options(origins, 2), InputError);
+  origins.set("origins=surface");
+  EXPECT_EQ(ShaftConfig::from_options(origins, 2).origins, SampleOrigins::Surface);
   // A config made in code meets the same rules when a builder resolves it.
   ShaftConfig zero_samples;
   zero_samples.samples = 0;
@@ -376,12 +381,15 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 37));
   const RayBatch rays = testing::nasty_rays(scene.triangles, 6);
   const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
-  for (auto [base, samples, stratified, reuse, walk_levels] :
-       {std::tuple{Base::Binary, 8, false, false, 1}, std::tuple{Base::Binary, 4, true, true, 1},
-        std::tuple{Base::Binary, 4, true, false, 2}, std::tuple{Base::Wide, 5, true, true, 1},
-        std::tuple{Base::Wide, 3, false, false, 1}}) {
+  const auto volume = SampleOrigins::Volume, surface = SampleOrigins::Surface;
+  for (auto [base, samples, stratified, reuse, walk_levels, origins] :
+       {std::tuple{Base::Binary, 8, false, false, 1, volume}, std::tuple{Base::Binary, 4, true, true, 1, volume},
+        std::tuple{Base::Binary, 4, true, false, 2, volume}, std::tuple{Base::Wide, 5, true, true, 1, volume},
+        std::tuple{Base::Wide, 3, false, false, 1, volume}, std::tuple{Base::Binary, 4, true, false, 1, surface},
+        std::tuple{Base::Wide, 3, true, true, 1, surface}}) {
     ShaftConfig c = fine_config(512, 3);
     c.walk_levels = walk_levels;
+    c.origins = origins;
     c.samples = samples;
     c.stratified = stratified;
     c.reuse_rays = reuse;

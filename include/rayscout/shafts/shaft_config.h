@@ -16,6 +16,13 @@ enum class ShaftSelect {
   CameraVoxels,
 };
 
+/// Where sample rays start in their voxel (the option key `origins`).
+enum class SampleOrigins {
+  Volume,   ///< "volume": uniform in the voxel (paper sec. 4.3)
+  Surface,  ///< "surface": uniform by area on the triangles inside the voxel, where secondary
+            ///< rays start (ours); voxels without surface fall back to volume
+};
+
 /// Tunables of a shaft collection. Defaults follow the authors' reference implementation
 /// (PBRT-v3 fork, branch frustum_shafts) where it has one; see docs/shafts.md.
 struct ShaftConfig {
@@ -39,6 +46,8 @@ struct ShaftConfig {
   /// is split into `samples` strata, one sample per stratum (random pairing); off = independent
   /// uniform samples.
   bool stratified = true;
+  /// Where the sample rays start (see SampleOrigins).
+  SampleOrigins origins = SampleOrigins::Volume;
   /// Share sample rays along their paths: a traced sample ray also serves every later listed
   /// voxel it crosses before its hit (same direction cell), so ~3x fewer rays are traced.
   /// Unset (default) = on for shafts-wide (same steps saved, build ~15 % faster), off for
