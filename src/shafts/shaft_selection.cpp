@@ -13,14 +13,7 @@ namespace {
 /// Voxels whose box meets a triangle's box and plane (a cheap conservative overlap).
 std::vector<uint8_t> occupied_voxels(const ShaftGrid& grid, std::span<const Triangle> tris) {
   std::vector<uint8_t> occ(grid.voxel_count(), 0);
-  const Bounds3& box = grid.box();
-  const auto res = grid.res();
-  Vec3 size;
-  for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
-  auto index = [&](float p, int a) {
-    if (!(size[a] > 0.0f)) return 0;
-    return std::clamp(int(std::floor((p - box.lo[a]) / size[a])), 0, res[a] - 1);
-  };
+  auto index = [&](float p, int a) { return grid.layer(p, a); };
   for (const Triangle& t : tris) {
     const Bounds3 tb = t.bounds();
     const Vec3 n = t.normal();

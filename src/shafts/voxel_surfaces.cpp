@@ -35,13 +35,7 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
   std::sort(voxels_.begin(), voxels_.end());
   const Bounds3& box = grid.box();
   epsilon_ = std::max(1e-5f * length(box.diagonal()), 1e-30f);
-  const auto res = grid.res();
-  Vec3 size;
-  for (int a = 0; a < 3; ++a) size[a] = (box.hi[a] - box.lo[a]) / float(res[a]);
-  auto index = [&](float p, int a) {
-    if (!(size[a] > 0.0f)) return 0;
-    return std::clamp(int(std::floor((p - box.lo[a]) / size[a])), 0, res[a] - 1);
-  };
+  auto index = [&](float p, int a) { return grid.layer(p, a); };
   // The candidate triangles of each voxel: those whose box meets it.
   std::vector<std::vector<uint32_t>> candidates(voxels_.size());
   auto slot = [&](uint32_t v) -> int64_t {

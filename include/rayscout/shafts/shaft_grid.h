@@ -1,7 +1,9 @@
 // ShaftGrid: the voxel grid and cube-map direction grid that classify rays into shafts.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -44,6 +46,12 @@ class ShaftGrid {
 
   /// Box of a voxel (exact grid planes lo + i * size, the last one ends at box.hi).
   Bounds3 voxel_box(uint32_t voxel) const;
+  /// Layer along `axis` (0..res[axis]-1, clamped) of the voxels holding coordinate p; the
+  /// layers of a box's lo and hi bound the voxels it meets. A flat axis has one layer.
+  int layer(float p, int axis) const {
+    if (!(size_[axis] > 0.0f)) return 0;
+    return std::clamp(int(std::floor((p - box_.lo[axis]) / size_[axis])), 0, res_[axis] - 1);
+  }
   /// Voxel of integer coordinates.
   uint32_t voxel_id(int x, int y, int z) const { return uint32_t(x + res_[0] * (y + res_[1] * z)); }
   /// Direction cell of a non-zero finite direction.
