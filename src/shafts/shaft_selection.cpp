@@ -13,13 +13,12 @@ namespace {
 /// Voxels whose box meets a triangle's box and plane (a cheap conservative overlap).
 std::vector<uint8_t> occupied_voxels(const ShaftGrid& grid, std::span<const Triangle> tris) {
   std::vector<uint8_t> occ(grid.voxel_count(), 0);
-  auto index = [&](float p, int a) { return grid.layer(p, a); };
   for (const Triangle& t : tris) {
     const Bounds3 tb = t.bounds();
     const Vec3 n = t.normal();
-    const int x0 = index(tb.lo.x, 0), x1 = index(tb.hi.x, 0);
-    const int y0 = index(tb.lo.y, 1), y1 = index(tb.hi.y, 1);
-    const int z0 = index(tb.lo.z, 2), z1 = index(tb.hi.z, 2);
+    const int x0 = grid.layer(tb.lo.x, 0), x1 = grid.layer(tb.hi.x, 0);
+    const int y0 = grid.layer(tb.lo.y, 1), y1 = grid.layer(tb.hi.y, 1);
+    const int z0 = grid.layer(tb.lo.z, 2), z1 = grid.layer(tb.hi.z, 2);
     const bool small = (x1 - x0) + (y1 - y0) + (z1 - z0) <= 1;
     for (int z = z0; z <= z1; ++z)
       for (int y = y0; y <= y1; ++y)

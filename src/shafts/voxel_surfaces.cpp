@@ -35,19 +35,17 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
   std::sort(voxels_.begin(), voxels_.end());
   const Bounds3& box = grid.box();
   epsilon_ = std::max(1e-5f * length(box.diagonal()), 1e-30f);
-  auto index = [&](float p, int a) { return grid.layer(p, a); };
   // The candidate triangles of each voxel: those whose box meets it.
   std::vector<std::vector<uint32_t>> candidates(voxels_.size());
-  auto slot = [&](uint32_t v) -> int64_t {
-    const auto it = std::lower_bound(voxels_.begin(), voxels_.end(), v);
-    return it != voxels_.end() && *it == v ? it - voxels_.begin() : -1;
-  };
   for (uint32_t t = 0; t < tris.size(); ++t) {
     const Bounds3 tb = tris[t].bounds();
     if (tb.empty() || !(tris[t].area() > 0.0f)) continue;
-    for (int z = index(tb.lo.z, 2); z <= index(tb.hi.z, 2); ++z)
-      for (int y = index(tb.lo.y, 1); y <= index(tb.hi.y, 1); ++y)
-        for (int x = index(tb.lo.x, 0); x <= index(tb.hi.x, 0); ++x)
+    const int x0 = grid.layer(tb.lo.x, 0), x1 = grid.layer(tb.hi.x, 0);
+    const int y0 = grid.layer(tb.lo.y, 1), y1 = grid.layer(tb.hi.y, 1);
+    const int z0 = grid.layer(tb.lo.z, 2), z1 = grid.layer(tb.hi.z, 2);
+    for (int z = z0; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x)
           if (const int64_t k = slot(grid.voxel_id(x, y, z)); k >= 0) candidates[size_t(k)].push_back(t);
   }
   // Clip them to the voxel (in parallel), then concatenate.
@@ -90,10 +88,15 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
   begin_.push_back(uint32_t(pieces_.size()));
 }
 
-bool VoxelSurfaces::sample(uint32_t voxel, const float rnd[3], Vec3& p) const {
+int64_t VoxelSurfaces::slot(uint32_t voxel) const {
   const auto it = std::lower_bound(voxels_.begin(), voxels_.end(), voxel);
-  if (it == voxels_.end() || *it != voxel) return false;
-  const size_t k = size_t(it - voxels_.begin());
+  return it != voxels_.end() && *it == voxel ? it - voxels_.begin() : -1;
+}
+
+bool VoxelSurfaces::sample(uint32_t voxel, const float rnd[3], Vec3& p) const {
+  const int64_t slot_of_voxel = slot(voxel);
+  if (slot_of_voxel < 0) return false;
+  const size_t k = size_t(slot_of_voxel);
   const uint32_t b = begin_[k], e = begin_[k + 1];
   if (b == e) return false;
   const uint32_t i = uint32_t(std::upper_bound(cdf_.begin() + b, cdf_.begin() + e - 1, rnd[0]) - cdf_.begin());

@@ -30,6 +30,9 @@ class VoxelSurfaces {
   bool empty() const { return pieces_.empty(); }
 
  private:
+  /// Index of voxel in voxels_, or -1.
+  int64_t slot(uint32_t voxel) const;
+
   struct Piece {
     Vec3 v0, e1, e2;
   };
