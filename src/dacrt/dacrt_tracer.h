@@ -70,8 +70,12 @@ class DacrtTracer {
 
   uint64_t leaf_tests(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
 #if defined(__AVX512F__) || defined(__AVX2__)
-    if (nr >= 8)  // 16 (AVX-512) or 8 (AVX2) rays per triangle test; a handful stays scalar
+    if (nr >= 8)  // 16 (AVX-512) or 8 (AVX2) rays per triangle test
       return leaf_simd<kOccluded>(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits, ctx_.occ);
+#endif
+#if defined(__AVX512F__)
+    if (nt >= 8)  // a handful of rays: 16 triangles per ray test
+      return leaf_few_rays<kOccluded>(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits, ctx_.occ);
 #endif
     if constexpr (kOccluded) return leaf_occluded(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.occ);
     else return leaf_intersect(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits);

@@ -8,6 +8,8 @@
 
 #include <immintrin.h>
 
+#include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 
@@ -161,6 +163,113 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
     _mm512_store_si512(lane.id, id); _mm512_store_si512(lane.best_p, best_p);
     store_leaf_hits<kAny>(lane, changed, rays, out, occ);
   }
+  return tests;
+}
+
+/// Fewer rays than a ray group (nr < 16) against a node's triangles: 16 triangles per test, the
+/// rays one after another, the same float operations as leaf_simd with ray and triangle
+/// swapped, so hits are bit-identical to the scalar kernels. A ray's closest hit among a
+/// group's lanes is their least (t, id), which is where the scalar kernel's run of is_closer
+/// updates ends; tests are counted as the scalar kernels count them (an any-hit ray up to its
+/// first hit in triangle order).
+template <bool kAny>
+__attribute__((noinline)) uint64_t leaf_few_rays(RayRecord* rays, const RayShear* pre, const uint32_t* rid, size_t nr,
+                                                 const Triangle* tris, const uint32_t* tid, size_t nt, HitOut out,
+                                                 uint8_t* occ) {
+  static_assert(sizeof(Triangle) == 9 * sizeof(float), "a triangle is gathered as 9 floats");
+  struct Best {
+    float t, u, v;
+    uint32_t p;
+    bool changed;
+  } best[16];
+  for (size_t i = 0; i < nr; ++i) best[i] = {rays[rid[i]].t, 0.0f, 0.0f, kAny ? 0u : out.prim[rid[i]], false};
+  const float* base = reinterpret_cast<const float*>(tris);
+  const __m512 zero = _mm512_setzero_ps();
+  uint64_t tests = 0;
+  for (size_t j = 0; j < nt; j += 16) {
+    const size_t n = std::min<size_t>(16, nt - j);
+    const __mmask16 valid = n == 16 ? __mmask16(0xFFFF) : __mmask16((1u << n) - 1u);
+    const __m512i p = _mm512_maskz_loadu_epi32(valid, tid + j);
+    const __m512i off = _mm512_mullo_epi32(p, _mm512_set1_epi32(9));
+    __m512 w[3][3];  // w[vertex][axis] of the 16 triangles
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) w[k][a] = _mm512_mask_i32gather_ps(zero, valid, off, base + 3 * k + a, 4);
+    for (size_t i = 0; i < nr; ++i) {
+      const uint32_t r = rid[i];
+      if (kAny && occ[r]) continue;  // retired: no tests, as in the scalar kernel
+      RayRecord& ray = rays[r];
+      const RayShear& sh = pre[r];
+      const int kx = int(sh.k & 0xFF), ky = int((sh.k >> 8) & 0xFF), kz = int(sh.k >> 16);
+      const float o[3] = {ray.ox, ray.oy, ray.oz};
+      const __m512 sx = _mm512_set1_ps(sh.sx), sy = _mm512_set1_ps(sh.sy), sz = _mm512_set1_ps(sh.sz);
+      // Vertex k relative to the origin in the ray's sheared frame (intersect_triangle's a, b, c).
+      auto rel = [&](int k, __m512& rx, __m512& ry, __m512& rz) {
+        const __m512 c = _mm512_sub_ps(w[k][kz], _mm512_set1_ps(o[kz]));
+        rx = _mm512_sub_ps(_mm512_sub_ps(w[k][kx], _mm512_set1_ps(o[kx])), _mm512_mul_ps(sx, c));
+        ry = _mm512_sub_ps(_mm512_sub_ps(w[k][ky], _mm512_set1_ps(o[ky])), _mm512_mul_ps(sy, c));
+        rz = _mm512_mul_ps(sz, c);
+      };
+      __m512 ax, ay, az, bx, by, bz, cx, cy, cz;
+      rel(0, ax, ay, az);
+      rel(1, bx, by, bz);
+      rel(2, cx, cy, cz);
+      const __m512 eu = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
+      const __m512 ev = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
+      const __m512 ew = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
+      const __mmask16 zero_edge = valid & (_mm512_cmp_ps_mask(eu, zero, _CMP_EQ_OQ) |
+                                           _mm512_cmp_ps_mask(ev, zero, _CMP_EQ_OQ) |
+                                           _mm512_cmp_ps_mask(ew, zero, _CMP_EQ_OQ));
+      const __mmask16 neg = _mm512_cmp_ps_mask(eu, zero, _CMP_LT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_LT_OQ) |
+                            _mm512_cmp_ps_mask(ew, zero, _CMP_LT_OQ);
+      const __mmask16 pos = _mm512_cmp_ps_mask(eu, zero, _CMP_GT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_GT_OQ) |
+                            _mm512_cmp_ps_mask(ew, zero, _CMP_GT_OQ);
+      const __m512 det = _mm512_add_ps(_mm512_add_ps(eu, ev), ew);
+      __mmask16 hit = valid & ~zero_edge & ~(neg & pos) & _mm512_cmp_ps_mask(det, zero, _CMP_NEQ_UQ);
+      alignas(64) float t[16], u[16], v[16];
+      if (hit) {
+        const __m512 tt =
+            _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(eu, az), _mm512_mul_ps(ev, bz)), _mm512_mul_ps(ew, cz)), det);
+        hit &= _mm512_cmp_ps_mask(tt, _mm512_set1_ps(ray.tmin), _CMP_GE_OQ) &
+               _mm512_cmp_ps_mask(tt, _mm512_set1_ps(best[i].t), _CMP_LE_OQ);
+        _mm512_store_ps(t, tt);
+        if (!kAny) {
+          _mm512_store_ps(u, _mm512_div_ps(ev, det));
+          _mm512_store_ps(v, _mm512_div_ps(ew, det));
+        }
+      }
+      // Exactly-zero edge functions: core's test (its double recomputation), lane by lane.
+      for (uint32_t z = zero_edge; z; z &= z - 1) {
+        const int l = std::countr_zero(z);
+        if (intersect_triangle(Vec3(o[0], o[1], o[2]), to_precomp(sh), tris[tid[j + size_t(l)]], ray.tmin, best[i].t,
+                               t[l], u[l], v[l]))
+          hit |= __mmask16(1u << l);
+      }
+      if (kAny) {
+        if (!hit) {
+          tests += n;
+          continue;
+        }
+        tests += uint64_t(std::countr_zero(uint32_t(hit))) + 1;
+        occ[r] = 1;
+        retire(ray);
+        continue;
+      }
+      tests += n;
+      if (!hit) continue;
+      // The least (t, id) of the hit lanes; its own t keeps the sign of a zero.
+      const __m512 tv = _mm512_load_ps(t);
+      const __mmask16 nearest = hit & _mm512_cmp_ps_mask(tv, _mm512_set1_ps(_mm512_mask_reduce_min_ps(hit, tv)), _CMP_EQ_OQ);
+      const uint32_t p_min = _mm512_mask_reduce_min_epu32(nearest, p);
+      const int l = std::countr_zero(uint32_t(nearest & _mm512_cmpeq_epi32_mask(p, _mm512_set1_epi32(int(p_min)))));
+      if (is_closer(t[l], p_min, best[i].t, best[i].p)) best[i] = {t[l], u[l], v[l], p_min, true};
+    }
+  }
+  if (!kAny)
+    for (size_t i = 0; i < nr; ++i)
+      if (best[i].changed) {
+        const uint32_t r = rid[i];
+        rays[r].t = best[i].t; out.prim[r] = best[i].p; out.u[r] = best[i].u; out.v[r] = best[i].v;
+      }
   return tests;
 }
 
