@@ -21,6 +21,34 @@
 
 namespace rayscout::dacrt {
 
+/// intersect_triangle's edge functions, determinant and sign decision for 16 lanes of sheared
+/// vertices a, b, c: of the lanes in `lanes`, those with an exactly-zero edge function
+/// (zero_edge: they take the scalar path) and those that may hit (candidates).
+struct EdgeTest {
+  __m512 eu, ev, ew, det;
+  __mmask16 zero_edge, candidates;
+  /// The hit distance (eu az + ev bz + ew cz) / det.
+  __m512 distance(__m512 az, __m512 bz, __m512 cz) const {
+    return _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(eu, az), _mm512_mul_ps(ev, bz)), _mm512_mul_ps(ew, cz)), det);
+  }
+};
+inline EdgeTest edge_test(__mmask16 lanes, __m512 ax, __m512 ay, __m512 bx, __m512 by, __m512 cx, __m512 cy) {
+  const __m512 zero = _mm512_setzero_ps();
+  EdgeTest e;
+  e.eu = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
+  e.ev = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
+  e.ew = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
+  e.zero_edge = lanes & (_mm512_cmp_ps_mask(e.eu, zero, _CMP_EQ_OQ) | _mm512_cmp_ps_mask(e.ev, zero, _CMP_EQ_OQ) |
+                         _mm512_cmp_ps_mask(e.ew, zero, _CMP_EQ_OQ));
+  const __mmask16 neg = _mm512_cmp_ps_mask(e.eu, zero, _CMP_LT_OQ) | _mm512_cmp_ps_mask(e.ev, zero, _CMP_LT_OQ) |
+                        _mm512_cmp_ps_mask(e.ew, zero, _CMP_LT_OQ);
+  const __mmask16 pos = _mm512_cmp_ps_mask(e.eu, zero, _CMP_GT_OQ) | _mm512_cmp_ps_mask(e.ev, zero, _CMP_GT_OQ) |
+                        _mm512_cmp_ps_mask(e.ew, zero, _CMP_GT_OQ);
+  e.det = _mm512_add_ps(_mm512_add_ps(e.eu, e.ev), e.ew);
+  e.candidates = lanes & ~e.zero_edge & ~(neg & pos) & _mm512_cmp_ps_mask(e.det, zero, _CMP_NEQ_UQ);
+  return e;
+}
+
 /// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
 /// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
 template <bool kAny>
@@ -104,21 +132,12 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       rel(tri.v0, ax, ay, az);
       rel(tri.v1, bx, by, bz);
       rel(tri.v2, cx, cy, cz);
-      const __m512 eu = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
-      const __m512 ev = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
-      const __m512 ew = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
-      const __mmask16 zero_edge = active & (_mm512_cmp_ps_mask(eu, zero, _CMP_EQ_OQ) |
-                                            _mm512_cmp_ps_mask(ev, zero, _CMP_EQ_OQ) |
-                                            _mm512_cmp_ps_mask(ew, zero, _CMP_EQ_OQ));
-      const __mmask16 neg = _mm512_cmp_ps_mask(eu, zero, _CMP_LT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_LT_OQ) |
-                            _mm512_cmp_ps_mask(ew, zero, _CMP_LT_OQ);
-      const __mmask16 pos = _mm512_cmp_ps_mask(eu, zero, _CMP_GT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_GT_OQ) |
-                            _mm512_cmp_ps_mask(ew, zero, _CMP_GT_OQ);
-      const __m512 det = _mm512_add_ps(_mm512_add_ps(eu, ev), ew);
-      __mmask16 hit = active & ~zero_edge & ~(neg & pos) & _mm512_cmp_ps_mask(det, zero, _CMP_NEQ_UQ);
+      const EdgeTest e = edge_test(active, ax, ay, bx, by, cx, cy);
+      const __mmask16 zero_edge = e.zero_edge;
+      __mmask16 hit = e.candidates;
       __m512 tt = zero, u = zero, v = zero;
       if (hit) {
-        tt = _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(eu, az), _mm512_mul_ps(ev, bz)), _mm512_mul_ps(ew, cz)), det);
+        tt = e.distance(az, bz, cz);
         hit &= _mm512_cmp_ps_mask(tt, tmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(tt, best_t, _CMP_LE_OQ);
         if (!kAny) {
           // is_closer: nearer, or equally near with a smaller triangle id.
@@ -127,8 +146,8 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
           need_p(equal);
           const __mmask16 tie = equal & _mm512_cmplt_epu32_mask(_mm512_set1_epi32(int(p)), best_p);
           hit &= nearer | tie;
-          u = _mm512_div_ps(ev, det);
-          v = _mm512_div_ps(ew, det);
+          u = _mm512_div_ps(e.ev, e.det);
+          v = _mm512_div_ps(e.ew, e.det);
         }
       }
       if (zero_edge) {
@@ -213,28 +232,18 @@ __attribute__((noinline)) uint64_t leaf_few_rays(RayRecord* rays, const RayShear
       rel(0, ax, ay, az);
       rel(1, bx, by, bz);
       rel(2, cx, cy, cz);
-      const __m512 eu = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
-      const __m512 ev = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
-      const __m512 ew = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
-      const __mmask16 zero_edge = valid & (_mm512_cmp_ps_mask(eu, zero, _CMP_EQ_OQ) |
-                                           _mm512_cmp_ps_mask(ev, zero, _CMP_EQ_OQ) |
-                                           _mm512_cmp_ps_mask(ew, zero, _CMP_EQ_OQ));
-      const __mmask16 neg = _mm512_cmp_ps_mask(eu, zero, _CMP_LT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_LT_OQ) |
-                            _mm512_cmp_ps_mask(ew, zero, _CMP_LT_OQ);
-      const __mmask16 pos = _mm512_cmp_ps_mask(eu, zero, _CMP_GT_OQ) | _mm512_cmp_ps_mask(ev, zero, _CMP_GT_OQ) |
-                            _mm512_cmp_ps_mask(ew, zero, _CMP_GT_OQ);
-      const __m512 det = _mm512_add_ps(_mm512_add_ps(eu, ev), ew);
-      __mmask16 hit = valid & ~zero_edge & ~(neg & pos) & _mm512_cmp_ps_mask(det, zero, _CMP_NEQ_UQ);
+      const EdgeTest e = edge_test(valid, ax, ay, bx, by, cx, cy);
+      const __mmask16 zero_edge = e.zero_edge;
+      __mmask16 hit = e.candidates;
       alignas(64) float t[16], u[16], v[16];
       if (hit) {
-        const __m512 tt =
-            _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(eu, az), _mm512_mul_ps(ev, bz)), _mm512_mul_ps(ew, cz)), det);
+        const __m512 tt = e.distance(az, bz, cz);
         hit &= _mm512_cmp_ps_mask(tt, _mm512_set1_ps(ray.tmin), _CMP_GE_OQ) &
                _mm512_cmp_ps_mask(tt, _mm512_set1_ps(best[i].t), _CMP_LE_OQ);
         _mm512_store_ps(t, tt);
         if (!kAny) {
-          _mm512_store_ps(u, _mm512_div_ps(ev, det));
-          _mm512_store_ps(v, _mm512_div_ps(ew, det));
+          _mm512_store_ps(u, _mm512_div_ps(e.ev, e.det));
+          _mm512_store_ps(v, _mm512_div_ps(e.ew, e.det));
         }
       }
       // Exactly-zero edge functions: core's test (its double recomputation), lane by lane.
