@@ -59,8 +59,7 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
         for (int k = 0; wants(li); ++k) {
           float rnd[5];
           stream.next(k, rnd);
-          Ray ray = Shaft::sample_ray(vbox, crange, rnd);
-          if (surfaces && surfaces->sample(v, rnd, ray.org)) ray.tmin = surfaces->epsilon();
+          const Ray ray = sample_ray(vbox, crange, rnd, surfaces, v);
           const float hit_t = trace(ray);
           ++task_traced;
           deposit(li, ray.org, ray.dir, hit_t);

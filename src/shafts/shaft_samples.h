@@ -49,6 +49,15 @@ inline void store_sample(ShaftSamples& samples, size_t k, const Vec3& org, const
   samples.hit_t[k] = hit_t;
 }
 
+/// Shaft::sample_ray of the voxel and cell for rnd; with surfaces (config.origins = surface)
+/// its origin is moved onto the voxel's surfaces when it has any, tmin just off them.
+inline Ray sample_ray(const Bounds3& voxel, const ShaftGrid::CellRange& cell, const float rnd[5],
+                      const VoxelSurfaces* surfaces, uint32_t voxel_id) {
+  Ray ray = Shaft::sample_ray(voxel, cell, rnd);
+  if (surfaces && surfaces->sample(voxel_id, rnd, ray.org)) ray.tmin = surfaces->epsilon();
+  return ray;
+}
+
 /// Draws the `config.samples` own sample rays of shaft `sid` (voxel box, direction cell),
 /// traces each and hands it to out(s, ray, hit_t). With surfaces (config.origins = surface)
 /// the origins lie on the voxel's surfaces when it has any.
@@ -61,8 +70,7 @@ void trace_own_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, u
   for (int s = 0; s < samples; ++s) {
     float rnd[5];
     stream.next(s, rnd);
-    Ray ray = Shaft::sample_ray(voxel, cell, rnd);
-    if (surfaces && surfaces->sample(voxel_id, rnd, ray.org)) ray.tmin = surfaces->epsilon();
+    const Ray ray = sample_ray(voxel, cell, rnd, surfaces, voxel_id);
     out(size_t(s), ray, trace(ray));
   }
 }

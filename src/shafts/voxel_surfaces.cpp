@@ -74,15 +74,12 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
   begin_.reserve(voxels_.size() + 1);
   for (size_t k = 0; k < voxels_.size(); ++k) {
     begin_.push_back(uint32_t(pieces_.size()));
-    double total = 0.0;
-    for (const Piece& p : per_voxel[k]) total += 0.5 * double(length(cross(p.e1, p.e2)));
-    if (!(total > 0.0)) continue;
+    std::vector<double> running;  // area of the voxel's pieces up to and including each
     double sum = 0.0;
-    for (const Piece& p : per_voxel[k]) {
-      sum += 0.5 * double(length(cross(p.e1, p.e2)));
-      pieces_.push_back(p);
-      cdf_.push_back(float(sum / total));
-    }
+    for (const Piece& p : per_voxel[k]) running.push_back(sum += 0.5 * double(length(cross(p.e1, p.e2))));
+    if (!(sum > 0.0)) continue;
+    pieces_.insert(pieces_.end(), per_voxel[k].begin(), per_voxel[k].end());
+    for (const double r : running) cdf_.push_back(float(r / sum));
     cdf_.back() = 1.0f;
   }
   begin_.push_back(uint32_t(pieces_.size()));
