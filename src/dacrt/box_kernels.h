@@ -5,6 +5,7 @@
 // tests/dacrt/dacrt_votes_test.cpp, rays lying in a box plane with a +-0 direction included).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cmath>
@@ -94,6 +95,36 @@ inline int first_child_by_votes(uint32_t n_l, uint32_t n_r, size_t tris_l, size_
   return double(n_l) * std::log2(double(tris_r) + 1.0) >= double(n_r) * std::log2(double(tris_l) + 1.0) ? 0 : 1;
 }
 
+#if defined(__AVX512F__)
+/// One box against 16 rays, a RayRecord field per vector (f[0..7] as transpose_records16
+/// gives them): ray_hits_box lane by lane, the same operations, the planes chosen by the
+/// sign of each lane's inverse direction. Returns the hit lanes of valid; tnear and tfar
+/// as ray_hits_box leaves them.
+struct BoxX16 {
+  __m512 lo[3], hi[3];
+  explicit BoxX16(const Bounds3& b) {
+    for (int a = 0; a < 3; ++a) { lo[a] = _mm512_set1_ps(b.lo[a]); hi[a] = _mm512_set1_ps(b.hi[a]); }
+  }
+  __mmask16 test(const __m512 (&f)[8], __mmask16 valid, __m512& tnear, __m512& tfar) const {
+    const __m512 robust = _mm512_set1_ps(kRobustScale);
+    const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
+    tnear = f[3];
+    tfar = _mm512_add_ps(f[7], _mm512_mul_ps(_mm512_abs_ps(f[7]), _mm512_set1_ps(kHitSlack)));  // filter_tmax
+    for (int a = 0; a < 3; ++a) {
+      const __m512 o = f[a], inv = f[4 + a];
+      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo[a], o), inv);
+      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(hi[a], o), inv);
+      const __mmask16 negative = _mm512_test_epi32_mask(_mm512_castps_si512(inv), sign_bit);
+      const __m512 near = _mm512_mask_blend_ps(negative, t0, t1);
+      const __m512 far = _mm512_mul_ps(_mm512_mask_blend_ps(negative, t1, t0), robust);
+      tnear = _mm512_max_ps(near, tnear);  // near > tnear ? near : tnear, as the scalar test
+      tfar = _mm512_min_ps(far, tfar);     // far < tfar ? far : tfar
+    }
+    return _mm512_mask_cmp_ps_mask(valid, tnear, tfar, _CMP_LE_OQ);
+  }
+};
+#endif
+
 /// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
 /// others follow (the set is kept whole for the sibling). scratch holds >= n ids.
 /// When prefetch is set, the entries prefetch[id] of the hitting rays are prefetched (the
@@ -102,40 +133,25 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
                              uint32_t* scratch, [[maybe_unused]] const RayShear* prefetch = nullptr) {
   size_t w = 0, m = 0, i = 0;
 #if defined(__AVX512F__)
-  const __m512 lox = _mm512_set1_ps(box.lo.x), loy = _mm512_set1_ps(box.lo.y), loz = _mm512_set1_ps(box.lo.z);
-  const __m512 hix = _mm512_set1_ps(box.hi.x), hiy = _mm512_set1_ps(box.hi.y), hiz = _mm512_set1_ps(box.hi.z);
-  const __m512 robust = _mm512_set1_ps(kRobustScale), slack = _mm512_set1_ps(kHitSlack);
-  const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
+  const BoxX16 bx(box);
   const float* base = reinterpret_cast<const float*>(rays);
-  auto test_fields = [&](__m512 ox, __m512 oy, __m512 oz, __m512 tnear, __m512 ix, __m512 iy, __m512 iz, __m512 t,
-                         __mmask16 valid) -> __mmask16 {
-    __m512 tfar = _mm512_add_ps(t, _mm512_mul_ps(_mm512_abs_ps(t), slack));  // filter_tmax
-    auto slab = [&](__m512 lo, __m512 hi, __m512 o, __m512 inv) {
-      const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo, o), inv);
-      const __m512 t1 = _mm512_mul_ps(_mm512_sub_ps(hi, o), inv);
-      const __mmask16 negative = _mm512_test_epi32_mask(_mm512_castps_si512(inv), sign_bit);
-      const __m512 a = _mm512_mask_blend_ps(negative, t0, t1);
-      const __m512 b = _mm512_mul_ps(_mm512_mask_blend_ps(negative, t1, t0), robust);
-      tnear = _mm512_max_ps(a, tnear);  // a > tnear ? a : tnear, as the scalar test
-      tfar = _mm512_min_ps(b, tfar);    // b < tfar ? b : tfar
-    };
-    slab(lox, hix, ox, ix);
-    slab(loy, hiy, oy, iy);
-    slab(loz, hiz, oz, iz);
-    return _mm512_mask_cmp_ps_mask(valid, tnear, tfar, _CMP_LE_OQ);
+  auto test_fields = [&](const __m512 (&f)[8], __mmask16 valid) -> __mmask16 {
+    __m512 tnear, tfar;
+    return bx.test(f, valid, tnear, tfar);
   };
   // The tail: 8 gathers of the records' fields.
   auto test = [&](__m512i id, __mmask16 valid) -> __mmask16 {
     const __m512i off = _mm512_slli_epi32(id, 3);
     const __m512 z = _mm512_setzero_ps();
-    auto g = [&](int f) { return _mm512_mask_i32gather_ps(z, valid, off, base + f, 4); };
-    return test_fields(g(0), g(1), g(2), g(3), g(4), g(5), g(6), g(7), valid);
+    __m512 f[8];
+    for (int k = 0; k < 8; ++k) f[k] = _mm512_mask_i32gather_ps(z, valid, off, base + k, 4);
+    return test_fields(f, valid);
   };
   // Full chunks: 16 records transposed into 8 field vectors, cheaper than 8 gathers.
   auto test_full = [&](const uint32_t* ids) -> __mmask16 {
     __m512 f[8];
     rayscout::detail::transpose_records16([&](int k) { return base + 8 * size_t(ids[k]); }, f);
-    return test_fields(f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], 0xFFFF);
+    return test_fields(f, 0xFFFF);
   };
   constexpr size_t kAhead = 64;  // ids ahead whose records are prefetched: gathers then hit cache
   for (; i + 16 <= n; i += 16) {
@@ -333,6 +349,64 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     if (v == 0) ++votes_l[j]; else if (v == 1) ++votes_r[j];
   }
 #endif
+}
+
+/// Algorithm 2 for the two children of a chosen split: hits[c] counts the sample rays
+/// rays[id(q)], q < ns, that hit box[c], votes[c] their votes by rule (see vote(); goes_up
+/// along axis). Sample ids are read in order q = 0, 1, ... (a random strategy draws them so).
+/// With AVX-512 16 sample rays per box test, each lane as the scalar loop below.
+template <class SampleId>
+inline void sample_children(const RayRecord* rays, size_t ns, SampleId id, const Bounds3 (&box)[2], int axis,
+                            DacrtVotes rule, uint32_t (&hits)[2], uint32_t (&votes)[2]) {
+  hits[0] = hits[1] = votes[0] = votes[1] = 0;
+  size_t q = 0;
+#if defined(__AVX512F__)
+  const BoxX16 bl(box[0]), br(box[1]);
+  const __m512 inf = _mm512_set1_ps(kInfinity);
+  const float* base = reinterpret_cast<const float*>(rays);
+  for (; q < ns; q += 16) {
+    const int n = int(std::min<size_t>(16, ns - q));
+    uint32_t ids[16];
+    for (int k = 0; k < n; ++k) ids[k] = uint32_t(id(q + k));
+    for (int k = n; k < 16; ++k) ids[k] = ids[0];  // lanes outside valid: any record
+    const __mmask16 valid = static_cast<__mmask16>((1u << n) - 1u);
+    __m512 f[8];
+    rayscout::detail::transpose_records16([&](int k) { return base + 8 * size_t(ids[k]); }, f);
+    __m512 dl, fl, dr, fr;
+    const __mmask16 hl = bl.test(f, valid, dl, fl), hr = br.test(f, valid, dr, fr), both = hl & hr;
+    const __mmask16 up = _mm512_cmp_ps_mask(f[4 + axis], _mm512_setzero_ps(), _CMP_GE_OQ);  // RayRecord::goes_up
+    __mmask16 left, right;
+    if (rule == DacrtVotes::Literal) {  // (hl ? dl : inf) < (hr ? dr : inf)
+      left = _mm512_mask_cmp_ps_mask(valid, _mm512_mask_blend_ps(hl, inf, dl), _mm512_mask_blend_ps(hr, inf, dr),
+                                     _CMP_LT_OQ);
+      right = static_cast<__mmask16>(valid & ~left);
+    } else if (rule == DacrtVotes::Sign) {
+      left = both & up;
+      right = static_cast<__mmask16>(both & ~up);
+    } else if (rule == DacrtVotes::Interval) {
+      left = _mm512_mask_cmp_ps_mask(both, fl, dr, _CMP_LT_OQ);
+      right = static_cast<__mmask16>(_mm512_mask_cmp_ps_mask(both, fr, dl, _CMP_LT_OQ) & ~left);
+    } else {
+      left = _mm512_mask_cmp_ps_mask(both, dl, dr, _CMP_LT_OQ) | (_mm512_mask_cmp_ps_mask(both, dl, dr, _CMP_EQ_OQ) & up);
+      right = static_cast<__mmask16>(both & ~left);
+    }
+    hits[0] += uint32_t(__builtin_popcount(hl));
+    hits[1] += uint32_t(__builtin_popcount(hr));
+    votes[0] += uint32_t(__builtin_popcount(left));
+    votes[1] += uint32_t(__builtin_popcount(right));
+  }
+#endif
+  for (; q < ns; ++q) {
+    const RayRecord& r = rays[id(q)];
+    float d[2], f[2];
+    bool h[2];
+    for (int c = 0; c < 2; ++c) {
+      h[c] = ray_hits_box(r, box[c], d[c], f[c]);
+      hits[c] += h[c];
+    }
+    const int v = vote(rule, h[0], h[1], d[0], f[0], d[1], f[1], r.goes_up(axis));
+    if (v >= 0) ++votes[v];
+  }
 }
 
 }  // namespace rayscout::dacrt

@@ -203,19 +203,9 @@ void DacrtTracer<kStats, kOccluded>::finish_sides(const uint32_t* tid, size_t nt
 template <bool kStats, bool kOccluded>
 void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, Split& s) {
   const size_t ns = cfg_.sample_count(nr);
-  uint32_t hits[2] = {0, 0};
-  s.votes[0] = s.votes[1] = 0;
-  for (size_t q = 0; q < ns; ++q) {
-    const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
-    float d[2] = {kInfinity, kInfinity}, f[2] = {kInfinity, kInfinity};
-    bool h[2];
-    for (int c = 0; c < 2; ++c) {
-      h[c] = ray_hits_box(r, s.box[c], d[c], f[c]);
-      hits[c] += h[c];
-    }
-    const int v = vote(cfg_.votes, h[0], h[1], d[0], f[0], d[1], f[1], r.goes_up(s.axis));
-    if (v >= 0) ++s.votes[v];
-  }
+  uint32_t hits[2];
+  sample_children(ctx_.rays, ns, [&](size_t q) { return rid[sample_index(q, ns, nr)]; }, s.box, s.axis, cfg_.votes,
+                  hits, s.votes);
   s.alpha[0] = double(hits[0]) / double(ns);
   s.alpha[1] = double(hits[1]) / double(ns);
   s.sampled = true;

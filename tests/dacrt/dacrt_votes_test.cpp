@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <string>
+#include <vector>
 
 #include "box_kernels.h"  // private: src/dacrt
 
@@ -100,6 +102,65 @@ TEST(DacrtVotes, KernelCountsWhatTheScalarRuleGives) {
       for (int j = 0; j < n; ++j) EXPECT_EQ(c[k][j], want[k][size_t(j)]) << "rule " << int(rule) << " counter " << k << " pair " << j;
     if (rule == DacrtVotes::Literal) EXPECT_EQ(votes, 300u * n);  // every ray votes for every pair
     else EXPECT_GT(votes, 0u);
+  }
+}
+
+// sample_children (16 sample rays per box test with AVX-512) counts the hits and votes of the
+// scalar ray_hits_box and vote() for a chosen split: every rule, tails of 1-15 rays, rays in
+// box planes, retired rays, boxes that share a face or are identical.
+TEST(DacrtVotes, ChildSamplesCountWhatTheScalarRuleGives) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(-4.0f, 4.0f), s(0.1f, 3.0f);
+  std::vector<RayRecord> rays(700);
+  const Bounds3 pairs[4][2] = {
+      {{{-1.0f, -1.0f, -1.0f}, {0.0f, 1.0f, 1.0f}}, {{0.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f}}},  // one face
+      {{{-2.0f, -0.5f, 0.0f}, {1.0f, 0.5f, 2.0f}}, {{-2.0f, -0.5f, 0.0f}, {1.0f, 0.5f, 2.0f}}},   // identical
+      {{{-3.0f, 0.5f, -1.0f}, {-1.0f, 2.5f, 3.0f}}, {{0.5f, -2.0f, -3.0f}, {2.0f, 0.0f, -1.0f}}},  // apart
+      {{{-3.0f, -1.0f, -1.0f}, {-0.5f, 1.0f, 1.0f}}, {{0.5f, -1.0f, -1.0f}, {3.0f, 1.0f, 1.0f}}}}; // a gap
+  for (size_t i = 0; i < rays.size(); ++i) {
+    // Aimed at a point of one box of a pair (the other one is often crossed too), or random.
+    const Bounds3& aim = pairs[i % 4][(i / 4) % 2];
+    const Vec3 o{u(rng), u(rng), u(rng)};
+    const Vec3 p = aim.lo + (aim.hi - aim.lo) * Vec3(s(rng), s(rng), s(rng)) * (1.0f / 3.0f);
+    const Vec3 d = i % 5 ? p - o : Vec3(u(rng), u(rng), u(rng));
+    rays[i] = record(o, d, i % 3 ? kInfinity : s(rng));
+    if (i % 4 == 1) rays[i] = in_plane_of(pairs[i % 3][(i / 4) % 2], int(i), rays[i]);
+    if (i % 11 == 0) rays[i].ox = 0.0f;  // on the face the first pair shares: exit = entry
+    if (i % 37 == 0) (i % 3 == 0 ? rays[i].ix : i % 3 == 1 ? rays[i].iy : rays[i].iz) = i % 2 ? 0.0f : -0.0f;
+    if (i % 29 == 0) retire(rays[i]);
+  }
+  for (DacrtVotes rule : {DacrtVotes::Entry, DacrtVotes::Sign, DacrtVotes::Interval, DacrtVotes::Literal}) {
+    uint64_t rule_votes[2] = {0, 0};
+    for (const auto& box : pairs)
+      for (int axis = 0; axis < 3; ++axis)
+        for (size_t ns : {1u, 15u, 16u, 17u, 100u, 233u}) {
+          auto id = [&](size_t q) { return (q * 3 + size_t(axis)) % rays.size(); };
+          uint32_t hits[2], votes[2], want_hits[2] = {0, 0}, want_votes[2] = {0, 0};
+          sample_children(rays.data(), ns, id, box, axis, rule, hits, votes);
+          for (size_t q = 0; q < ns; ++q) {
+            const RayRecord& r = rays[id(q)];
+            float d[2], f[2];
+            bool h[2];
+            for (int c = 0; c < 2; ++c) want_hits[c] += h[c] = ray_hits_box(r, box[c], d[c], f[c]);
+            const int v = vote(rule, h[0], h[1], d[0], f[0], d[1], f[1], r.goes_up(axis));
+            if (v >= 0) ++want_votes[v];
+          }
+          const std::string at = "rule " + std::to_string(int(rule)) + " axis " + std::to_string(axis) + " ns " +
+                                 std::to_string(ns);
+          EXPECT_EQ(hits[0], want_hits[0]) << at;
+          EXPECT_EQ(hits[1], want_hits[1]) << at;
+          EXPECT_EQ(votes[0], want_votes[0]) << at;
+          EXPECT_EQ(votes[1], want_votes[1]) << at;
+          rule_votes[0] += votes[0];
+          rule_votes[1] += votes[1];
+          if (rule == DacrtVotes::Literal) {
+            EXPECT_EQ(votes[0] + votes[1], ns) << at;  // every ray votes
+          }
+        }
+    // Both sides get votes (the interval rule only from rays that cross one box wholly first).
+    const uint64_t least = rule == DacrtVotes::Interval ? 30 : 200;
+    EXPECT_GT(rule_votes[0], least) << "rule " << int(rule);
+    EXPECT_GT(rule_votes[1], least) << "rule " << int(rule);
   }
 }
 
