@@ -123,6 +123,28 @@ struct BoxX16 {
     return _mm512_mask_cmp_ps_mask(valid, tnear, tfar, _CMP_LE_OQ);
   }
 };
+
+/// vote() in 16 lanes: left and right get the lanes of valid that vote for each child, from
+/// the hit masks hl, hr, the entry (d) and exit (f) distances and the lanes going up.
+inline void vote_masks(DacrtVotes rule, __mmask16 valid, __mmask16 hl, __mmask16 hr, __m512 dl, __m512 fl, __m512 dr,
+                       __m512 fr, __mmask16 up, __mmask16& left, __mmask16& right) {
+  const __mmask16 both = hl & hr;
+  if (rule == DacrtVotes::Literal) {  // (hl ? dl : inf) < (hr ? dr : inf)
+    const __m512 inf = _mm512_set1_ps(kInfinity);
+    left = _mm512_mask_cmp_ps_mask(valid, _mm512_mask_blend_ps(hl, inf, dl), _mm512_mask_blend_ps(hr, inf, dr),
+                                   _CMP_LT_OQ);
+    right = static_cast<__mmask16>(valid & ~left);
+  } else if (rule == DacrtVotes::Sign) {
+    left = both & up;
+    right = static_cast<__mmask16>(both & ~up);
+  } else if (rule == DacrtVotes::Interval) {
+    left = _mm512_mask_cmp_ps_mask(both, fl, dr, _CMP_LT_OQ);
+    right = static_cast<__mmask16>(_mm512_mask_cmp_ps_mask(both, fr, dl, _CMP_LT_OQ) & ~left);
+  } else {
+    left = _mm512_mask_cmp_ps_mask(both, dl, dr, _CMP_LT_OQ) | (_mm512_mask_cmp_ps_mask(both, dl, dr, _CMP_EQ_OQ) & up);
+    right = static_cast<__mmask16>(both & ~left);
+  }
+}
 #endif
 
 /// Moves the ids of rays hitting box to the front of rid[0, n) and returns their count; the
@@ -268,22 +290,8 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
   for (int i = 0; i < lb.count; i += 16) {
     __m512 nl, nr, fl, fr;
     const __mmask16 hl = test(lb, i, nl, fl), hr = test(rb, i, nr, fr);
-    const __mmask16 both = hl & hr;
-    __mmask16 left, right;
-    if (rule == DacrtVotes::Literal) {  // d = inf on a miss: hitting only L, or both with L nearer
-      left = static_cast<__mmask16>((hl & ~hr) | _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ));
-      right = static_cast<__mmask16>(~left);
-    } else if (rule == DacrtVotes::Sign) {
-      left = goes_up ? both : __mmask16(0);
-      right = static_cast<__mmask16>(both & ~left);
-    } else if (rule == DacrtVotes::Interval) {
-      left = _mm512_mask_cmp_ps_mask(both, fl, nr, _CMP_LT_OQ);
-      right = static_cast<__mmask16>(_mm512_mask_cmp_ps_mask(both, fr, nl, _CMP_LT_OQ) & ~left);
-    } else {
-      left = _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_LT_OQ);
-      if (goes_up) left |= _mm512_mask_cmp_ps_mask(both, nl, nr, _CMP_EQ_OQ);
-      right = static_cast<__mmask16>(both & ~left);
-    }
+    __mmask16 left, right;  // padding lanes hit nothing; a literal vote of theirs goes to n_R, unread
+    vote_masks(rule, 0xFFFF, hl, hr, nl, fl, nr, fr, goes_up ? 0xFFFF : 0, left, right);
     auto add = [&](uint32_t* p, __mmask16 m) {
       __m512i v = _mm512_load_si512(p + i);
       _mm512_store_si512(p + i, _mm512_mask_add_epi32(v, m, v, one));
@@ -362,7 +370,6 @@ inline void sample_children(const RayRecord* rays, size_t ns, SampleId id, const
   size_t q = 0;
 #if defined(__AVX512F__)
   const BoxX16 bl(box[0]), br(box[1]);
-  const __m512 inf = _mm512_set1_ps(kInfinity);
   const float* base = reinterpret_cast<const float*>(rays);
   for (; q < ns; q += 16) {
     const int n = int(std::min<size_t>(16, ns - q));
@@ -373,23 +380,10 @@ inline void sample_children(const RayRecord* rays, size_t ns, SampleId id, const
     __m512 f[8];
     rayscout::detail::transpose_records16([&](int k) { return base + 8 * size_t(ids[k]); }, f);
     __m512 dl, fl, dr, fr;
-    const __mmask16 hl = bl.test(f, valid, dl, fl), hr = br.test(f, valid, dr, fr), both = hl & hr;
+    const __mmask16 hl = bl.test(f, valid, dl, fl), hr = br.test(f, valid, dr, fr);
     const __mmask16 up = _mm512_cmp_ps_mask(f[4 + axis], _mm512_setzero_ps(), _CMP_GE_OQ);  // RayRecord::goes_up
     __mmask16 left, right;
-    if (rule == DacrtVotes::Literal) {  // (hl ? dl : inf) < (hr ? dr : inf)
-      left = _mm512_mask_cmp_ps_mask(valid, _mm512_mask_blend_ps(hl, inf, dl), _mm512_mask_blend_ps(hr, inf, dr),
-                                     _CMP_LT_OQ);
-      right = static_cast<__mmask16>(valid & ~left);
-    } else if (rule == DacrtVotes::Sign) {
-      left = both & up;
-      right = static_cast<__mmask16>(both & ~up);
-    } else if (rule == DacrtVotes::Interval) {
-      left = _mm512_mask_cmp_ps_mask(both, fl, dr, _CMP_LT_OQ);
-      right = static_cast<__mmask16>(_mm512_mask_cmp_ps_mask(both, fr, dl, _CMP_LT_OQ) & ~left);
-    } else {
-      left = _mm512_mask_cmp_ps_mask(both, dl, dr, _CMP_LT_OQ) | (_mm512_mask_cmp_ps_mask(both, dl, dr, _CMP_EQ_OQ) & up);
-      right = static_cast<__mmask16>(both & ~left);
-    }
+    vote_masks(rule, valid, hl, hr, dl, fl, dr, fr, up, left, right);
     hits[0] += uint32_t(__builtin_popcount(hl));
     hits[1] += uint32_t(__builtin_popcount(hr));
     votes[0] += uint32_t(__builtin_popcount(left));
