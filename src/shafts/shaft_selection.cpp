@@ -16,26 +16,21 @@ std::vector<uint8_t> occupied_voxels(const ShaftGrid& grid, std::span<const Tria
   for (const Triangle& t : tris) {
     const Bounds3 tb = t.bounds();
     const Vec3 n = t.normal();
-    const int x0 = grid.layer(tb.lo.x, 0), x1 = grid.layer(tb.hi.x, 0);
-    const int y0 = grid.layer(tb.lo.y, 1), y1 = grid.layer(tb.hi.y, 1);
-    const int z0 = grid.layer(tb.lo.z, 2), z1 = grid.layer(tb.hi.z, 2);
-    const bool small = (x1 - x0) + (y1 - y0) + (z1 - z0) <= 1;
-    for (int z = z0; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const uint32_t v = grid.voxel_id(x, y, z);
-          if (occ[v]) continue;
-          if (!small) {
-            // Plane test with a generous margin: rejects voxels far from a big slanted triangle.
-            const Bounds3 vb = grid.voxel_box(v);
-            const Vec3 c = vb.center(), h = vb.diagonal() * 0.5f;
-            const double dist = std::fabs(double(dot(n, c - t.v0)));
-            const double reach = std::fabs(double(n.x) * h.x) + std::fabs(double(n.y) * h.y) +
-                                 std::fabs(double(n.z) * h.z);
-            if (dist > reach * 1.01 + 1e-6 * length(n) * length(h)) continue;
-          }
-          occ[v] = 1;
-        }
+    const ShaftGrid::VoxelBlock block = grid.block(tb);
+    const bool small = block.extra_layers() <= 1;
+    grid.for_each_voxel(block, [&](uint32_t v) {
+      if (occ[v]) return;
+      if (!small) {
+        // Plane test with a generous margin: rejects voxels far from a big slanted triangle.
+        const Bounds3 vb = grid.voxel_box(v);
+        const Vec3 c = vb.center(), h = vb.diagonal() * 0.5f;
+        const double dist = std::fabs(double(dot(n, c - t.v0)));
+        const double reach = std::fabs(double(n.x) * h.x) + std::fabs(double(n.y) * h.y) +
+                             std::fabs(double(n.z) * h.z);
+        if (dist > reach * 1.01 + 1e-6 * length(n) * length(h)) return;
+      }
+      occ[v] = 1;
+    });
   }
   return occ;
 }

@@ -40,13 +40,9 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
   for (uint32_t t = 0; t < tris.size(); ++t) {
     const Bounds3 tb = tris[t].bounds();
     if (tb.empty() || !(tris[t].area() > 0.0f)) continue;
-    const int x0 = grid.layer(tb.lo.x, 0), x1 = grid.layer(tb.hi.x, 0);
-    const int y0 = grid.layer(tb.lo.y, 1), y1 = grid.layer(tb.hi.y, 1);
-    const int z0 = grid.layer(tb.lo.z, 2), z1 = grid.layer(tb.hi.z, 2);
-    for (int z = z0; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x)
-          if (const int64_t k = slot(grid.voxel_id(x, y, z)); k >= 0) candidates[size_t(k)].push_back(t);
+    grid.for_each_voxel(grid.block(tb), [&](uint32_t v) {
+      if (const int64_t k = slot(v); k >= 0) candidates[size_t(k)].push_back(t);
+    });
   }
   // Clip them to the voxel (in parallel), then concatenate.
   std::vector<std::vector<Piece>> per_voxel(voxels_.size());
@@ -56,8 +52,7 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
       for (const uint32_t t : candidates[k]) {
         const Triangle& tri = tris[t];
         const Bounds3 tb = tri.bounds();
-        if (tb.lo.x >= vb.lo.x && tb.lo.y >= vb.lo.y && tb.lo.z >= vb.lo.z && tb.hi.x <= vb.hi.x &&
-            tb.hi.y <= vb.hi.y && tb.hi.z <= vb.hi.z) {
+        if (vb.contains(tb)) {
           per_voxel[k].push_back({tri.v0, tri.v1 - tri.v0, tri.v2 - tri.v0});
           continue;
         }

@@ -54,6 +54,22 @@ class ShaftGrid {
   }
   /// Voxel of integer coordinates.
   uint32_t voxel_id(int x, int y, int z) const { return uint32_t(x + res_[0] * (y + res_[1] * z)); }
+  /// The block of voxels a box meets: its lo and hi layers on each axis.
+  struct VoxelBlock {
+    std::array<int, 3> lo, hi;
+    /// Layers beyond the first, summed over the axes (0: one voxel).
+    int extra_layers() const { return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]); }
+  };
+  VoxelBlock block(const Bounds3& b) const {
+    return {{layer(b.lo.x, 0), layer(b.lo.y, 1), layer(b.lo.z, 2)}, {layer(b.hi.x, 0), layer(b.hi.y, 1), layer(b.hi.z, 2)}};
+  }
+  /// Calls visit(voxel id) for every voxel of the block, x fastest.
+  template <class Visit>
+  void for_each_voxel(const VoxelBlock& k, Visit visit) const {
+    for (int z = k.lo[2]; z <= k.hi[2]; ++z)
+      for (int y = k.lo[1]; y <= k.hi[1]; ++y)
+        for (int x = k.lo[0]; x <= k.hi[0]; ++x) visit(voxel_id(x, y, z));
+  }
   /// Direction cell of a non-zero finite direction.
   uint32_t dir_cell(const Vec3& dir) const {
     const Vec3 a = abs(dir);
