@@ -19,6 +19,10 @@ struct ShaftSamples {
     for (auto* v : {&ox, &oy, &oz, &ix, &iy, &iz, &hit_t}) v->resize(n);
   }
   size_t size() const { return hit_t.size(); }
+  /// Lets every ray count as hitting at reach at the latest (retry_overflow's clamp).
+  void clamp_hits(float reach) {
+    for (float& t : hit_t) t = std::min(t, reach);
+  }
 };
 
 /// 1 when a sample ray (origin o, inverse direction i, real hit at hit_t) enters box b before
@@ -34,6 +38,30 @@ inline int sample_enters(const Bounds3& b, float ox, float oy, float oz, float i
 }
 
 inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
+
+/// Distance, in voxel diagonals, of the first clamp of the overflow policy. Starting at 8
+/// gives the same steps saved on the bench scenes (docs/shafts.md, History, session 29).
+inline constexpr float kFirstReach = 4.0f;
+
+/// What a list build does on overflow, for one shaft (budget pilots) and for a group (the
+/// build) alike. `rebuild(min_prob, clamped)` rebuilds the lists that overflowed and returns
+/// whether all fit now (clamped: a rebuild of the first kind); `clamp(reach)` clamps the sample rays' hit distances to reach. First near_retries
+/// rebuilds at min_prob with the distances clamped to kFirstReach, then half that, ... voxel
+/// diagonals (ShaftConfig::near_retries), then Algorithm 1's thresholds min_prob + (i+1)/20
+/// for i < retries. Returns whether all lists fit (else the caller falls back to
+/// cullNodeSubtree(root)).
+template <class Rebuild, class Clamp>
+bool retry_overflow(int near_retries, int retries, double min_prob, float voxel_diagonal, Rebuild rebuild,
+                    Clamp clamp) {
+  float reach = kFirstReach * voxel_diagonal;
+  for (int i = 0; i < near_retries; ++i, reach *= 0.5f) {
+    clamp(reach);
+    if (rebuild(min_prob, true)) return true;
+  }
+  for (int i = 0; i < retries; ++i)
+    if (rebuild(min_prob + double(i + 1) / 20.0, false)) return true;
+  return false;
+}
 
 /// cullNodeSubtree: descends while exactly one child overlaps the shaft; returns that
 /// descendant, or kNoNode when no child overlaps (the subtree is unreachable).

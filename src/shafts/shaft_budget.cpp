@@ -22,17 +22,17 @@ using detail::Selection;
 /// The budget search stays below the 2^32 shafts a collection can address.
 constexpr double kMaxShafts = 0.9 * 4294967296.0;
 
-/// Algorithm 1 for one shaft with thresholds raised from retry `first_retry` on (-1 = start
-/// at min_prob), then the cullNodeSubtree(root) fallback. Counts raises and fallbacks.
-void build_with_retries(const TreeView& tree, const Shaft& shaft, const detail::ShaftSamples& samples,
-                        const ShaftConfig& config, double min_prob, int first_retry, std::vector<uint32_t>& list,
-                        size_t& retries, size_t& fallbacks) {
+/// Algorithm 1 for one shaft, retry_overflow on overflow, then the cullNodeSubtree(root)
+/// fallback. Counts the rebuilds (of either kind) and fallbacks; samples' distances may be clamped.
+void build_with_retries(const TreeView& tree, const Shaft& shaft, detail::ShaftSamples& samples,
+                        const ShaftConfig& config, double min_prob, std::vector<uint32_t>& list, size_t& retries,
+                        size_t& fallbacks) {
   detail::CandidateListBuilder builder(tree, shaft, samples);
-  bool ok = first_retry < 0 && builder.build(min_prob, config.max_list, list);
-  for (int i = std::max(0, first_retry); !ok && i < config.retries; ++i) {
-    ++retries;
-    ok = builder.build(min_prob + double(i + 1) / 20.0, config.max_list, list);
-  }
+  const bool ok = builder.build(min_prob, config.max_list, list) ||
+                  detail::retry_overflow(
+                      config.near_retries, config.retries, min_prob, length(shaft.voxel().diagonal()),
+                      [&](double p, bool) { ++retries; return builder.build(p, config.max_list, list); },
+                      [&](float reach) { samples.clamp_hits(reach); });
   if (!ok) {
     ++fallbacks;
     list.clear();
@@ -51,7 +51,7 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   samples.resize(size_t(config.samples.value()));
   detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell,
                             surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
-  build_with_retries(tree, shaft, samples, config, min_prob, -1, list, retries, fallbacks);
+  build_with_retries(tree, shaft, samples, config, min_prob, list, retries, fallbacks);
 }
 
 }  // namespace

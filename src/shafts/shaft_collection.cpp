@@ -32,7 +32,7 @@ struct VoxelLists {
   std::vector<uint8_t> len;
   std::vector<uint32_t> begin;  ///< start of the cell's list in data (groups fill data out of cell order)
   std::vector<uint32_t> data;
-  size_t retries = 0, fallbacks = 0;
+  size_t near_retries = 0, retries = 0, fallbacks = 0;
 };
 }  // namespace detail
 
@@ -135,12 +135,17 @@ class VoxelListMaker {
       if (tree.size() > 0) {
         detail::GroupListBuilder builder(tree, group, members_, samples_, int(per), scratch_);
         uint64_t failed = all & ~builder.build(c_.min_prob, c_.config.max_list, all, lists_.data());
-        // Overflowing members retry together with raised thresholds (Algorithm 1 retries),
-        // then fall back to cullNodeSubtree(root).
-        for (int i = 0; failed && i < c_.config.retries; ++i) {
-          vl.retries += size_t(std::popcount(failed));
-          failed &= ~builder.build(c_.min_prob + double(i + 1) / 20.0, c_.config.max_list, failed, lists_.data());
-        }
+        // Overflowing members retry together (retry_overflow: clamped distances, then raised
+        // thresholds), then fall back to cullNodeSubtree(root).
+        if (failed)
+          detail::retry_overflow(
+              c_.config.near_retries, c_.config.retries, c_.min_prob, length(group.voxel().diagonal()),
+              [&](double p, bool clamped) {
+                (clamped ? vl.near_retries : vl.retries) += size_t(std::popcount(failed));
+                failed &= ~builder.build(p, c_.config.max_list, failed, lists_.data());
+                return failed == 0;
+              },
+              [&](float reach) { samples_.clamp_hits(reach); });
         for (uint64_t f = failed; f; f &= f - 1) {
           const int m = std::countr_zero(f);
           ++vl.fallbacks;
@@ -184,8 +189,9 @@ std::string ShaftStats::summary() const {
     << "memory: lookup " << lookup_bytes / 1024.0 << " KiB + lists " << list_bytes / 1024.0
     << " KiB = " << memory_bytes() / 1048576.0 << " MiB (budget " << budget_bytes / 1048576.0
     << " MiB); dedup saved " << dedup_saved_bytes / 1024.0 << " KiB, " << unique_lists << " unique lists\n"
-    << "lists: mean length " << mean_list << ", max " << max_list << "; overflow retries "
-    << overflow_retries << ", fallbacks " << overflow_fallbacks << "\n"
+    << "lists: mean length " << mean_list << ", max " << max_list << "; overflow: " << near_retries
+    << " rebuilds with clamped distances, " << overflow_retries << " with raised thresholds, " << overflow_fallbacks
+    << " fallbacks\n"
     << "build " << build_ms << " ms in " << build_rounds << " round(s) (budget pilots " << pilot_ms
     << " ms); last round: selection " << select_ms
     << " ms, lists " << lists_ms << " ms (sample-ray tracing " << samples_ms << " CPU ms over all threads), packing " << pack_ms << " ms";
@@ -273,6 +279,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
     const detail::VoxelLists& vl = out[li];
     const uint32_t base = uint32_t(li * cells);
     voxel_base_[listed[li]] = base;
+    st.near_retries += vl.near_retries;
     st.overflow_retries += vl.retries;
     st.overflow_fallbacks += vl.fallbacks;
     for (uint32_t cell = 0; cell < cells; ++cell) {

@@ -34,6 +34,7 @@ void ShaftConfig::validate() const {
   range("dir_res", dir_res, 1, 64);
   range("max_list", max_list, 1, 31);  // the length is packed into 5 bits
   range("walk_levels", walk_levels, 1, 4);
+  range("near_retries", near_retries, 0, 16);
   if (!(budget_rel > 0)) bad("budget_rel must be > 0");
   if (samples) range("samples", *samples, 1, 1000);
   if (stratified && samples && *samples > 256) bad("samples must be <= 256 with stratified=1");
@@ -67,6 +68,7 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o, int arity) {
   if (!is_auto("reuse_rays")) c.reuse_rays = o.get_bool("reuse_rays", false);
   c.min_prob = o.get_double("min_prob", c.min_prob, -1.0, 1.0);
   c.max_list = int(o.get_int("max_list", c.max_list, 1, 31));
+  c.near_retries = int(o.get_int("near_retries", c.near_retries, 0, 16));
   c.retries = int(o.get_int("retries", c.retries, 0, 1000));
   c.select = parse_select(o.get_string("select", "occupied"));
   c.coverage = o.get_double("coverage", c.coverage);

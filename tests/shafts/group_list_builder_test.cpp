@@ -85,5 +85,50 @@ TEST(GroupListBuilder, MembersGetTheirOwnAlgorithm1Lists) {
   EXPECT_GT(overflowed, 5u);
 }
 
+// retry_overflow: clamps at 4, 2, 1, 1/2, ... voxel diagonals at min_prob, then Algorithm 1's
+// thresholds min_prob + (i+1)/20, stopping at the first rebuild that fits.
+TEST(OverflowPolicy, ClampsNearFirstThenRaisesTheThreshold) {
+  struct Call { double min_prob; bool clamped; float reach; };
+  auto run = [](int near_retries, int retries, int fits_at, std::vector<Call>& calls) {
+    calls.clear();
+    float reach = -1.0f;
+    return detail::retry_overflow(
+        near_retries, retries, 0.5, 2.0f,
+        [&](double p, bool clamped) {
+          calls.push_back({p, clamped, reach});
+          return int(calls.size()) == fits_at;
+        },
+        [&](float r) { reach = r; });
+  };
+  std::vector<Call> calls;
+  EXPECT_FALSE(run(3, 2, 0, calls));
+  ASSERT_EQ(calls.size(), 5u);
+  const float reaches[] = {8.0f, 4.0f, 2.0f};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(calls[i].min_prob, 0.5);
+    EXPECT_TRUE(calls[i].clamped);
+    EXPECT_EQ(calls[i].reach, reaches[i]);
+  }
+  EXPECT_DOUBLE_EQ(calls[3].min_prob, 0.55);
+  EXPECT_DOUBLE_EQ(calls[4].min_prob, 0.6);
+  EXPECT_FALSE(calls[3].clamped || calls[4].clamped);
+  EXPECT_EQ(calls[4].reach, 2.0f) << "the raised thresholds keep the last clamp";
+  EXPECT_TRUE(run(3, 2, 2, calls));
+  EXPECT_EQ(calls.size(), 2u) << "stops at the first rebuild that fits";
+  EXPECT_TRUE(run(0, 10, 1, calls));
+  EXPECT_FALSE(calls[0].clamped);
+  EXPECT_EQ(calls[0].reach, -1.0f) << "near_retries = 0: the paper's rule, no clamp";
+  EXPECT_DOUBLE_EQ(calls[0].min_prob, 0.55);
+}
+
+// A clamp lets a sample ray count as hitting at the reach at the latest.
+TEST(OverflowPolicy, ClampShortensOnlyLongerHits) {
+  detail::ShaftSamples s;
+  s.resize(3);
+  s.hit_t = {1.0f, 5.0f, kInfinity};
+  s.clamp_hits(2.0f);
+  EXPECT_EQ(s.hit_t, (std::vector<float>{1.0f, 2.0f, 2.0f}));
+}
+
 }  // namespace
 }  // namespace rayscout

@@ -78,17 +78,14 @@ void expect_covered(const ShaftsAccelerator& acc, Base base, std::span<const Tri
 
 class ShaftsBoth : public ::testing::TestWithParam<Base> {};
 
-// The conservative-culling property: random shafts, random rays inside them (origins in the
-// voxel incl. its corners, directions in the cell incl. its corners), all hits covered.
-TEST_P(ShaftsBoth, CandidateListsCoverEveryHitInTheShaft) {
-  const Base base = GetParam();
-  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 3));
-  const ShaftsAccelerator acc(scene, base, fine_config(1000, 3));
+/// The conservative-culling property: random shafts, random rays inside them (origins in the
+/// voxel incl. its corners, directions in the cell incl. its corners), all hits covered.
+/// Counts the hits checked and the shafts with a list (or proven to reach nothing).
+void expect_random_shafts_covered(const ShaftsAccelerator& acc, Base base, const Scene& scene, int shafts,
+                                  size_t& hits, size_t& with_list) {
   const ShaftGrid& g = acc.collection().grid();
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  size_t hits = 0, with_list = 0;
-  const int shafts = small_scale() ? 60 : 300;
   for (int s = 0; s < shafts; ++s) {
     const ShaftCoord coord{uint32_t(rng() % g.voxel_count()), uint32_t(rng() % g.cells_per_voxel())};
     const Candidates c = acc.collection().lookup(coord);
@@ -102,11 +99,48 @@ TEST_P(ShaftsBoth, CandidateListsCoverEveryHitInTheShaft) {
       Ray ray = shaft.sample_ray(rnd);
       ray.tmin = 0.0f;
       expect_covered(acc, base, scene.triangles, ray, c, hits);
-      if (HasFatalFailure()) return;
+      if (::testing::Test::HasFatalFailure()) return;
     }
   }
+}
+
+TEST_P(ShaftsBoth, CandidateListsCoverEveryHitInTheShaft) {
+  const Base base = GetParam();
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 3));
+  const ShaftsAccelerator acc(scene, base, fine_config(1000, 3));
+  size_t hits = 0, with_list = 0;
+  const int shafts = small_scale() ? 60 : 300;
+  expect_random_shafts_covered(acc, base, scene, shafts, hits, with_list);
   EXPECT_GT(hits, 200u);
   EXPECT_GT(with_list, size_t(shafts) / 3);
+}
+
+// Short lists force overflows on a random soup. Rebuilding with clamped sample distances
+// first (near_retries) spares lists the raised threshold, so they keep more depth, and they
+// stay conservative either way.
+TEST_P(ShaftsBoth, OverflowingListsRetryNearFirstAndStayConservative) {
+  const Base base = GetParam();
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 3));
+  ShaftConfig config = fine_config(1000, 3);
+  config.max_list = 10;
+  config.near_retries = 0;  // the paper's rule only
+  const ShaftsAccelerator paper(scene, base, config);
+  config.near_retries = 5;
+  const ShaftsAccelerator near(scene, base, config);
+  const ShaftStats &sp = paper.stats(), &sn = near.stats();
+  EXPECT_EQ(sp.near_retries, 0u);
+  EXPECT_GT(sp.overflow_retries, 1000u) << sp.summary();
+  EXPECT_GT(sn.near_retries, 1000u) << sn.summary();
+  EXPECT_LT(sn.overflow_retries, sp.overflow_retries) << sp.summary() << sn.summary();
+  EXPECT_LE(sn.overflow_fallbacks, sp.overflow_fallbacks);
+  EXPECT_GT(sn.mean_list, 1.1 * sp.mean_list);
+  EXPECT_LE(sn.max_list, 10);
+  for (const ShaftsAccelerator* acc : {&paper, &near}) {
+    size_t hits = 0, with_list = 0;
+    expect_random_shafts_covered(*acc, base, scene, small_scale() ? 60 : 300, hits, with_list);
+    if (HasFatalFailure()) return;
+    EXPECT_GT(hits, 200u);
+  }
 }
 
 // End to end through classify(): random rays, rays from outside the box, rays from voxel
@@ -268,6 +302,9 @@ TEST(ShaftsOptions, BadValuesAreInputErrors) {
   AcceleratorOptions o;
   o.set("max_list=40");
   EXPECT_THROW(ShaftConfig::from_options(o, 2), InputError);
+  AcceleratorOptions near;
+  near.set("near_retries=17");
+  EXPECT_THROW(ShaftConfig::from_options(near, 2), InputError);
   AcceleratorOptions s;
   s.set("select=everything");
   EXPECT_THROW(ShaftConfig::from_options(s, 2), InputError);

@@ -38,6 +38,7 @@ struct ShaftStats {
   size_t voxels = 0, listed_voxels = 0;  ///< all voxels; voxels with a shaft table
   size_t shafts = 0, listed_shafts = 0;  ///< all shafts; shafts with a list (incl. empty ones)
   size_t empty_lists = 0;            ///< shafts proven to reach no geometry (rays return a miss)
+  size_t near_retries = 0;           ///< list rebuilds with clamped sample distances (ShaftConfig::near_retries)
   size_t overflow_retries = 0;       ///< list rebuilds with a raised threshold
   size_t overflow_fallbacks = 0;     ///< lists that stayed too long: cullNodeSubtree(root)
   size_t unique_lists = 0;
