@@ -44,12 +44,12 @@ inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 inline constexpr float kFirstReach = 4.0f;
 
 /// What a list build does on overflow, for one shaft (budget pilots) and for a group (the
-/// build) alike. `rebuild(min_prob, clamped)` rebuilds the lists that overflowed and returns
-/// whether all fit now (clamped: a rebuild of the first kind); `clamp(reach)` clamps the sample rays' hit distances to reach. First near_retries
-/// rebuilds at min_prob with the distances clamped to kFirstReach, then half that, ... voxel
-/// diagonals (ShaftConfig::near_retries), then Algorithm 1's thresholds min_prob + (i+1)/20
-/// for i < retries. Returns whether all lists fit (else the caller falls back to
-/// cullNodeSubtree(root)).
+/// build) alike: first near_retries rebuilds at min_prob with the sample rays' hit distances
+/// clamped to kFirstReach voxel diagonals, then half that, and so on (ShaftConfig::
+/// near_retries, ours); then Algorithm 1's thresholds min_prob + (i+1)/20 for i < retries,
+/// distances still clamped. `clamp(reach)` clamps the distances; `rebuild(min_prob, clamped)`
+/// rebuilds the lists that overflowed and returns whether all fit now (clamped: a rebuild of
+/// the first kind). Returns whether all fit (else the caller falls back to cullNodeSubtree(root)).
 template <class Rebuild, class Clamp>
 bool retry_overflow(int near_retries, int retries, double min_prob, float voxel_diagonal, Rebuild rebuild,
                     Clamp clamp) {
