@@ -22,36 +22,29 @@ using detail::Selection;
 /// The budget search stays below the 2^32 shafts a collection can address.
 constexpr double kMaxShafts = 0.9 * 4294967296.0;
 
-/// Algorithm 1 for one shaft, retry_overflow on overflow, then the cullNodeSubtree(root)
-/// fallback. Counts the rebuilds (of either kind) and fallbacks; samples' distances may be clamped.
-void build_with_retries(const TreeView& tree, const Shaft& shaft, detail::ShaftSamples& samples,
-                        const ShaftConfig& config, double min_prob, std::vector<uint32_t>& list, size_t& retries,
-                        size_t& fallbacks) {
-  detail::CandidateListBuilder builder(tree, shaft, samples);
-  const bool ok = builder.build(min_prob, config.max_list, list) ||
-                  detail::retry_overflow(
-                      config.near_retries, config.retries, min_prob, length(shaft.voxel().diagonal()),
-                      [&](double p, bool) { ++retries; return builder.build(p, config.max_list, list); },
-                      [&](float reach) { samples.clamp_hits(reach); });
-  if (!ok) {
-    ++fallbacks;
-    list.clear();
-    const uint32_t n = builder.cull_subtree(tree.root);
-    if (n != detail::kNoNode) list.push_back(n);
-  }
-}
-
-/// Builds the list (node indices) of one shaft on its own (budget pilots).
+/// Builds the list (node indices) of one shaft on its own (budget pilots): Algorithm 1, the
+/// build's overflow policy (retry_overflow; it may clamp samples' distances), then the
+/// cullNodeSubtree(root) fallback.
 void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
                const detail::VoxelSurfaces* surfaces, const ShaftConfig& config, double min_prob,
-               detail::ShaftSamples& samples, std::vector<uint32_t>& list, size_t& retries, size_t& fallbacks) {
+               detail::ShaftSamples& samples, std::vector<uint32_t>& list) {
   list.clear();
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples.value()));
   detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell,
                             surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
-  build_with_retries(tree, shaft, samples, config, min_prob, list, retries, fallbacks);
+  detail::CandidateListBuilder builder(tree, shaft, samples);
+  const bool ok = builder.build(min_prob, config.max_list, list) ||
+                  detail::retry_overflow(
+                      config.near_retries, config.retries, min_prob, length(shaft.voxel().diagonal()),
+                      [&](double p, bool) { return builder.build(p, config.max_list, list); },
+                      [&](float reach) { samples.clamp_hits(reach); });
+  if (!ok) {
+    list.clear();
+    const uint32_t n = builder.cull_subtree(tree.root);
+    if (n != detail::kNoNode) list.push_back(n);
+  }
 }
 
 }  // namespace
@@ -104,11 +97,10 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pilots, 8), [&](const auto& range) {
       detail::ShaftSamples samples;
       std::vector<uint32_t> list;
-      size_t r = 0, f = 0;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const uint64_t id = ids[i * ids.size() / pilots];
         build_one(tree, grid, {uint32_t(id / grid.cells_per_voxel()), uint32_t(id % grid.cells_per_voxel())},
-                  trace, surfaces ? &*surfaces : nullptr, config, min_prob, samples, list, r, f);
+                  trace, surfaces ? &*surfaces : nullptr, config, min_prob, samples, list);
         lengths[i] = list.size();
       }
     });

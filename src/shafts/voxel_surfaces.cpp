@@ -67,9 +67,10 @@ VoxelSurfaces::VoxelSurfaces(const ShaftGrid& grid, std::span<const Triangle> tr
     }
   });
   begin_.reserve(voxels_.size() + 1);
+  std::vector<double> running;  // area of a voxel's pieces up to and including each
   for (size_t k = 0; k < voxels_.size(); ++k) {
     begin_.push_back(uint32_t(pieces_.size()));
-    std::vector<double> running;  // area of the voxel's pieces up to and including each
+    running.clear();
     double sum = 0.0;
     for (const Piece& p : per_voxel[k]) running.push_back(sum += 0.5 * double(length(cross(p.e1, p.e2))));
     if (!(sum > 0.0)) continue;
