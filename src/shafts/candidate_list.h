@@ -77,6 +77,13 @@ inline uint32_t cull_subtree(const TreeView& tree, const Shaft& shaft, uint32_t 
   }
 }
 
+/// The list of a shaft whose list still overflows after retry_overflow: the single node
+/// cullNodeSubtree(root), or nothing when the shaft reaches no geometry.
+inline void fallback_list(const TreeView& tree, const Shaft& shaft, std::vector<uint32_t>& list) {
+  list.clear();
+  if (const uint32_t n = cull_subtree(tree, shaft, tree.root); n != kNoNode) list.push_back(n);
+}
+
 /// Grows a voxel by a margin far above the rounding of sample origins: a node box that
 /// contains it overlaps every shaft of the voxel, and every sample ray starts inside it
 /// (hit probability exactly 1).

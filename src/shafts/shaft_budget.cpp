@@ -40,11 +40,7 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
                       config.near_retries, config.retries, min_prob, length(shaft.voxel().diagonal()),
                       [&](double p, bool) { return builder.build(p, config.max_list, list); },
                       [&](float reach) { samples.clamp_hits(reach); });
-  if (!ok) {
-    list.clear();
-    const uint32_t n = builder.cull_subtree(tree.root);
-    if (n != detail::kNoNode) list.push_back(n);
-  }
+  if (!ok) detail::fallback_list(tree, shaft, list);
 }
 
 }  // namespace

@@ -149,9 +149,7 @@ class VoxelListMaker {
         for (uint64_t f = failed; f; f &= f - 1) {
           const int m = std::countr_zero(f);
           ++vl.fallbacks;
-          lists_[m].clear();
-          const uint32_t n = detail::cull_subtree(tree, members_[m]->at_voxel(c_.grid, voxel), tree.root);
-          if (n != detail::kNoNode) lists_[m].push_back(n);
+          detail::fallback_list(tree, members_[m]->at_voxel(c_.grid, voxel), lists_[m]);
         }
       }
       for (size_t m = 0; m < members_.size(); ++m) {
