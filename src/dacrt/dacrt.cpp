@@ -47,6 +47,7 @@ void for_range(bool parallel, size_t n, F&& f) {
 template <typename T>
 class Buffer {
  public:
+  using value_type = T;
   T* get(size_t n) {
     if (n > capacity_) {
       data_.reset();
@@ -96,25 +97,32 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   if (kOccluded) occluded->assign(n, 0); else hits->reset(n);
   if (stats) stats->rays += n;
   const size_t tasks = task_count(config_, n);
-  {
-    std::lock_guard report(last_mutex_);
-    last_memory_ = n == 0 ? 0 : scratch_bytes(n, nt, tasks);
-  }
-  if (n == 0 || nt == 0) return;
+  // The bytes this call takes from the arena and the heap, reported as its memory (a count
+  // of what the code allocates, which tests compare with the formula scratch_bytes).
+  size_t taken = 0;
+  auto take = [&taken](auto& buffer, size_t count) {
+    taken += count * sizeof(typename std::remove_reference_t<decltype(buffer)>::value_type);
+    return buffer.get(count);
+  };
+  auto report = [&] {
+    std::lock_guard guard(last_mutex_);
+    last_memory_ = taken;
+  };
+  if (n == 0 || nt == 0) return report();
   const bool par = config_.parallel;
 
   // The kept buffers, or (a concurrent call) buffers of this call only.
   std::unique_lock lock(arena_mutex_, std::try_to_lock);
   std::unique_ptr<Arena> own;
   Arena& a = lock.owns_lock() ? *arena_ : *(own = std::make_unique<Arena>());
-  RayRecord* rec = a.rec.get(n);
-  dacrt::RayShear* shear = a.shear.get(n);
-  uint32_t* rid = a.rid.get(n);
-  uint32_t* scratch = a.scratch.get(n);
-  uint32_t* tid = a.tid.get(tasks * nt);
-  uint8_t* bin_idx = a.bin_idx.get(tasks * nt);
+  RayRecord* rec = take(a.rec, n);
+  dacrt::RayShear* shear = take(a.shear, n);
+  uint32_t* rid = take(a.rid, n);
+  uint32_t* scratch = take(a.scratch, n);
+  uint32_t* tid = take(a.tid, tasks * nt);
+  uint8_t* bin_idx = take(a.bin_idx, tasks * nt);
+  dacrt::TriBox* const boxes = take(a.boxes, nt);
   if (!a.triangles_ready) {
-    dacrt::TriBox* boxes = a.boxes.get(nt);
     a.box = a.cb = Bounds3{};
     for (size_t p = 0; p < nt; ++p) {
       const Bounds3 b = triangles_[p].bounds();
@@ -137,11 +145,13 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
 
   float magnitude = std::max(max_component(abs(box.lo)), max_component(abs(box.hi)));
   for (const float m : block_magnitude) magnitude = std::max(magnitude, m);
-  dacrt::TraceContext ctx{&config_, rec, shear, triangles_.data(), a.boxes.get(nt),
+  dacrt::TraceContext ctx{&config_, rec, shear, triangles_.data(), boxes,
                           {nullptr, nullptr, nullptr}, nullptr, dacrt::pad_for(magnitude)};
   if constexpr (kOccluded) ctx.occ = occluded->data();
   else ctx.hits = {hits->prim.data(), hits->u.data(), hits->v.data()};
 
+  // One tracer per task on the heap (its binning buffers).
+  taken += tasks * (stats ? sizeof(dacrt::DacrtTracer<true, kOccluded>) : sizeof(dacrt::DacrtTracer<false, kOccluded>));
   std::vector<TraceStats> task_stats(tasks);
   std::vector<DacrtDetails> task_details(tasks);
   auto run_task = [&](size_t k) {
@@ -166,10 +176,11 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
 
   if constexpr (!kOccluded)
     for_range(par, n, [&](size_t i) { if (hits->prim[i] != kInvalidId) hits->t[i] = rec[i].t; });
+  report();
   if (stats) {
     DacrtDetails d;
     for (size_t k = 0; k < tasks; ++k) { *stats += task_stats[k]; d += task_details[k]; }
-    std::lock_guard report(last_mutex_);
+    std::lock_guard guard(last_mutex_);
     last_details_ = d;
   }
 }

@@ -41,8 +41,9 @@ class Dacrt final : public Accelerator {
 
   std::string name() const override { return name_; }
   BuildInfo build_info() const override { return {}; }
-  /// Scratch bytes of the last trace call: scratch_bytes(|R|, |T|, tasks). With concurrent
-  /// calls, of the one that finished last (here and in last_details).
+  /// Scratch bytes the last trace call took, counted as it allocates them (the formula is
+  /// scratch_bytes(|R|, |T|, tasks)). With concurrent calls, of the one that finished last
+  /// (here and in last_details).
   size_t last_trace_memory_bytes() const override;
   /// Counts of the last call that passed non-null stats.
   DacrtDetails last_details() const;
