@@ -16,7 +16,13 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+
+// stb's decoder of our own, to read written PNGs without rayscout's reader.
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
 
 #include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
@@ -79,6 +85,59 @@ TEST(ImageIo, TopRowComesFirstInEveryFormat) {
     const Image back = read_image(p);
     EXPECT_FLOAT_EQ(back.at(0, 0).x, 1.0f) << ext;
     EXPECT_FLOAT_EQ(back.at(0, 1).x, 0.0f) << ext;
+    fs::remove(p);
+  }
+}
+
+// The files themselves, read without rayscout's readers (so a flip on both sides of the round
+// trip above cannot pass): PNG and EXR store the top row first, PFM the bottom row first.
+TEST(ImageIo, TopRowIsWhereEachFileFormatPutsIt) {
+  Image img(2, 2);
+  img.at(0, 0) = Vec3{1, 0, 0};  // top left red
+  {
+    const fs::path p = temp_file("orient_raw.png");
+    write_image(img, p);
+    int w = 0, h = 0, n = 0;
+    unsigned char* px = stbi_load(p.string().c_str(), &w, &h, &n, 3);
+    ASSERT_NE(px, nullptr);
+    EXPECT_EQ(w, 2);
+    EXPECT_EQ(h, 2);
+    EXPECT_EQ(px[0], 255);      // first row, first pixel, red
+    EXPECT_EQ(px[2 * 3], 0);    // second row, first pixel
+    stbi_image_free(px);
+    fs::remove(p);
+  }
+  {
+    const fs::path p = temp_file("orient_raw.exr");
+    write_image(img, p);
+    Imf::InputFile in(p.string().c_str());
+    const Imath::Box2i dw = in.header().dataWindow();
+    ASSERT_EQ(dw.max.x - dw.min.x + 1, 2);
+    ASSERT_EQ(dw.max.y - dw.min.y + 1, 2);
+    float red[4] = {-1, -1, -1, -1};
+    Imf::FrameBuffer fb;
+    fb.insert("R", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(red - dw.min.x - 2 * dw.min.y), sizeof(float),
+                              2 * sizeof(float)));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    EXPECT_EQ(red[0], 1.0f);  // row dw.min.y: the top
+    EXPECT_EQ(red[2], 0.0f);
+    fs::remove(p);
+  }
+  {
+    const fs::path p = temp_file("orient_raw.pfm");
+    write_image(img, p);
+    std::ifstream in(p, std::ios::binary);
+    std::string magic, scale;
+    int w = 0, h = 0;
+    in >> magic >> w >> h >> scale;
+    in.get();  // the one whitespace byte after the scale
+    ASSERT_EQ(magic, "PF");
+    ASSERT_EQ(scale, "-1.0");  // little endian
+    float rgb[12];
+    ASSERT_TRUE(in.read(reinterpret_cast<char*>(rgb), sizeof(rgb)));
+    EXPECT_EQ(rgb[0], 0.0f);  // first stored row: the bottom one
+    EXPECT_EQ(rgb[6], 1.0f);  // second stored row, first pixel, red: the top one
     fs::remove(p);
   }
 }

@@ -59,6 +59,10 @@ TEST(ManylightClustering, NormalsSeparateCoincidentPoints) {
     nrm.push_back(Vec3(0, -1, 0));
   }
   const Clustering c = cluster_points(pos, nrm, 1.0f, 1.0f, 8);
+  ASSERT_EQ(c.size(), 8u);
+  size_t shared = 0;  // clusters of more than one point: the check below is not vacuous
+  for (size_t k = 0; k < c.size(); ++k) shared += c.count(k) > 1;
+  EXPECT_EQ(shared, 8u);
   for (size_t k = 0; k < c.size(); ++k) {
     const float y0 = nrm[c.order[c.begin[k]]].y;
     for (uint32_t j = c.begin[k]; j < c.begin[k + 1]; ++j) EXPECT_EQ(nrm[c.order[j]].y, y0);

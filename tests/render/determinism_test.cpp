@@ -235,8 +235,15 @@ TEST(Batches, KindsBouncesAndStats) {
     EXPECT_EQ(stats.batches[i].rays, sizes[i]);
     EXPECT_EQ(stats.batches[i].info.kind, seen[i].kind);
     EXPECT_LE(seen[i].bounce, cfg.max_depth);
-    // brute force tests every ray against every triangle
     EXPECT_EQ(stats.batches[i].counters.rays, sizes[i]);
+    // Brute force tests every ray against every triangle (any hit stops at the first).
+    const uint64_t all_pairs = uint64_t(sizes[i]) * scene.triangles.size();
+    if (seen[i].occlusion) {
+      EXPECT_LE(stats.batches[i].counters.ray_tri_tests, all_pairs) << i;
+      EXPECT_GE(stats.batches[i].counters.ray_tri_tests, sizes[i]) << i;
+    } else {
+      EXPECT_EQ(stats.batches[i].counters.ray_tri_tests, all_pairs) << i;
+    }
     total += sizes[i];
   }
   EXPECT_EQ(stats.rays(), total);
