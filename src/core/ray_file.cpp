@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -79,7 +80,7 @@ void check_not_directory(const std::filesystem::path& file) {
 std::string read_records(const std::filesystem::path& file, std::optional<RayFileKind>& kind, uint64_t& count) {
   check_not_directory(file);
   std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, std::string("cannot open ") + (kind ? what_of(*kind) : "ray file"));
+  if (!in) fail(file, std::string("cannot open ") + (kind ? what_of(*kind) : "ray file") + ": " + std::strerror(errno));
   char head[kRayFileHeaderBytes];
   in.read(head, kRayFileHeaderBytes);
   const size_t got = size_t(in.gcount());

@@ -8,8 +8,9 @@
 namespace rayscout {
 
 /// Throws InputError, prefixed with `label` (e.g. "--stats out.json"), unless `path` can be
-/// created as a file: it is not a directory and its folder exists. Commands call it before
-/// long work, so that a mistyped output path never costs a finished render.
+/// written as a file: it is not a directory, its folder exists, and it opens for writing (an
+/// existing file is left as it is, a new one is removed again). Commands call it before long
+/// work, so that a mistyped or unwritable output path never costs a finished render.
 void check_output_path(const std::filesystem::path& path, const std::string& label);
 
 /// Writes bytes to path, replacing it, and checks the write only after closing the file: a full
