@@ -37,6 +37,7 @@ void run_rays(const RaysArgs& a) {
   const Workload workload = parse_workload(a.workload);
   check_output_path(a.out, "--out " + a.out);
   check_memory(a.config, workload);
+  check_accelerator(a.accel);
   const auto start = SteadyClock::now();
   const Scene scene = resolve_scene(a.scene);
   // Secondary workloads start at the primary hits, found with this accelerator.

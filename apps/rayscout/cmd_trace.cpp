@@ -38,6 +38,7 @@ void run_trace(const TraceArgs& a) {
   if (!a.out.empty()) check_output_path(a.out, "--out " + a.out);
   AcceleratorOptions options;
   for (const auto& kv : a.accel_opts) options.set(kv);
+  check_accelerator(a.accel, options);  // before the scene and rays are read
   const Scene scene = resolve_scene(a.scene);
   const RayBatch rays = read_rays(a.rays);
   const auto accel = make_accelerator(a.accel, scene, options);

@@ -23,6 +23,10 @@ inline constexpr const char* kDefaultAccelerator = "bvh";
 /// Every accelerator compiled into this build, reference ("brute") first.
 const std::vector<AcceleratorInfo>& accelerators();
 
+/// Throws what make_accelerator would for `name` and `options` (an unknown name, an unknown
+/// key, a bad value), without a scene or a build: commands call it before loading the scene.
+void check_accelerator(const std::string& name, const AcceleratorOptions& options = {});
+
 /// Builds accelerator `name` over scene.triangles (the scene must outlive it). Throws
 /// InputError for an unknown name or an option the accelerator does not have.
 std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene& scene,

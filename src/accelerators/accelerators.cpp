@@ -84,17 +84,32 @@ const std::vector<AcceleratorInfo>& accelerators() {
   return infos;
 }
 
-std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene& scene,
-                                              const AcceleratorOptions& options) {
+namespace {
+
+// The options read into a build that has not run yet; throws InputError for an unknown name
+// or an option the accelerator does not have.
+Build prepare(const std::string& name, const Scene& scene, const AcceleratorOptions& options) {
   for (const auto& e : registry()) {
     if (e.info.name != name) continue;
-    const Build build = e.make(scene, options);
+    Build build = e.make(scene, options);
     options.check_all_used(name);
-    return build();
+    return build;
   }
   std::string known;
   for (const auto& e : registry()) known += (known.empty() ? "" : ", ") + e.info.name;
   throw InputError("unknown accelerator '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace
+
+void check_accelerator(const std::string& name, const AcceleratorOptions& options) {
+  const Scene none;
+  prepare(name, none, options);  // the build it returns never runs
+}
+
+std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const Scene& scene,
+                                              const AcceleratorOptions& options) {
+  return prepare(name, scene, options)();
 }
 
 }  // namespace rayscout
