@@ -2,7 +2,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,6 +70,24 @@ void check_memory(const RenderConfig& c, const std::string& integrator) {
                              points > 0 ? fmt::format(", {:.0f} shading points at ~130 bytes", points) : ""));
 }
 
+// manylight's own memory beyond the shading points (measured sizes, rounded up): ~100 bytes per
+// VPL (the light, its cluster records), ~16 per pair of shading and VPL clusters (the
+// visibility estimate and its sampling lists; clusters are at most the points and VPLs), and
+// ~110 per VPL sample of a wavefront round (its sample record and shadow ray; a round takes
+// 16 points of every shading cluster). `--vpls 4294967295` asked for ~400 GB.
+void check_manylight_memory(const RenderConfig& c, const ManylightConfig& m) {
+  const double points = double(c.width) * double(c.height) * double(c.spp);
+  const double vpls = double(m.vpl_count);
+  const double shading_clusters = std::min(double(m.shading_clusters), points);
+  const double pairs = shading_clusters * std::min(double(m.vpl_clusters), vpls);
+  const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
+  require_memory(100.0 * vpls + 16.0 * pairs + 110.0 * round,
+                 fmt::format("manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs (--shading-clusters x "
+                             "--vpl-clusters) at ~16 bytes and {:.0f} VPL samples a round (--vpl-samples) at "
+                             "~110 bytes need",
+                             m.vpl_count, pairs, round));
+}
+
 void run(RenderOptions& o) {
   const ThreadLimit limit(o.threads);
   const int n_threads = limit.threads;
@@ -76,12 +96,29 @@ void run(RenderOptions& o) {
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
   check_memory(o.config, o.integrator);
   if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
+    check_manylight_memory(o.config, ml.config);
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
-    if (!ml.rmse_log.empty()) check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);
+    if (!ml.rmse_log.empty()) {
+      if (!ml.rmse_log.ends_with(".json") && !ml.rmse_log.ends_with(".csv"))
+        throw InputError("--rmse-log " + ml.rmse_log + ": the file name must end in .json or .csv");
+      check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);
+    }
+    if (!ml.reference.empty()) {
+      // An 8-bit sRGB PNG is clamped: an RMSE against it would be of another image.
+      std::string ext = std::filesystem::path(ml.reference).extension().string();
+      for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+      if (ext != ".exr" && ext != ".pfm")
+        throw InputError("--reference " + ml.reference + ": must be an .exr or .pfm image (a PNG is clamped 8-bit sRGB, "
+                         "no reference for RMSE)");
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(ml.reference, ec))
+        throw InputError("--reference " + ml.reference + ": no such file");
+    }
   }
   const auto integrator = make_integrator(o.integrator);
   AcceleratorOptions accel_options;
   for (const auto& kv : o.accel_opts) accel_options.set(kv);
+  check_accelerator(o.accel, accel_options);  // before the scene load
 
   auto t = SteadyClock::now();
   const Scene scene = resolve_scene(o.scene);
@@ -147,7 +184,9 @@ CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Render a scene to an image (PNG, EXR or PFM)");
   RenderConfig& c = opts->config;
   cmd->add_option("--scene", opts->scene, "scene file (.json) or mesh; default: built-in Cornell box");
-  cmd->add_option("--integrator", opts->integrator, "one of: " + integrator_names())->capture_default_str();
+  cmd->add_option("--integrator", opts->integrator, "one of: " + integrator_names() + " (listed below)")
+      ->capture_default_str();
+  cmd->footer(integrator_help());
   cmd->add_option("--accel", opts->accel, "accelerator; see `rayscout accelerators`")->capture_default_str();
   cmd->add_option("--accel-opt", opts->accel_opts, "accelerator tunable key=value (repeatable)");
   cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));

@@ -24,6 +24,12 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name) {
   throw InputError("unknown integrator '" + name + "' (known: " + integrator_names() + ")");
 }
 
+std::string integrator_help() {
+  std::string help = "Integrators (--integrator):";
+  for (const auto& e : integrator_table()) help += "\n  " + e.name + std::string(12 - e.name.size(), ' ') + e.description;
+  return help;
+}
+
 std::string integrator_names() {
   std::string names;
   for (const auto& e : integrator_table()) names += (names.empty() ? "" : ", ") + e.name;

@@ -26,4 +26,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name);
 /// The names, comma-separated (for help texts).
 std::string integrator_names();
 
+/// One line per integrator, name and description (the footer of `rayscout render --help`).
+std::string integrator_help();
+
 }  // namespace rayscout::cli

@@ -19,6 +19,7 @@ std::vector<AddCommand>& command_registry() {
 
 int main(int argc, char** argv) {
   CLI::App app{"rayscout: a ray tracing engine that looks at the rays before tracing them"};
+  app.set_version_flag("--version", "rayscout " RAYSCOUT_VERSION);
   app.require_subcommand(1);
   for (const auto& add : rayscout::cli::command_registry()) add(app);
   try {

@@ -13,6 +13,8 @@ endfunction()
 
 expect(0 "Usage" --help)
 expect(0 "--accel" trace --help)
+expect(0 "^rayscout [0-9]+\\.[0-9]+" --version)
+expect(0 "Integrators \\(--integrator\\):.*direct +point lights.*manylight +VPLs" render --help)
 expect(2 "A subcommand is required|subcommand")
 expect(2 "unknown command 'rendr' \\(commands: accelerators, .*render, trace" rendr --out ${WORK}/x.png)
 expect(2 "--scene is required" rays --workload primary --out ${WORK}/x.rays)
@@ -20,6 +22,10 @@ expect(2 "--no-such-option" render --no-such-option)
 expect(2 "nope" render --accel nope --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "bogus" render --accel bvh --accel-opt bogus=1 --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "missing\\.obj" render --scene ${WORK}/missing.obj --out ${WORK}/x.png)
+# Accelerator names and options are checked before a scene or ray file is read.
+expect(2 "unknown accelerator 'nope'" render --scene ${WORK}/missing.obj --accel nope --out ${WORK}/x.png)
+expect(2 "has no option\\(s\\): budgt" trace --scene ${WORK}/missing.obj --rays ${WORK}/missing.rays --accel shafts --accel-opt budgt=3)
+expect(2 "unknown accelerator 'nope'" rays --scene ${WORK}/missing.obj --workload primary --accel nope --out ${WORK}/x.rays)
 
 # A ray file cut short and one with a wrong magic word.
 expect(0 "wrote" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/ok.rays)
@@ -134,9 +140,24 @@ expect(2 "unknown image format '.bmp'" render --width 8 --height 8 --out ${WORK}
 expect(2 "--stats .*no-such-dir/s.json: folder" render --width 8 --height 8 --out ${WORK}/x.png --stats ${WORK}/no-such-dir/s.json)
 expect(2 "--out .*no-such-dir/r.rays: folder" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/no-such-dir/r.rays)
 expect(2 "--out .*: is a directory" trace --scene cornell --rays ${WORK}/ok.rays --out ${WORK})
+# A folder that exists but takes no files (/proc, even for root), and the probe of an existing
+# output leaves it as it was when the command then fails.
+expect(2 "/proc/rayscout-x.png: cannot open for writing: " render --width 8 --height 8 --out /proc/rayscout-x.png)
+expect(2 "--out /proc/r.rays: cannot open for writing: " rays --scene cornell --workload primary --width 8 --height 8 --out /proc/r.rays)
+file(WRITE ${WORK}/keep.png "not yet an image")
+expect(2 "unknown accelerator 'nope'" render --accel nope --width 8 --height 8 --out ${WORK}/keep.png)
+file(READ ${WORK}/keep.png kept)
+if(NOT kept STREQUAL "not yet an image")
+  message(FATAL_ERROR "the output path check changed an existing file: '${kept}'")
+endif()
 expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
 # diff checks --out before it compares: nothing on stdout before the error.
 expect(2 "^rayscout: error: .*no-such-dir does not exist" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --out ${WORK}/no-such-dir/d.png)
+# manylight's inputs are checked before the work: its memory, the log's format, the reference.
+expect(2 "--vpls 4294967295 at ~100 bytes.*more than this machine" render --integrator manylight --vpls 4294967295 --width 8 --height 8 --out ${WORK}/x.png)
+expect(2 "--rmse-log .*log.txt: the file name must end in .json or .csv" render --integrator manylight --rmse-log ${WORK}/log.txt --width 8 --height 8 --out ${WORK}/x.png)
+expect(2 "--reference .*x.png: must be an .exr or .pfm image" render --integrator manylight --reference ${WORK}/x.png --width 8 --height 8 --out ${WORK}/y.png)
+expect(2 "--reference .*none.exr: no such file" render --integrator manylight --reference ${WORK}/none.exr --width 8 --height 8 --out ${WORK}/y.png)
 # Options of another integrator are not silently dropped.
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
 expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
