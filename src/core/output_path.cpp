@@ -1,4 +1,4 @@
-// check_output_path: an output file's folder exists and the path is no directory.
+// Output files: checked for writing before the work (check_output_path), written whole (write_file).
 #include "rayscout/core/output_path.h"
 
 #include <fcntl.h>

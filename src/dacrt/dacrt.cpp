@@ -47,7 +47,6 @@ void for_range(bool parallel, size_t n, F&& f) {
 template <typename T>
 class Buffer {
  public:
-  using value_type = T;
   T* get(size_t n) {
     if (n > capacity_) {
       data_.reset();
@@ -100,8 +99,8 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   // The bytes this call takes from the arena and the heap, reported as its memory (a count
   // of what the code allocates, which tests compare with the formula scratch_bytes).
   size_t taken = 0;
-  auto take = [&taken](auto& buffer, size_t count) {
-    taken += count * sizeof(typename std::remove_reference_t<decltype(buffer)>::value_type);
+  auto take = [&taken]<typename T>(Buffer<T>& buffer, size_t count) {
+    taken += count * sizeof(T);
     return buffer.get(count);
   };
   auto report = [&] {
