@@ -27,7 +27,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::RuntimeError& e) {
     return e.get_exit_code();  // a command's own verdict, e.g. compare-hits above tolerance: 1
   } catch (const CLI::ParseError& e) {
-    // A mistyped command: CLI11 would only say that a subcommand is required.
+    // An option before the command, or a mistyped command: CLI11 would only say that a
+    // subcommand is required.
+    if (const std::string first = argc > 1 ? argv[1] : ""; first.starts_with("-") && first != "-h" &&
+                                                           first != "--help" && first != "--version") {
+      fmt::print(stderr, "rayscout: error: unknown option '{}' (options follow the command: rayscout <command> --help)\n",
+                 first);
+      return 2;
+    }
     if (argc > 1 && argv[1][0] != '-') {
       std::string names;
       bool known = false;
