@@ -2,7 +2,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -17,6 +16,7 @@
 #include "manylight_options.h"
 #include "thread_limit.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/core/file_extension.h"
 #include "rayscout/core/machine_memory.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/stopwatch.h"
@@ -57,35 +57,33 @@ void draw_progress(const RenderProgress& p) {
 // the whole image (--max-batch does not split it). A 32768 x 32768 image asked for ~26 GB on a
 // 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB: the kernel killed the
 // process after the scene load. Refused here, before any work.
-void check_memory(const RenderConfig& c, const std::string& integrator) {
+// manylight adds (measured sizes, rounded up) ~100 bytes per VPL (the light, its cluster
+// records), ~16 per pair of shading and VPL clusters (the visibility estimate and its sampling
+// lists; clusters are at most the points and VPLs), and ~110 per VPL sample of a wavefront
+// round (its sample record and shadow ray; a round takes 16 points of every shading cluster).
+// `--vpls 4294967295` asked for ~430 GB.
+void check_memory(const RenderConfig& c, const std::string& integrator, const ManylightConfig& m) {
   const double pixels = double(c.width) * double(c.height);
   const double pass_rays = std::min(pixels * double(c.spp), double(c.camera_batch_limit()));
   const int fan_out = integrator == "ao" ? c.ao_samples : integrator == "area" || integrator == "path" ? c.light_samples : 0;
-  const double points = integrator == "manylight" ? pixels * double(c.spp) : 0.0;
-  require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + 130.0 * points,
+  const bool manylight = integrator == "manylight";
+  const double points = manylight ? pixels * double(c.spp) : 0.0;
+  const double vpls = manylight ? double(m.vpl_count) : 0.0;
+  const double shading_clusters = std::min(double(m.shading_clusters), points);
+  const double pairs = shading_clusters * std::min(double(m.vpl_clusters), vpls);
+  const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
+  require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + 130.0 * points + 100.0 * vpls +
+                     16.0 * pairs + 110.0 * round,
                  fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
                              "a pass (--max-batch) at ~200 bytes{}{}) need",
                              c.width, c.height, pixels, pass_rays,
                              fan_out > 1 ? fmt::format(" with {} occlusion rays each at ~100 bytes", fan_out) : "",
-                             points > 0 ? fmt::format(", {:.0f} shading points at ~130 bytes", points) : ""));
-}
-
-// manylight's own memory beyond the shading points (measured sizes, rounded up): ~100 bytes per
-// VPL (the light, its cluster records), ~16 per pair of shading and VPL clusters (the
-// visibility estimate and its sampling lists; clusters are at most the points and VPLs), and
-// ~110 per VPL sample of a wavefront round (its sample record and shadow ray; a round takes
-// 16 points of every shading cluster). `--vpls 4294967295` asked for ~400 GB.
-void check_manylight_memory(const RenderConfig& c, const ManylightConfig& m) {
-  const double points = double(c.width) * double(c.height) * double(c.spp);
-  const double vpls = double(m.vpl_count);
-  const double shading_clusters = std::min(double(m.shading_clusters), points);
-  const double pairs = shading_clusters * std::min(double(m.vpl_clusters), vpls);
-  const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
-  require_memory(100.0 * vpls + 16.0 * pairs + 110.0 * round,
-                 fmt::format("manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs (--shading-clusters x "
-                             "--vpl-clusters) at ~16 bytes and {:.0f} VPL samples a round (--vpl-samples) at "
-                             "~110 bytes need",
-                             m.vpl_count, pairs, round));
+                             manylight ? fmt::format("; manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs "
+                                                     "(--shading-clusters x --vpl-clusters) at ~16 bytes, {:.0f} VPL "
+                                                     "samples a round (--vpl-samples) at ~110 bytes, {:.0f} shading "
+                                                     "points at ~130 bytes",
+                                                     m.vpl_count, pairs, round, points)
+                                       : ""));
 }
 
 void run(RenderOptions& o) {
@@ -94,9 +92,8 @@ void run(RenderOptions& o) {
   // Output paths are checked before the work, not after it.
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
-  check_memory(o.config, o.integrator);
+  check_memory(o.config, o.integrator, manylight_cli_options().config);
   if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
-    check_manylight_memory(o.config, ml.config);
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
     if (!ml.rmse_log.empty()) {
       if (!ml.rmse_log.ends_with(".json") && !ml.rmse_log.ends_with(".csv"))
@@ -105,9 +102,7 @@ void run(RenderOptions& o) {
     }
     if (!ml.reference.empty()) {
       // An 8-bit sRGB PNG is clamped: an RMSE against it would be of another image.
-      std::string ext = std::filesystem::path(ml.reference).extension().string();
-      for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-      if (ext != ".exr" && ext != ".pfm")
+      if (const std::string ext = lower_extension(ml.reference); ext != ".exr" && ext != ".pfm")
         throw InputError("--reference " + ml.reference + ": must be an .exr or .pfm image (a PNG is clamped 8-bit sRGB, "
                          "no reference for RMSE)");
       std::error_code ec;

@@ -1,6 +1,8 @@
 // The integrator table of the CLI: add an integrator with one line in integrator_table().
 #include "integrators.h"
 
+#include <fmt/core.h>
+
 #include "rayscout/core/input_error.h"
 #include "manylight_options.h"
 
@@ -26,7 +28,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name) {
 
 std::string integrator_help() {
   std::string help = "Integrators (--integrator):";
-  for (const auto& e : integrator_table()) help += "\n  " + e.name + std::string(12 - e.name.size(), ' ') + e.description;
+  for (const auto& e : integrator_table()) help += fmt::format("\n  {:<11} {}", e.name, e.description);
   return help;
 }
 
