@@ -1,8 +1,6 @@
 // Small scenes with known answers for the renderer tests.
 #pragma once
 
-#include <cstdlib>
-#include <cstring>
 #include <vector>
 
 #include "generated_scenes.h"
@@ -10,12 +8,6 @@
 #include "rayscout/scene/scene.h"
 
 namespace rayscout::testing {
-
-/// True when RAYSCOUT_TEST_SCALE=small (sanitizer runs): tests shrink their sizes.
-inline bool small_scale() {
-  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
-  return s && std::strcmp(s, "small") == 0;
-}
 
 /// Mean of channel c over the image's pixels.
 inline double mean_channel(const Image& img, int c) {
