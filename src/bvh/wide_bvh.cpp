@@ -191,7 +191,8 @@ WideBvh WideBvh::build(std::span<const Triangle> tris, const BvhBuildConfig& con
   return from_bvh2(Bvh2::build_tree(tris, config), tris, config);
 }
 
-WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config) {
+WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config,
+                           std::vector<uint32_t>* source_node) {
   WideBvh w;
   if (bvh.nodes.empty()) return w;
   w.bounds = bvh.nodes[0].bounds;
@@ -203,13 +204,12 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
   w.leaf_blocks.reserve((bvh.prim_ids.size() + 3 * bvh2_leaves) / kTriangleBlockWidth + 1);
   w.prim_ids.reserve(w.leaf_blocks.capacity() * kTriangleBlockWidth);
   w.nodes.reserve(bvh2_leaves);
-  w.source_node.reserve(bvh2_leaves);
+  if (source_node) source_node->assign(1, 0);
   std::unique_ptr<SahCollapse> sah;
   if (config.collapse == CollapseMethod::Sah) sah = std::make_unique<SahCollapse>(bvh, config);
   struct Item { uint32_t wide, bvh2; int depth; };
   std::vector<Item> stack{{0, 0, 1}};
   w.nodes.emplace_back();
-  w.source_node.push_back(0);
   std::vector<uint32_t> ids;
   while (!stack.empty()) {
     const Item it = stack.back();
@@ -255,7 +255,7 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
       } else {
         node.child[c] = uint32_t(w.nodes.size());
         w.nodes.emplace_back();
-        w.source_node.push_back(kids[c].node);
+        if (source_node) source_node->push_back(kids[c].node);
         children[inner++] = {node.child[c], kids[c].node, it.depth + 1};
       }
     }

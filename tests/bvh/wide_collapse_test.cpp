@@ -49,11 +49,12 @@ TEST(WideCollapse, SahCollapseValidatesAndMatchesBruteForceBitForBit) {
         BvhBuildConfig c = sah_config(leaf, presplit);
         c.collapse_max_leaf = 15;
         const Bvh2 bvh = Bvh2::build(m.triangles, c);
-        const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles, c);
+        std::vector<uint32_t> source_node;
+        const WideBvh wide = WideBvh::from_bvh2(bvh, m.triangles, c, &source_node);
         ASSERT_EQ(wide.validate(m.triangles.size()), "") << m.name << " leaf " << leaf << " presplit " << presplit;
-        ASSERT_EQ(wide.source_node.size(), wide.nodes.size());
+        ASSERT_EQ(source_node.size(), wide.nodes.size());
         for (size_t i = 0; i < wide.nodes.size(); ++i) {
-          const Bvh2Node& src = bvh.nodes[wide.source_node[i]];
+          const Bvh2Node& src = bvh.nodes[source_node[i]];
           const Bounds3 b = wide.ref_bounds(uint32_t(i));
           EXPECT_TRUE(src.bounds.contains(b)) << m.name << ": wide node " << i << " outside its Bvh2 node";
           if (bvh.nodes.size() > 1) {

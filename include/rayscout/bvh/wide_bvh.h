@@ -89,15 +89,16 @@ class WideBvh {
   std::vector<WideNode> nodes;     ///< nodes[0] = root (empty when there are no triangles)
   std::vector<uint32_t> prim_ids;  ///< leaf slot -> original triangle id (kInvalidId: padding)
   std::vector<TriangleBlock> leaf_blocks;  ///< slot s = leaf_blocks[s / 4] lane s % 4 = tris[prim_ids[s]]
-  std::vector<uint32_t> source_node; ///< wide node id -> the Bvh2 node it was collapsed from
   Bounds3 bounds;                  ///< box of every triangle (the root node's box)
   bool split_references = false;   ///< as Bvh2::split_references
 
   /// Builds a Bvh2 with config, then collapses it.
   static WideBvh build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
   /// Collapses bvh (built over tris) into 8-wide nodes with config.collapse (and its
-  /// collapse_* costs); the other fields of config are not used here.
-  static WideBvh from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config = {});
+  /// collapse_* costs); the other fields of config are not used here. When source_node is
+  /// given, it receives for each wide node the Bvh2 node it was collapsed from (for tests).
+  static WideBvh from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, const BvhBuildConfig& config = {},
+                           std::vector<uint32_t>* source_node = nullptr);
 
   /// Closest hit of one ray (tmin <= t <= tmax, ties to the smaller id), ordered near-first.
   /// Traversal starts from `start`, a list of WideRefs (wide node ids, or leaf refs as found in
@@ -133,11 +134,11 @@ class WideBvh {
   std::string validate(size_t triangle_count) const;
   /// Wide nodes on the longest root-to-leaf path (a root with only leaf children is 1).
   int depth() const { return depth_; }
-  /// Bytes of nodes, prim_ids, leaf_blocks and source_node (their sizes: reserved, never
-  /// touched capacity does not count).
+  /// Bytes of nodes, prim_ids and leaf_blocks (their sizes: reserved, never touched
+  /// capacity does not count).
   size_t memory_bytes() const {
     return nodes.size() * sizeof(WideNode) + prim_ids.size() * sizeof(uint32_t) +
-           leaf_blocks.size() * sizeof(TriangleBlock) + source_node.size() * sizeof(uint32_t);
+           leaf_blocks.size() * sizeof(TriangleBlock);
   }
 
  private:
