@@ -67,14 +67,7 @@ BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const 
 
 BvhBuildConfig wide_bvh_config_from_options(const AcceleratorOptions& options) {
   BvhBuildConfig c = bvh_config_from_options(options, wide_bvh_default_config());
-  const std::string collapse = options.get_string("collapse", c.collapse == CollapseMethod::Sah ? "sah" : "greedy");
-  if (collapse == "greedy") {
-    c.collapse = CollapseMethod::Greedy;
-  } else if (collapse == "sah") {
-    c.collapse = CollapseMethod::Sah;
-  } else {
-    throw InputError("bvh option collapse=" + collapse + ": must be greedy or sah");
-  }
+  c.collapse = options.get_choice("collapse", c.collapse, {{"greedy", CollapseMethod::Greedy}, {"sah", CollapseMethod::Sah}});
   c.collapse_node_cost = float(options.get_double("collapse_node_cost", c.collapse_node_cost));
   c.collapse_leaf_cost = float(options.get_double("collapse_leaf_cost", c.collapse_leaf_cost));
   c.collapse_block_cost = float(options.get_double("collapse_block_cost", c.collapse_block_cost));

@@ -5,24 +5,20 @@
 #include <climits>
 #include <cmath>
 #include <sstream>
+#include <optional>
 #include <utility>
 
 namespace rayscout {
 namespace {
 
-/// Values of option `order` that switch the sampled child order on, with their vote rule.
-constexpr std::pair<const char*, DacrtVotes> kVoteNames[] = {{"sampled", DacrtVotes::Entry},
+/// Values of option `order`: Afra's one-ray rule (no votes), or the sampled child order with
+/// its vote rule.
+using OrderRule = std::optional<DacrtVotes>;
+constexpr std::pair<const char*, OrderRule> kOrderNames[] = {{"one-ray", std::nullopt},
+                                                             {"sampled", DacrtVotes::Entry},
                                                              {"literal-votes", DacrtVotes::Literal},
                                                              {"sign-votes", DacrtVotes::Sign},
                                                              {"interval-votes", DacrtVotes::Interval}};
-
-bool pick(const AcceleratorOptions& o, const std::string& key, const std::string& on, const std::string& off,
-          bool fallback) {
-  const std::string v = o.get_string(key, fallback ? on : off);
-  if (v == on) return true;
-  if (v == off) return false;
-  throw InputError("option '" + key + "': '" + v + "' is neither '" + on + "' nor '" + off + "'");
-}
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw InputError("dacrt option " + what);
@@ -43,23 +39,15 @@ double DacrtConfig::skip_threshold(size_t child_tris) const {
 }
 
 DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c) {
-  c.sampled_cost = pick(o, "cost", "sampled", "sah", c.sampled_cost);
-  {
-    const std::string order = o.get_string("order", c.order_name());
-    c.sampled_order = order != "one-ray";
-    if (c.sampled_order) {
-      const auto* named = std::find_if(std::begin(kVoteNames), std::end(kVoteNames),
-                                       [&](const auto& n) { return order == n.first; });
-      if (named == std::end(kVoteNames))
-        throw InputError("option 'order': '" + order + "' is not one-ray, sampled, literal-votes, sign-votes or interval-votes");
-      c.votes = named->second;
-    }
-  }
-  c.depth_weighted_votes = pick(o, "vote_weight", "depth", "none", c.depth_weighted_votes);
+  c.sampled_cost = o.get_choice("cost", c.sampled_cost, {{"sampled", true}, {"sah", false}});
+  const OrderRule order =
+      o.get_choice<OrderRule>("order", c.sampled_order ? OrderRule(c.votes) : std::nullopt, kOrderNames);
+  c.sampled_order = order.has_value();
+  if (order) c.votes = *order;
+  c.depth_weighted_votes = o.get_choice("vote_weight", c.depth_weighted_votes, {{"depth", true}, {"none", false}});
   c.skip_partitioning = o.get_bool("skip", c.skip_partitioning);
   c.resample_second = o.get_bool("resample", c.resample_second);
-  c.strategy = pick(o, "strategy", "random", "stride", c.strategy == DacrtSampling::Random)
-                   ? DacrtSampling::Random : DacrtSampling::Stride;
+  c.strategy = o.get_choice("strategy", c.strategy, {{"random", DacrtSampling::Random}, {"stride", DacrtSampling::Stride}});
   c.samples = int(o.get_int("samples", c.samples, 1, INT_MAX));
   c.fraction = o.get_double("fraction", c.fraction, 0.0, 1.0);
   c.min_rays_sampling = size_t(o.get_int("min_rays", long(c.min_rays_sampling), 0, LONG_MAX));
@@ -79,9 +67,9 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
 }
 
 std::string DacrtConfig::order_name() const {
-  if (!sampled_order) return "one-ray";
-  for (const auto& [name, rule] : kVoteNames)
-    if (rule == votes) return name;
+  const OrderRule rule = sampled_order ? OrderRule(votes) : std::nullopt;
+  for (const auto& [name, named_rule] : kOrderNames)
+    if (named_rule == rule) return name;
   return "sampled";
 }
 

@@ -17,10 +17,7 @@ namespace rayscout {
 EmbreeConfig EmbreeConfig::from_options(const AcceleratorOptions& options) {
   EmbreeConfig c;
   c.robust = options.get_bool("robust", c.robust);
-  const std::string quality = options.get_string("quality", "high");
-  if (quality != "high" && quality != "medium")
-    throw InputError("embree: option quality=" + quality + " (expected high or medium)");
-  c.high_quality = quality == "high";
+  c.high_quality = options.get_choice("quality", c.high_quality, {{"high", true}, {"medium", false}});
   c.packet = int(options.get_int("packet", c.packet, 1, 16));
   if (c.packet != 1 && c.packet != 16)
     throw InputError("embree: option packet=" + std::to_string(c.packet) + " (expected 1 or 16)");

@@ -10,19 +10,6 @@ namespace {
 
 [[noreturn]] void bad(const std::string& what) { throw InputError("shafts option " + what); }
 
-ShaftSelect parse_select(const std::string& name) {
-  if (name == "occupied") return ShaftSelect::Occupied;
-  if (name == "camera") return ShaftSelect::Camera;
-  if (name == "camera-voxels") return ShaftSelect::CameraVoxels;
-  bad("select must be occupied, camera or camera-voxels (got '" + name + "')");
-}
-
-SampleOrigins parse_origins(const std::string& name) {
-  if (name == "volume") return SampleOrigins::Volume;
-  if (name == "surface") return SampleOrigins::Surface;
-  bad("origins must be volume or surface (got '" + name + "')");
-}
-
 }  // namespace
 
 void ShaftConfig::validate() const {
@@ -64,13 +51,15 @@ ShaftConfig ShaftConfig::from_options(const AcceleratorOptions& o, int arity) {
     if (n != -1) c.samples = int(n);  // -1 means auto too
   }
   c.stratified = o.get_bool("stratified", c.stratified);
-  c.origins = parse_origins(o.get_string("origins", "volume"));
+  c.origins = o.get_choice("origins", c.origins, {{"volume", SampleOrigins::Volume}, {"surface", SampleOrigins::Surface}});
   if (!is_auto("reuse_rays")) c.reuse_rays = o.get_bool("reuse_rays", false);
   c.min_prob = o.get_double("min_prob", c.min_prob, -1.0, 1.0);
   c.max_list = int(o.get_int("max_list", c.max_list, 1, 31));
   c.near_retries = int(o.get_int("near_retries", c.near_retries, 0, 16));
   c.retries = int(o.get_int("retries", c.retries, 0, 1000));
-  c.select = parse_select(o.get_string("select", "occupied"));
+  c.select = o.get_choice("select", c.select,
+                          {{"occupied", ShaftSelect::Occupied}, {"camera", ShaftSelect::Camera},
+                           {"camera-voxels", ShaftSelect::CameraVoxels}});
   c.coverage = o.get_double("coverage", c.coverage);
   c.prepass_width = int(o.get_int("prepass_width", c.prepass_width, 1, 1 << 14));
   c.seed = unsigned(o.get_int("seed", c.seed, 0, UINT_MAX));

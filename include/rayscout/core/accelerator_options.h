@@ -1,9 +1,12 @@
 // AcceleratorOptions: named tunables ("key=value") passed to an accelerator's factory.
 #pragma once
 
+#include <initializer_list>
 #include <map>
 #include <set>
+#include <span>
 #include <string>
+#include <utility>
 
 #include "rayscout/core/input_error.h"
 
@@ -29,6 +32,25 @@ class AcceleratorOptions {
   /// get_double, but a value outside [lo, hi] throws InputError naming the key and the range.
   double get_double(const std::string& key, double fallback, double lo, double hi) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
+  /// A named choice, e.g. collapse=greedy|sah: the value paired with the key's value in names
+  /// (fallback when the key is absent); any other value throws InputError naming the key, the
+  /// value and every choice.
+  template <class T>
+  T get_choice(const std::string& key, T fallback, std::span<const std::pair<const char*, T>> names) const {
+    const auto it = values_.find(key);
+    used_.insert(key);
+    if (it == values_.end()) return fallback;
+    std::string list;
+    for (size_t i = 0; i < names.size(); ++i) {
+      if (it->second == names[i].first) return names[i].second;
+      list += std::string(i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i].first;
+    }
+    throw InputError("option '" + key + "': '" + it->second + "' is not " + list);
+  }
+  template <class T>
+  T get_choice(const std::string& key, T fallback, std::initializer_list<std::pair<const char*, T>> names) const {
+    return get_choice(key, fallback, std::span(names.begin(), names.size()));
+  }
   bool has(const std::string& key) const { return values_.count(key) != 0; }
   /// Throws InputError naming every key that no get_* call asked for.
   void check_all_used(const std::string& accelerator) const;
