@@ -1,6 +1,6 @@
 // `ao`: ambient occlusion, the unoccluded fraction of cosine-distributed rays of a fixed length.
 #include "rayscout/render/renderer.h"
-#include "rayscout/render/wavefront.h"
+#include "wavefront.h"
 
 namespace rayscout {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "rayscout/render/bsdf.h"
-#include "rayscout/render/wavefront.h"
+#include "wavefront.h"
 
 namespace rayscout::detail {
 

@@ -1,5 +1,5 @@
 // The wavefront loop: whole batches per bounce, shading in fixed-size chunks, ordered accumulation.
-#include "rayscout/render/wavefront.h"
+#include "wavefront.h"
 
 #include <algorithm>
 #include <string>

@@ -7,7 +7,7 @@
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/sampler.h"
 #include "rayscout/render/surface.h"
-#include "rayscout/render/wavefront.h"
+#include "wavefront.h"
 
 namespace rayscout {
 namespace {

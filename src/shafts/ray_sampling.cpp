@@ -1,5 +1,5 @@
 // Ray-sampling pre-pass from the scene camera.
-#include "rayscout/shafts/ray_sampling.h"
+#include "ray_sampling.h"
 
 #include <cmath>
 #include <numbers>

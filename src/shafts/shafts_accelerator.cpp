@@ -11,7 +11,7 @@
 #include "entry_filter.h"
 #include "rayscout/bvh/bvh_accelerators.h"
 #include "rayscout/core/stopwatch.h"
-#include "rayscout/shafts/ray_sampling.h"
+#include "ray_sampling.h"
 
 namespace rayscout {
 
