@@ -1,11 +1,10 @@
 // Ray sets per bounce for the DACRT benchmark (own pinhole camera, shading-free secondary rays).
 #include "ray_sets.h"
 
-#include <cmath>
-#include <numbers>
 #include <random>
 #include <stdexcept>
 
+#include "rayscout/core/sampling.h"
 #include "rayscout/render/renderer.h"
 
 namespace rayscout::bench {
@@ -48,15 +47,13 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const View& view, int widt
                                   const Accelerator& tracer) {
   std::vector<RaySet> sets;
   const Camera& c = view.camera;
-  const Vec3 fwd = normalize(c.look_at - c.eye), right = normalize(cross(fwd, c.up)), up = cross(right, fwd);
-  const float half_h = std::tan(c.fov_deg * std::numbers::pi_v<float> / 360.0f);
-  const float half_w = half_h * float(width) / float(height);
+  const CameraFrame frame = camera_frame(c, float(width) / float(height));
   RaySet primary{"primary", 0, false, {}};
   primary.rays.reserve(size_t(width) * height);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const float sx = (2.0f * (x + 0.5f) / width - 1.0f) * half_w, sy = (1.0f - 2.0f * (y + 0.5f) / height) * half_h;
-      primary.rays.push_back({c.eye, 0.0f, normalize(fwd + right * sx + up * sy), kInfinity});
+      const Vec3 dir = frame.direction((float(x) + 0.5f) / float(width), (float(y) + 0.5f) / float(height));
+      primary.rays.push_back({c.eye, 0.0f, dir, kInfinity});
     }
   HitBatch hits;
   tracer.intersect(primary.rays, hits);
@@ -70,11 +67,8 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const View& view, int widt
     RaySet ao{"ao", 0, true, {}};
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
     for (const auto& h : pts) {
-      // Cosine-distributed direction around n.
-      const float r = std::sqrt(u01(rng)), phi = 2.0f * std::numbers::pi_v<float> * u01(rng);
-      const Vec3 a = std::fabs(h.n.x) > 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-      const Vec3 t = normalize(cross(a, h.n)), b = cross(h.n, t);
-      const Vec3 d = t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + h.n * std::sqrt(std::max(0.0f, 1.0f - r * r));
+      const float u1 = u01(rng), u2 = u01(rng);
+      const Vec3 d = sample_cosine_hemisphere(h.n, u1, u2);
       ao.rays.push_back({h.p + h.n * eps, 0.0f, d, 0.1f * diag});
     }
     sets.push_back(std::move(ao));

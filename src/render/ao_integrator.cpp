@@ -1,4 +1,5 @@
 // `ao`: ambient occlusion, the unoccluded fraction of cosine-distributed rays of a fixed length.
+#include "rayscout/core/sampling.h"
 #include "rayscout/render/renderer.h"
 #include "wavefront.h"
 

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rayscout/core/sampling.h"
+
 namespace rayscout {
 
 LightSampler::LightSampler(const Scene& scene) : scene_(&scene) {
@@ -26,8 +28,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(&scene) {
 LightSample LightSampler::sample(uint64_t choice_bits, float u1, float u2) const {
   const size_t k = choice_.sample_bits(choice_bits);
   const Triangle& tri = scene_->triangles[prims_[k]];
-  const float su = std::sqrt(u1);
-  const float b1 = 1.0f - su, b2 = u2 * su;  // uniform barycentrics (Turk 1990)
+  const auto [b1, b2] = sample_triangle(u1, u2);
   LightSample ls;
   ls.p = tri.v0 * (1.0f - b1 - b2) + tri.v1 * b1 + tri.v2 * b2;
   ls.n = normalize(tri.normal());

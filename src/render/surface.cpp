@@ -1,9 +1,8 @@
-// Hit refinement, surface points, ray offsets and hemisphere sampling.
+// Hit refinement, surface points and ray offsets.
 #include "rayscout/render/surface.h"
 
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "rayscout/core/triangle.h"
 
@@ -51,23 +50,6 @@ bool shadow_ray_to(const Vec3& p, const Vec3& target, float eps, Ray& ray, float
 float ao_radius_for(float configured, const Bounds3& bounds) {
   if (configured > 0) return configured;
   return bounds.empty() ? 1.0f : 0.1f * length(bounds.diagonal());
-}
-
-void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {
-  const float sign = std::copysign(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float c = n.x * n.y * a;
-  t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  b = {c, sign + n.y * n.y * a, -n.y};
-}
-
-Vec3 sample_cosine_hemisphere(const Vec3& n, float u1, float u2) {
-  const float r = std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
-  const float x = r * std::cos(phi), y = r * std::sin(phi);
-  const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
-  Vec3 t, b;
-  orthonormal_basis(n, t, b);
-  return normalize(t * x + b * y + n * z);
 }
 
 }  // namespace rayscout

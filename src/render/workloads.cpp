@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/sampling.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/sampler.h"
 #include "rayscout/render/surface.h"

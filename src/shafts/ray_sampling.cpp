@@ -1,28 +1,20 @@
 // Ray-sampling pre-pass from the scene camera.
 #include "ray_sampling.h"
 
-#include <cmath>
-#include <numbers>
+#include <algorithm>
 #include <string>
 
 #include "rayscout/core/machine_memory.h"
 #include "rayscout/core/random.h"
+#include "rayscout/core/sampling.h"
 
 namespace rayscout {
 namespace {
 
-/// The pre-pass's random numbers: one SplitMix64 stream.
-struct Rng {
-  SplitMix64 stream;
-  float next() { return stream.uniform(); }
-};
-
-Vec3 cosine_direction(const Vec3& n, Rng& rng) {
-  const float r1 = rng.next(), r2 = rng.next();
-  const float phi = 2.0f * std::numbers::pi_v<float> * r1, r = std::sqrt(r2);
-  const Vec3 t = std::fabs(n.x) > 0.5f ? normalize(cross(n, Vec3{0, 1, 0})) : normalize(cross(n, Vec3{1, 0, 0}));
-  const Vec3 b = cross(n, t);
-  return t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0f, 1.0f - r2));
+/// A cosine-distributed direction around n from the pre-pass's one SplitMix64 stream.
+Vec3 cosine_direction(const Vec3& n, SplitMix64& rng) {
+  const float u1 = rng.uniform(), u2 = rng.uniform();
+  return sample_cosine_hemisphere(n, u1, u2);
 }
 
 }  // namespace
@@ -42,7 +34,7 @@ RayBatch camera_prepass_rays(const Scene& scene, const std::function<Hit(const R
   const Camera& cam = scene.camera;
   const CameraFrame frame = camera_frame(cam, float(width) / float(height));
   const float eps = 1e-4f * length(scene.bounds().diagonal());
-  Rng rng{{uint64_t(seed) * kGolden64 + 7}};
+  SplitMix64 rng{uint64_t(seed) * kGolden64 + 7};
   auto spawn_at = [&](const Ray& ray, const Hit& h) {
     const Vec3 p = ray.org + ray.dir * h.t;
     Vec3 n = normalize(scene.triangles[h.prim].normal());

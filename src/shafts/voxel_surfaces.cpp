@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "rayscout/core/sampling.h"
+
 namespace rayscout::detail {
 namespace {
 
@@ -94,9 +96,8 @@ bool VoxelSurfaces::sample(uint32_t voxel, const float rnd[3], Vec3& p) const {
   if (b == e) return false;
   const uint32_t i = uint32_t(std::upper_bound(cdf_.begin() + b, cdf_.begin() + e - 1, rnd[0]) - cdf_.begin());
   const Piece& piece = pieces_[i];
-  // Uniform on the triangle (Shirley's square-root map).
-  const float su = std::sqrt(rnd[1]);
-  p = piece.v0 + piece.e1 * (su * (1.0f - rnd[2])) + piece.e2 * (su * rnd[2]);
+  const auto [b1, b2] = sample_triangle(rnd[1], rnd[2]);
+  p = piece.v0 + piece.e1 * b1 + piece.e2 * b2;
   return true;
 }
 

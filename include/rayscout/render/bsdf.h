@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "rayscout/core/sampling.h"
 #include "rayscout/render/surface.h"
 #include "rayscout/scene/scene.h"
 

@@ -1,4 +1,4 @@
-// Surface points of hits: hit refinement, geometric frame, ray offsets and direction sampling.
+// Surface points of hits: hit refinement, geometric frame and ray offsets.
 #pragma once
 
 #include <cstdint>
@@ -43,12 +43,6 @@ bool shadow_ray_to(const Vec3& p, const Vec3& target, float eps, Ray& ray, float
 /// The length of ambient-occlusion rays: `configured` when positive, else 10 % of the scene
 /// diagonal (1 for an empty scene).
 float ao_radius_for(float configured, const Bounds3& bounds);
-
-/// Orthonormal basis (t, b, n) around unit n (Duff et al., JCGT 2017).
-void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b);
-
-/// Cosine-distributed unit direction around unit n from [0,1)^2 (pdf cos(theta) / pi).
-Vec3 sample_cosine_hemisphere(const Vec3& n, float u1, float u2);
 
 /// Mirror reflection of direction d about unit normal n.
 inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - n * (2.0f * dot(d, n)); }
