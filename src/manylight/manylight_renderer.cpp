@@ -9,6 +9,7 @@
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
+#include "ray_offset.h"
 #include "rng.h"
 
 namespace rayscout {
@@ -61,7 +62,7 @@ ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& acce
   if (config_.samples_per_pass <= 0 || config_.points_per_round <= 0)
     throw InputError("manylight: samples_per_pass and points_per_round must be positive");
   if (!(config_.epsilon >= 0.0f)) throw InputError("manylight: epsilon must be >= 0");
-  offset_ = 1e-4f * length(scene.bounds().diagonal());
+  offset_ = manylight_detail::ray_offset(scene);
   // Preprocess times on the configured clock; the split of VisibilityCluster into its
   // phases is wall-clock, scaled to the measured total.
   double t0 = now();

@@ -3,6 +3,7 @@
 
 #include "rayscout/core/input_error.h"
 #include "rayscout/render/surface.h"
+#include "ray_offset.h"
 #include "rng.h"
 
 namespace rayscout {
@@ -14,8 +15,7 @@ std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Acce
   const Camera& cam = scene.camera;
   const CameraFrame frame = camera_frame(cam, float(config.width) / float(config.height));
   const size_t n = size_t(config.width) * config.height * config.spp;
-  const float diag = length(scene.bounds().diagonal());
-  const float offset = 1e-4f * diag;
+  const float offset = manylight_detail::ray_offset(scene);
 
   std::vector<ShadingPoint> points(n);
   RayBatch rays;

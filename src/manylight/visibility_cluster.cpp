@@ -14,6 +14,7 @@
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/render/bsdf.h"
+#include "ray_offset.h"
 #include "rng.h"
 
 namespace rayscout {
@@ -102,7 +103,7 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   // Fig. 1(a): cluster the shading points and the VPLs.
   auto t0 = SteadyClock::now();
   const float diag = length(scene.bounds().diagonal());
-  const float offset = 1e-4f * diag;
+  const float offset = manylight_detail::ray_offset(scene);
 
   std::vector<uint32_t> valid;
   std::vector<Vec3> pos, nrm;

@@ -9,9 +9,11 @@
 
 #include "rayscout/core/discrete_distribution.h"
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/sampling.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/render/bsdf.h"
+#include "ray_offset.h"
 #include "rng.h"
 
 namespace rayscout {
@@ -41,11 +43,11 @@ namespace {
 struct LightSource {
   bool point = false;
   uint32_t index = 0;  // into point_lights or triangles
-  float power = 0;     // scalar (luminance) power, W
+  float power = 0;     // scalar power (channel mean, channel_mean.h), W
 };
 
 /// A light path in flight.
-struct PathState {
+struct LightPathState {
   Vec3 throughput;  // flux carried, W per colour (not yet divided by the path count)
   uint32_t path = 0;
   int bounces = 0;
@@ -99,10 +101,10 @@ PathStart start_path(const Scene& scene, const LightSource& ls, double pdf, floa
     s.flux = pl.intensity * float(4.0 * kPi / pdf);
   } else {
     const Triangle& tri = scene.triangles[ls.index];
-    float a = rng.uniform(), b = rng.uniform();
-    if (a + b > 1.0f) { a = 1.0f - a; b = 1.0f - b; }
+    const float a = rng.uniform(), b = rng.uniform();
+    const auto [b1, b2] = sample_triangle(a, b);
     v.kind = Vpl::Kind::Emitter;
-    v.position = tri.v0 + (tri.v1 - tri.v0) * a + (tri.v2 - tri.v0) * b;
+    v.position = tri.v0 * (1.0f - b1 - b2) + tri.v1 * b1 + tri.v2 * b2;
     const Vec3 n = normalize(tri.normal());
     v.normal = n;
     const Vec3 le = scene.material_of(ls.index).emission;
@@ -119,7 +121,7 @@ PathStart start_path(const Scene& scene, const LightSource& ls, double pdf, floa
 /// A path segment that hit triangle prim at distance t: the VPL there (none on a mirror) goes
 /// to vpls; returns true and the next ray when the path scatters and survives Russian roulette.
 bool extend_path(const Scene& scene, const ManylightConfig& config, float offset, const Ray& ray, float t,
-                 uint32_t prim, PathState& st, std::vector<Vpl>& vpls, Ray& next) {
+                 uint32_t prim, LightPathState& st, std::vector<Vpl>& vpls, Ray& next) {
   const Triangle& tri = scene.triangles[prim];
   const uint32_t mat_id = scene.material_ids[prim];
   const Material& m = scene.materials[mat_id];
@@ -168,14 +170,13 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
   // Integer ranges of 53 random bits: pdf is exactly the chance of choosing the light.
   const DiscreteDistribution light_choice(powers, 53);
 
-  const float diag = length(scene.bounds().diagonal());
-  const float offset = 1e-4f * diag;
+  const float offset = manylight_detail::ray_offset(scene);
   const size_t target = config.vpl_count;
   // Start small: an eighth of the target in paths, at least 256, but never more than target / 6
   // (a path makes 1-6 VPLs, so a small target is not overshot much). Later batches aim at the
   // remainder.
   size_t batch_paths = std::min(std::max<size_t>(1, target / 6), std::max<size_t>(256, target / 8));
-  std::vector<PathState> states;
+  std::vector<LightPathState> states;
   RayBatch rays;
   HitBatch hits;
   while (out.vpls.size() < target) {
@@ -197,11 +198,11 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
     // Wavefront: trace every live path one segment, make VPLs, continue the survivors.
     while (!rays.empty()) {
       accel.intersect(rays, hits);
-      std::vector<PathState> next_states;
+      std::vector<LightPathState> next_states;
       RayBatch next_rays;
       for (size_t i = 0; i < rays.size(); ++i) {
         if (hits.prim[i] == kInvalidId) continue;
-        PathState st = states[i];
+        LightPathState st = states[i];
         Ray next;
         if (!extend_path(scene, config, offset, rays[i], hits.t[i], hits.prim[i], st, out.vpls, next)) continue;
         next_states.push_back(st);
