@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
         const double all_clock_ms = bvh_clock_ms + col_clock_ms;
         if (sets.empty() && !build_only)
           sets = make_ray_sets(scene, acc, width, height, split(sweep ? std::string("shadow,ao,diffuse") : workloads));
-        const ShaftStats& st = acc.stats();
+        const ShaftStats& st = acc.collection_stats();
         const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
         fmt::print("\n### {} over {} (budget_rel {}, dir_res {})\n{}\n", acc.name(), v.base == "wide" ? "WideBvh" : "Bvh2",
                    cfg.budget_mib > 0 ? -1.0 : cfg.budget_rel, cfg.dir_res, st.summary());

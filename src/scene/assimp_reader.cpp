@@ -143,7 +143,7 @@ void drop_unused_materials(Mesh& mesh) {
 
 }  // namespace
 
-Mesh read_assimp(const std::filesystem::path& path) {
+Mesh read_gltf(const std::filesystem::path& path) {
   const bool binary = lower_extension(path) == ".glb";
   const std::string file = detail::display_name(path), data = detail::read_file(path);
   const std::string_view json = json_text(data, binary);

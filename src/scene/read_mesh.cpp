@@ -11,7 +11,7 @@ Mesh read_mesh(const std::filesystem::path& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".ply") return read_ply(path);
-  if (ext == ".gltf" || ext == ".glb") return read_assimp(path);
+  if (ext == ".gltf" || ext == ".glb") return read_gltf(path);
   if (ext == ".json")
     throw InputError(detail::display_name(path) + ": a .json scene cannot be used as a mesh (meshes are .obj, .ply, .gltf or .glb)");
   throw InputError(detail::display_name(path) + ": unknown mesh format '" + ext +

@@ -91,10 +91,6 @@ inline Bounds3 voxel_margin_box(const Bounds3& v) {
   const Vec3 m = v.diagonal() * (1.0f / 1024.0f) + max(abs(v.lo), abs(v.hi)) * (1.0f / 1048576.0f);
   return Bounds3{v.lo - m, v.hi + m};
 }
-inline bool contains(const Bounds3& b, const Bounds3& inner) {
-  return b.lo.x <= inner.lo.x && b.lo.y <= inner.lo.y && b.lo.z <= inner.lo.z && b.hi.x >= inner.hi.x &&
-         b.hi.y >= inner.hi.y && b.hi.z >= inner.hi.z;
-}
 
 /// Builds candidate lists of one shaft for a given threshold; scratch is reused.
 class CandidateListBuilder {
@@ -144,7 +140,7 @@ class CandidateListBuilder {
           continue;
         }
         node = cull_subtree(node);
-        if (node == kNone) continue;
+        if (node == kNoNode) continue;
       }
       out.push_back(node);
       if (int(out.size()) > max_len) return false;
@@ -152,10 +148,8 @@ class CandidateListBuilder {
     return true;
   }
 
-  static constexpr uint32_t kNone = detail::kNoNode;
-
  private:
-  bool contains_voxel(const Bounds3& b) const { return contains(b, inner_); }
+  bool contains_voxel(const Bounds3& b) const { return b.contains(inner_); }
 
   void push_children_far_first(uint32_t node) {
     const auto kids = tree_.children(node);

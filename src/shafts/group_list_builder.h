@@ -87,7 +87,7 @@ class GroupListBuilder {
       if (!mask) continue;
       const Bounds3& box = tree_.bounds[node];
       const bool leaf = tree_.is_leaf(node);
-      if (shortcut && !leaf && contains(box, inner_)) {
+      if (shortcut && !leaf && box.contains(inner_)) {
         push_children_far_first(node, mask);
         continue;
       }

@@ -129,7 +129,7 @@ TEST_P(ShaftsBoth, OverflowingListsRetryNearFirstAndStayConservative) {
   const ShaftsAccelerator paper(scene, base, config);
   config.near_retries = 5;
   const ShaftsAccelerator near(scene, base, config);
-  const ShaftStats &sp = paper.stats(), &sn = near.stats();
+  const ShaftStats &sp = paper.collection_stats(), &sn = near.collection_stats();
   EXPECT_EQ(sp.near_retries, 0u);
   EXPECT_GT(sp.overflow_retries, 1000u) << sp.summary();
   EXPECT_GT(sn.near_retries, 1000u) << sn.summary();
@@ -203,7 +203,7 @@ TEST_P(ShaftsBoth, DeduplicationKeepsListsEqual) {
   const ShaftsAccelerator shared(scene, base, config);
   config.dedup = false;
   const ShaftsAccelerator own(scene, base, config);
-  const ShaftStats &st = shared.stats(), &st_own = own.stats();
+  const ShaftStats &st = shared.collection_stats(), &st_own = own.collection_stats();
   EXPECT_GT(st.dedup_saved_bytes, 0u) << "a flat grid scene has many identical lists";
   EXPECT_LT(st.unique_lists, st.listed_shafts);
   EXPECT_EQ(st_own.dedup_saved_bytes, 0u);
@@ -233,13 +233,13 @@ TEST_P(ShaftsBoth, MemoryBudgetIsRespected) {
     ShaftConfig c;
     c.budget_mib = mib;
     const ShaftsAccelerator acc(scene, base, c);
-    EXPECT_LE(acc.stats().memory_bytes(), size_t(mib * 1048576.0)) << acc.stats().summary();
-    EXPECT_GT(acc.stats().listed_shafts, 0u);
+    EXPECT_LE(acc.collection_stats().memory_bytes(), size_t(mib * 1048576.0)) << acc.collection_stats().summary();
+    EXPECT_GT(acc.collection_stats().listed_shafts, 0u);
   }
   ShaftConfig rel;
   rel.budget_rel = 0.5;
   const ShaftsAccelerator acc(scene, base, rel);
-  EXPECT_LE(acc.stats().memory_bytes(), acc.bvh_memory_bytes() / 2) << acc.stats().summary();
+  EXPECT_LE(acc.collection_stats().memory_bytes(), acc.bvh_memory_bytes() / 2) << acc.collection_stats().summary();
 }
 
 TEST_P(ShaftsBoth, CameraSelectionListsOnlyTheUsedShafts) {
@@ -250,8 +250,8 @@ TEST_P(ShaftsBoth, CameraSelectionListsOnlyTheUsedShafts) {
   c.coverage = 0.9;
   c.prepass_width = 32;
   const ShaftsAccelerator acc(scene, base, c);
-  EXPECT_GT(acc.stats().listed_shafts, 0u);
-  EXPECT_LT(acc.stats().listed_shafts, acc.stats().shafts / 4);
+  EXPECT_GT(acc.collection_stats().listed_shafts, 0u);
+  EXPECT_LT(acc.collection_stats().listed_shafts, acc.collection_stats().shafts / 4);
   const RayBatch rays = testing::nasty_rays(scene.triangles, 4);
   HitBatch ref, got;
   BruteForce(scene.triangles).intersect(rays, ref);
@@ -272,11 +272,11 @@ TEST_P(ShaftsBoth, CameraVoxelSelectionListsWholeVoxels) {
   const ShaftsAccelerator camera(scene, base, c);
   c.select = ShaftSelect::CameraVoxels;
   const ShaftsAccelerator voxels(scene, base, c);
-  const ShaftStats& s = voxels.stats();
+  const ShaftStats& s = voxels.collection_stats();
   EXPECT_GT(s.listed_voxels, 0u);
   EXPECT_EQ(s.listed_shafts, s.listed_voxels * 6 * 3 * 3);
-  EXPECT_LT(s.listed_voxels, occupied.stats().listed_voxels);
-  EXPECT_GT(s.listed_shafts, camera.stats().listed_shafts);
+  EXPECT_LT(s.listed_voxels, occupied.collection_stats().listed_voxels);
+  EXPECT_GT(s.listed_shafts, camera.collection_stats().listed_shafts);
   const RayBatch rays = testing::nasty_rays(scene.triangles, 4);
   HitBatch ref, got;
   BruteForce(scene.triangles).intersect(rays, ref);
@@ -294,7 +294,7 @@ TEST(ShaftsBinary, ListsCutTraversalStepsOnSecondaryRays) {
   acc.intersect(rays, a, &with, true);
   acc.intersect(rays, b, &without, false);
   EXPECT_TRUE(compare_hits(b, a, 0.0f).ok());
-  EXPECT_LT(with.traversal_steps, without.traversal_steps) << acc.stats().summary();
+  EXPECT_LT(with.traversal_steps, without.traversal_steps) << acc.collection_stats().summary();
 }
 
 INSTANTIATE_TEST_SUITE_P(Shafts, ShaftsBoth, ::testing::Values(Base::Binary, Base::Wide),
@@ -450,7 +450,7 @@ TEST(ShaftsOptions, SampleRayVariantsMatchBruteForce) {
     if (base == Base::Binary) {
       EXPECT_LT(with.traversal_steps, without.traversal_steps) << acc.name() << " samples " << samples;
     }
-    EXPECT_GT(acc.stats().listed_shafts, 1000u);
+    EXPECT_GT(acc.collection_stats().listed_shafts, 1000u);
   }
 }
 
@@ -473,7 +473,7 @@ TEST(ShaftsOptions, ManySharedSampleRaysPerShaft) {
     const HitDiff d = compare_hits(ref, got, 0.0f);
     EXPECT_TRUE(d.ok()) << "samples " << *c.samples << ": " << d.first;
     EXPECT_EQ(oref, ogot) << "samples " << *c.samples;
-    EXPECT_GE(acc.stats().traced_samples, acc.stats().listed_shafts) << "samples " << *c.samples;
+    EXPECT_GE(acc.collection_stats().traced_samples, acc.collection_stats().listed_shafts) << "samples " << *c.samples;
   }
 }
 

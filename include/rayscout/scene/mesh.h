@@ -32,7 +32,7 @@ Mesh read_obj(const std::filesystem::path& path);
 Mesh read_ply(const std::filesystem::path& path);
 /// glTF 2.0 (.gltf/.glb) through assimp; triangles of every mesh node, node transforms applied,
 /// emission scaled by KHR_materials_emissive_strength, only materials some triangle uses.
-Mesh read_assimp(const std::filesystem::path& path);
+Mesh read_gltf(const std::filesystem::path& path);
 
 /// Parses an MTL file into materials (appended to out, replacing same-named ones). A material
 /// that would reflect more than it receives is scaled down (conserve_energy) with a warning

@@ -48,7 +48,7 @@ class ShaftsAccelerator final : public Accelerator {
 
   const ShaftCollection& collection() const { return collection_; }
   /// Collection figures (build time, memory, list lengths).
-  const ShaftStats& stats() const { return collection_.stats(); }
+  const ShaftStats& collection_stats() const { return collection_.stats(); }
   double bvh_build_ms() const { return bvh_build_ms_; }
   /// The BVH's whole memory (a Bvh2 with its triangle copy).
   size_t bvh_memory_bytes() const;
