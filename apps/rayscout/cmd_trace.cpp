@@ -76,7 +76,7 @@ void run_trace(const TraceArgs& a) {
   line["trace_ms"] = round3(trace_ms);
   line["trace_ms_min"] = round3(*std::min_element(times.begin(), times.end()));
   line["repeat"] = a.repeat;
-  line["mrays_per_s"] = round3(trace_ms > 0 ? double(rays.size()) / (trace_ms * 1e3) : 0.0);
+  line["mrays_per_s"] = round3(mrays_per_s(rays.size(), trace_ms));
   line["memory_bytes"] = build.memory_bytes;
   if (accel->last_trace_memory_bytes() > 0) line["trace_memory_bytes"] = accel->last_trace_memory_bytes();
   if (a.count) {

@@ -157,7 +157,7 @@ int run(const Options& opt) {
             times[c].push_back(timed(c) ? trace_ms(*accels[c], rays, occluded) : 0.0);
         std::vector<double> mrays;
         for (size_t c = 0; c < columns.size(); ++c)
-          mrays.push_back(timed(c) ? double(rays.size()) / (median(times[c]) * 1e3) : 0.0);
+          mrays.push_back(timed(c) ? mrays_per_s(rays.size(), median(times[c])) : 0.0);
         trace_table += fmt::format("| {} | {}{} | {} | {} |", scene_name, w, occluded ? " (any hit)" : "", rays.size(), threads);
         for (double m : mrays) trace_table += fmt::format(" {:.2f} |", m);
         double best = 0;

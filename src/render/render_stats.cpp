@@ -17,7 +17,7 @@ TraceStats RenderStats::counters() const {
   return t;
 }
 
-double RenderStats::mrays_per_s() const { return trace_ms > 0 ? double(rays()) / (trace_ms * 1e3) : 0.0; }
+double RenderStats::mrays_per_s() const { return rayscout::mrays_per_s(rays(), trace_ms); }
 
 std::string RenderStats::to_json() const {
   using nlohmann::json;
@@ -37,7 +37,7 @@ std::string RenderStats::to_json() const {
   for (const auto& b : batches) {
     json e{{"bounce", b.info.bounce}, {"kind", b.info.kind}, {"occlusion", b.info.occlusion},
            {"rays", b.rays}, {"trace_ms", b.trace_ms},
-           {"mrays_per_s", b.trace_ms > 0 ? double(b.rays) / (b.trace_ms * 1e3) : 0.0}};
+           {"mrays_per_s", rayscout::mrays_per_s(b.rays, b.trace_ms)}};
     if (counted) e["counters"] = counters_json(b.counters);
     list.push_back(e);
   }

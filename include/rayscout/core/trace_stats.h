@@ -20,4 +20,7 @@ struct TraceStats {
   }
 };
 
+/// Throughput in millions of rays per second of `rays` traced in `ms` milliseconds (0 for no time).
+inline double mrays_per_s(uint64_t rays, double ms) { return ms > 0 ? double(rays) / (ms * 1e3) : 0.0; }
+
 }  // namespace rayscout
