@@ -46,7 +46,6 @@ BvhBuildConfig wide_bvh_default_config() {
   c.leaf_block = kTriangleBlockWidth;
   c.presplit = 0.1f;
   c.presplit_max_pieces = 2;
-  // +1..9 % diffuse, +1..17 % primary/shadow/ao over the greedy collapse (1 thread, 512^2).
   c.collapse = CollapseMethod::Sah;
   return c;
 }

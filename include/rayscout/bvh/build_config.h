@@ -1,4 +1,4 @@
-// BvhBuildConfig: the tunables of the binned SAH builder.
+// BvhBuildConfig: the tunables of the binned SAH builder and of its 8-wide collapse.
 #pragma once
 
 namespace rayscout {

@@ -26,8 +26,9 @@ BvhBuildConfig wide_bvh_config_from_options(const AcceleratorOptions& options);
 /// honored by bisection). With up to 65 pieces, 5 % cost Conference 15-20 % of its primary and
 /// diffuse throughput against no pre-splitting; with 2 pieces, 8-12 % help Sponza (shadow rays
 /// +20 %) and leave Sibenik and Conference within a few % of no pre-splitting. The Bvh2 is
-/// collapsed into 8-wide nodes by SAH cost (collapse=sah, Ylitie et al. 2017), 3-8 % faster
-/// than the greedy collapse on diffuse rays and up to 15 % on primary rays.
+/// collapsed into 8-wide nodes by SAH cost (collapse=sah, Ylitie et al. 2017); against the
+/// greedy collapse: diffuse rays +5-7 %, primary +4-14 %, shadow +2-15 %, AO 0-9 %
+/// (docs/performance.md, Core engine).
 BvhBuildConfig wide_bvh_default_config();
 
 /// Registry "bvh2": a binned SAH Bvh2, one ray at a time, rays in parallel (oneTBB).

@@ -1,5 +1,6 @@
 // SplitMix64 (Steele, Lea, Flood, "Fast splittable pseudorandom number generators", 2014): the
-// one 64-bit mix and stream that rayscout's counter-based random numbers are built from.
+// 64-bit mix and stream behind the renderer's sampler and the shafts' sample rays; manylight's
+// PCG32 is seeded through it. (DACRT picks its sample rays with a plain xorshift64.)
 #pragma once
 
 #include <cstdint>

@@ -31,8 +31,8 @@ struct DacrtDetails {
 };
 
 /// DACRT over a fixed triangle set. Nothing is built: every trace call recursively splits
-/// (rays, triangles) with index arrays partitioned in place, allocated once per call with a
-/// size that depends only on |R| and |T| (and the task count in parallel mode).
+/// (rays, triangles) with index arrays partitioned in place, taken from an arena kept between
+/// calls, with a size that depends only on |R| and |T| (and the task count in parallel mode).
 class Dacrt final : public Accelerator {
  public:
   /// Keeps a view of triangles (they must outlive the accelerator). name: registry name.

@@ -33,8 +33,8 @@ struct EmbreeConfig {
 /// another triangle: compare with a tolerance (1e-4 relative), never bit for bit.
 /// Embree has no work counters: intersect/occluded fill only TraceStats::rays.
 /// Rays Embree cannot trace (an origin or direction component NaN or beyond 1.844e18 in
-/// magnitude, a NaN tmin or tmax: Embree's RayK::valid()) are not handed to it, since its
-/// assertion would abort the process; they miss. Our own accelerators trace them as brute
+/// magnitude, a negative or NaN tmin, a NaN tmax, or tmin > tmax: Embree's RayK::valid() and
+/// tnear >= 0) are not handed to it, since its assertion would abort the process; they miss. Our own accelerators trace them as brute
 /// force does (a finite direction of 1e30 still hits).
 class EmbreeAccelerator final : public Accelerator {
  public:

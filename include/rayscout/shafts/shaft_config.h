@@ -70,7 +70,7 @@ struct ShaftConfig {
   /// Camera, CameraVoxels: fraction of the pre-pass rays whose shafts (voxels) get lists.
   double coverage = 0.95;
   /// Camera, CameraVoxels: pre-pass image width in pixels (height from a 4:3 aspect); 1 sample per pixel,
-  /// plus one diffuse bounce and one shadow ray per point light at each hit.
+  /// plus two cosine diffuse bounces and a shadow ray to each of the first 4 point lights at each hit.
   int prepass_width = 96;
   /// Trace the sample rays with a temporary 8-wide BVH collapsed from the binary one (same
   /// hits, faster); off = trace them with the binary BVH.
