@@ -96,15 +96,40 @@ Ray shadow_ray(const ShadingPoint& sp, const Vpl& vpl, float offset) {
   return {o, 0.0f, y - o, 0.999f};
 }
 
-VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerator& accel,
-                                             std::span<const ShadingPoint> points,
-                                             const VplSet& vpls, const ManylightConfig& config) {
-  VisibilityClusters vc;
-  // Fig. 1(a): cluster the shading points and the VPLs.
-  auto t0 = SteadyClock::now();
-  const float diag = length(scene.bounds().diagonal());
-  const float offset = manylight_detail::ray_offset(scene);
+namespace {
 
+/// What the member pairs sampled so far say about each cluster pair (index s * nl + l).
+struct PairEstimates {
+  std::vector<double> sum_t;                      ///< channel means of t_i summed ...
+  std::vector<uint32_t> n_t;                      ///< ... over this many member pairs
+  std::vector<uint32_t> n_traced, n_vis;          ///< shadow rays traced, and unoccluded
+  explicit PairEstimates(size_t pairs) : sum_t(pairs, 0.0), n_t(pairs, 0), n_traced(pairs, 0), n_vis(pairs, 0) {}
+};
+
+/// Everything the sampling of cluster pairs reads.
+struct PairSampling {
+  const Scene& scene;
+  std::span<const ShadingPoint> points;
+  const VplSet& vpls;
+  const ManylightConfig& config;
+  const VisibilityClusters& vc;
+  size_t nl;  ///< VPL clusters
+
+  /// A random member pair of cluster pair pid: the shading point first, then the VPL.
+  std::pair<const ShadingPoint*, const Vpl*> random_members(uint32_t pid, manylight_detail::Rng& rng) const {
+    const size_t s = pid / nl, l = pid % nl;
+    const uint32_t point = vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))];
+    const uint32_t vpl = vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))];
+    return {&points[point], &vpls.vpls[vpl]};
+  }
+  float contribution(const ShadingPoint& sp, const Vpl& vpl) const {
+    return channel_mean(tentative_contribution(scene, sp, vpl, config.clamp_distance));
+  }
+};
+
+/// Fig. 1(a): clusters the valid shading points and the VPLs.
+void cluster_points_and_vpls(std::span<const ShadingPoint> points, const VplSet& vpls, float diag,
+                             const ManylightConfig& config, VisibilityClusters& vc) {
   std::vector<uint32_t> valid;
   std::vector<Vec3> pos, nrm;
   for (uint32_t i = 0; i < points.size(); ++i) {
@@ -126,78 +151,131 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
     nrm.push_back(v.kind == Vpl::Kind::Point ? Vec3(0.0f) : v.normal);
   }
   vc.lights = cluster_points(pos, nrm, diag, config.normal_weight, config.vpl_clusters);
-  vc.cluster_ms = ms_since(t0);
+}
 
-  // Fig. 1(b), sec. 3: the average visibility r of every cluster pair from a few member pairs'
-  // shadow rays (Wu & Chuang 2013).
-  t0 = SteadyClock::now();
-  const size_t ns = vc.shading.size(), nl = vc.lights.size();
-  const size_t pairs = ns * nl;
-  std::vector<double> sum_t(pairs, 0.0);
-  std::vector<uint32_t> n_t(pairs, 0), n_vis(pairs, 0), n_traced(pairs, 0);
-  // Samples `count` random member pairs of every listed cluster pair; stream `pass` keeps
-  // the refinement's samples independent of the first ones.
-  auto sample_pairs = [&](const std::vector<uint32_t>& pair_ids, int count, uint64_t pass) {
-    const size_t chunk_pairs = std::max<size_t>(1, (size_t(1) << 20) / size_t(std::max(1, count)));
-    for (size_t c0 = 0; c0 < pair_ids.size(); c0 += chunk_pairs) {
-      const size_t c1 = std::min(pair_ids.size(), c0 + chunk_pairs);
-      const size_t m = (c1 - c0) * size_t(count);
-      std::vector<float> lum(m, 0.0f);
-      std::vector<Ray> ray_of(m);
-      tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1), [&](const auto& range) {
-        for (size_t k = range.begin(); k != range.end(); ++k) {
-          const uint32_t pid = pair_ids[k];
-          const size_t s = pid / nl, l = pid % nl;
-          manylight_detail::Rng rng(config.seed, 0xC1A55 + pass, pid);
-          for (int j = 0; j < count; ++j) {
-            const auto& sp = points[vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))]];
-            const auto& vpl = vpls.vpls[vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))]];
-            const size_t slot = (k - c0) * count + j;
-            lum[slot] = channel_mean(tentative_contribution(scene, sp, vpl, config.clamp_distance));
-            ray_of[slot] = shadow_ray(sp, vpl, offset);
-          }
-        }
-      });
-      RayBatch rays;
-      std::vector<uint32_t> slot_of;
-      for (size_t slot = 0; slot < m; ++slot)
-        if (lum[slot] > 0.0f) { rays.push_back(ray_of[slot]); slot_of.push_back(uint32_t(slot)); }
-      std::vector<uint8_t> occ;
-      accel.occluded(rays, occ);
-      vc.shadow_rays += rays.size();
-      for (size_t k = c0; k < c1; ++k) {
-        const uint32_t pid = pair_ids[k];
+/// Fig. 1(b), sec. 3 (Wu & Chuang 2013): traces the shadow rays of `count` random member pairs
+/// of every cluster pair in pair_ids; stream `pass` keeps the refinement's samples independent
+/// of the first ones. Returns the number of shadow rays traced.
+size_t sample_visibility(const PairSampling& ps, const Accelerator& accel, float offset,
+                         std::span<const uint32_t> pair_ids, int count, uint64_t pass, PairEstimates& est) {
+  size_t traced = 0;
+  const size_t chunk_pairs = std::max<size_t>(1, (size_t(1) << 20) / size_t(std::max(1, count)));
+  for (size_t c0 = 0; c0 < pair_ids.size(); c0 += chunk_pairs) {
+    const size_t c1 = std::min(pair_ids.size(), c0 + chunk_pairs);
+    const size_t m = (c1 - c0) * size_t(count);
+    std::vector<float> contribution(m, 0.0f);
+    std::vector<Ray> ray_of(m);
+    tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1), [&](const auto& range) {
+      for (size_t k = range.begin(); k != range.end(); ++k) {
+        manylight_detail::Rng rng(ps.config.seed, 0xC1A55 + pass, pair_ids[k]);
         for (int j = 0; j < count; ++j) {
-          sum_t[pid] += lum[(k - c0) * count + j];
-          n_t[pid]++;
+          const auto [sp, vpl] = ps.random_members(pair_ids[k], rng);
+          const size_t slot = (k - c0) * count + j;
+          contribution[slot] = ps.contribution(*sp, *vpl);
+          ray_of[slot] = shadow_ray(*sp, *vpl, offset);
         }
       }
-      for (size_t i = 0; i < rays.size(); ++i) {
-        const uint32_t pid = pair_ids[c0 + slot_of[i] / count];
-        n_traced[pid]++;
-        n_vis[pid] += occ[i] ? 0u : 1u;
+    });
+    // Only pairs that would contribute need a ray.
+    RayBatch rays;
+    std::vector<uint32_t> slot_of;
+    for (size_t slot = 0; slot < m; ++slot)
+      if (contribution[slot] > 0.0f) { rays.push_back(ray_of[slot]); slot_of.push_back(uint32_t(slot)); }
+    std::vector<uint8_t> occ;
+    accel.occluded(rays, occ);
+    traced += rays.size();
+    for (size_t k = c0; k < c1; ++k) {
+      const uint32_t pid = pair_ids[k];
+      for (int j = 0; j < count; ++j) {
+        est.sum_t[pid] += contribution[(k - c0) * count + j];
+        est.n_t[pid]++;
       }
     }
-  };
-  // rayscout addition (docs/manylight.md, VisibilityCluster: contribution_samples).
-  // Contributions need no rays: estimate them from many more member pairs than visibility,
-  // so that a VPL cluster is rarely left at the uniform floor while some members matter.
-  if (config.contribution_samples > 0)
-    tbb::parallel_for(size_t(0), pairs, [&](size_t pid) {
-      const size_t s = pid / nl, l = pid % nl;
-      manylight_detail::Rng rng(config.seed, 0xC0DE, pid);
-      double sum = 0;
-      for (int j = 0; j < config.contribution_samples; ++j) {
-        const auto& sp = points[vc.shading.order[vc.shading.begin[s] + rng.below(uint32_t(vc.shading.count(s)))]];
-        const auto& vpl = vpls.vpls[vc.lights.order[vc.lights.begin[l] + rng.below(uint32_t(vc.lights.count(l)))]];
-        sum += channel_mean(tentative_contribution(scene, sp, vpl, config.clamp_distance));
-      }
-      sum_t[pid] += sum;
-      n_t[pid] += uint32_t(config.contribution_samples);
-    });
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const uint32_t pid = pair_ids[c0 + slot_of[i] / count];
+      est.n_traced[pid]++;
+      est.n_vis[pid] += occ[i] ? 0u : 1u;
+    }
+  }
+  return traced;
+}
+
+/// rayscout addition (docs/manylight.md, VisibilityCluster: contribution_samples).
+/// Contributions need no rays: estimate them from many more member pairs than visibility,
+/// so that a VPL cluster is rarely left at the uniform floor while some members matter.
+void sample_contributions(const PairSampling& ps, size_t pairs, PairEstimates& est) {
+  const int count = ps.config.contribution_samples;
+  tbb::parallel_for(size_t(0), pairs, [&](size_t pid) {
+    manylight_detail::Rng rng(ps.config.seed, 0xC0DE, pid);
+    double sum = 0;
+    for (int j = 0; j < count; ++j) {
+      const auto [sp, vpl] = ps.random_members(uint32_t(pid), rng);
+      sum += ps.contribution(*sp, *vpl);
+    }
+    est.sum_t[pid] += sum;
+    est.n_t[pid] += uint32_t(count);
+  });
+}
+
+/// rayscout's simplified stand-in for Wu & Chuang's refinement (docs/manylight.md, Refinement):
+/// the pairs whose visibility is mixed and that carry an above-average share of their row;
+/// only there does a better r change the pdf or the skip probability much.
+std::vector<uint32_t> pairs_to_refine(const VisibilityClusters& vc, const std::vector<float>& weight, size_t ns,
+                                      size_t nl) {
+  std::vector<uint32_t> refine;
+  for (size_t s = 0; s < ns; ++s) {
+    double row = 0;
+    for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
+    const double mean = row / double(nl);
+    for (size_t l = 0; l < nl; ++l) {
+      const size_t pid = s * nl + l;
+      if (vc.r[pid] > 0.0f && vc.r[pid] < 1.0f && weight[pid] >= mean && weight[pid] > 0) refine.push_back(uint32_t(pid));
+    }
+  }
+  return refine;
+}
+
+/// Fig. 1(c): the distribution over VPL clusters, here per shading cluster (the paper: per
+/// shading point) with rayscout's r_floor and uniform_mix floors (docs/manylight.md, pmf).
+void build_cluster_choice(const std::vector<float>& weight, size_t vpl_count, const ManylightConfig& config,
+                          VisibilityClusters& vc) {
+  const size_t ns = vc.shading.size(), nl = vc.lights.size();
+  vc.vpl_cluster_choice.resize(ns);
+  const double mix = std::clamp(double(config.uniform_mix), 0.0, 1.0);
+  tbb::parallel_for(size_t(0), ns, [&](size_t s) {
+    double row = 0;
+    for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
+    std::vector<double> p(nl);
+    for (size_t l = 0; l < nl; ++l) {
+      const double uniform = double(vc.lights.count(l)) / double(vpl_count);
+      p[l] = row > 0 ? (1.0 - mix) * weight[s * nl + l] / row + mix * uniform : uniform;
+    }
+    // Integer ranges of 53 random bits: the reported probability is the chance of the choice,
+    // and every cluster keeps at least one unit (p > 0 for every VPL: unbiased).
+    vc.vpl_cluster_choice[s] = DiscreteDistribution(p, 53);
+  });
+}
+
+}  // namespace
+
+VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerator& accel,
+                                             std::span<const ShadingPoint> points,
+                                             const VplSet& vpls, const ManylightConfig& config) {
+  VisibilityClusters vc;
+  auto t0 = SteadyClock::now();
+  cluster_points_and_vpls(points, vpls, length(scene.bounds().diagonal()), config, vc);
+  vc.cluster_ms = ms_since(t0);
+
+  // The average visibility r of every cluster pair from a few member pairs' shadow rays.
+  t0 = SteadyClock::now();
+  const size_t ns = vc.shading.size(), nl = vc.lights.size(), pairs = ns * nl;
+  const float offset = manylight_detail::ray_offset(scene);
+  const PairSampling ps{scene, points, vpls, config, vc, nl};
+  PairEstimates est(pairs);
+  if (config.contribution_samples > 0) sample_contributions(ps, pairs, est);
   std::vector<uint32_t> all(pairs);
   for (size_t i = 0; i < pairs; ++i) all[i] = uint32_t(i);
-  sample_pairs(all, std::max(1, config.visibility_samples), 0);
+  vc.shadow_rays += sample_visibility(ps, accel, offset, all, std::max(1, config.visibility_samples), 0, est);
 
   vc.r.assign(pairs, 0.5f);
   std::vector<float> weight(pairs, 0.0f);
@@ -205,49 +283,21 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   // visibility (sec. 3), floored by rayscout's r_floor (docs/manylight.md, pmf).
   auto update = [&](size_t pid) {
     // Unknown (no pair faced each other): r = 0.5, the most uncertain prediction.
-    vc.r[pid] = n_traced[pid] ? float(n_vis[pid]) / float(n_traced[pid]) : 0.5f;
-    const double c = n_t[pid] ? sum_t[pid] / n_t[pid] * double(vc.lights.count(pid % nl)) : 0.0;
+    vc.r[pid] = est.n_traced[pid] ? float(est.n_vis[pid]) / float(est.n_traced[pid]) : 0.5f;
+    const double c = est.n_t[pid] ? est.sum_t[pid] / est.n_t[pid] * double(vc.lights.count(pid % nl)) : 0.0;
     weight[pid] = float(c * std::max(vc.r[pid], config.r_floor));
   };
   for (size_t pid = 0; pid < pairs; ++pid) update(pid);
   if (config.refine_samples > 0) {
-    // rayscout's simplified stand-in for Wu & Chuang's refinement (docs/manylight.md, Refinement).
-    // Refine pairs whose visibility is mixed and that carry an above-average share of their
-    // row: only there does a better r change the pdf or the skip probability much.
-    std::vector<uint32_t> refine;
-    for (size_t s = 0; s < ns; ++s) {
-      double row = 0;
-      for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
-      const double mean = row / double(nl);
-      for (size_t l = 0; l < nl; ++l) {
-        const size_t pid = s * nl + l;
-        if (vc.r[pid] > 0.0f && vc.r[pid] < 1.0f && weight[pid] >= mean && weight[pid] > 0) refine.push_back(uint32_t(pid));
-      }
-    }
+    const std::vector<uint32_t> refine = pairs_to_refine(vc, weight, ns, nl);
     vc.refined_pairs = refine.size();
-    sample_pairs(refine, config.refine_samples, 1);
+    vc.shadow_rays += sample_visibility(ps, accel, offset, refine, config.refine_samples, 1, est);
     for (uint32_t pid : refine) update(pid);
   }
   vc.visibility_ms = ms_since(t0);
 
-  // Fig. 1(c): the distribution over VPL clusters, here per shading cluster (the paper: per
-  // shading point) with rayscout's r_floor and uniform_mix floors (docs/manylight.md, pmf).
   t0 = SteadyClock::now();
-  vc.vpl_cluster_choice.resize(ns);
-  const double n_vpl = double(vpls.vpls.size());
-  const double mix = std::clamp(double(config.uniform_mix), 0.0, 1.0);
-  tbb::parallel_for(size_t(0), ns, [&](size_t s) {
-    double row = 0;
-    for (size_t l = 0; l < nl; ++l) row += weight[s * nl + l];
-    std::vector<double> p(nl);
-    for (size_t l = 0; l < nl; ++l) {
-      const double uniform = double(vc.lights.count(l)) / n_vpl;
-      p[l] = row > 0 ? (1.0 - mix) * weight[s * nl + l] / row + mix * uniform : uniform;
-    }
-    // Integer ranges of 53 random bits: the reported probability is the chance of the choice,
-    // and every cluster keeps at least one unit (p > 0 for every VPL: unbiased).
-    vc.vpl_cluster_choice[s] = DiscreteDistribution(p, 53);
-  });
+  build_cluster_choice(weight, vpls.vpls.size(), config, vc);
   if (config.override_r >= 0.0f && config.override_r <= 1.0f) std::fill(vc.r.begin(), vc.r.end(), config.override_r);
   vc.pmf_ms = ms_since(t0);
   return vc;
