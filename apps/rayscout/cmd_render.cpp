@@ -96,7 +96,7 @@ void run(RenderOptions& o) {
   if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
     if (!ml.rmse_log.empty()) {
-      if (!ml.rmse_log.ends_with(".json") && !ml.rmse_log.ends_with(".csv"))
+      if (!rmse_log_format(ml.rmse_log))
         throw InputError("--rmse-log " + ml.rmse_log + ": the file name must end in .json or .csv");
       check_output_path(ml.rmse_log, "--rmse-log " + ml.rmse_log);
     }

@@ -19,6 +19,13 @@ ManylightRunOptions& parsed_options() {
   return options;
 }
 
+/// The values of --visibility.
+std::vector<std::string> visibility_mode_names() {
+  std::vector<std::string> names;
+  for (const auto& [name, mode] : kVisibilityModes) names.push_back(name);
+  return names;
+}
+
 /// The --visibility string as parsed.
 std::string& parsed_visibility() {
   static std::string visibility = "proposed";
@@ -43,7 +50,7 @@ void add_manylight_options(CLI::App& cmd) {
       ->transform(in_range<size_t>(1, 4294967295));
   cmd.add_option("--visibility", parsed_visibility(), "manylight: exact, veach, conservative or proposed")
       ->capture_default_str()
-      ->check(CLI::IsMember({"exact", "veach", "conservative", "proposed"}));
+      ->check(CLI::IsMember(visibility_mode_names()));
   cmd.add_option("--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)")
       ->capture_default_str()
       ->transform(in_range(0.0));

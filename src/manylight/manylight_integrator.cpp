@@ -84,7 +84,7 @@ class ManylightIntegrator final : public Integrator {
  private:
   void write_log(const ManylightRenderer& r, const std::vector<ProgressRecord>& records) const {
     std::ostringstream f;
-    const bool csv = o_.rmse_log.size() >= 4 && o_.rmse_log.substr(o_.rmse_log.size() - 4) == ".csv";
+    const bool csv = rmse_log_format(o_.rmse_log) == RmseLogFormat::Csv;
     if (csv) {
       f << "seconds,passes,rmse,skip_rate\n";
       for (const auto& p : records) f << p.seconds << "," << p.passes << "," << p.rmse << "," << p.skip_rate << "\n";
@@ -109,6 +109,12 @@ class ManylightIntegrator final : public Integrator {
 };
 
 }  // namespace
+
+std::optional<RmseLogFormat> rmse_log_format(const std::string& path) {
+  if (path.ends_with(".json")) return RmseLogFormat::Json;
+  if (path.ends_with(".csv")) return RmseLogFormat::Csv;
+  return std::nullopt;
+}
 
 Image skip_rate_image(std::span<const float> rates, int width, int height, const std::filesystem::path& path) {
   const bool srgb = writes_srgb(path);

@@ -18,24 +18,6 @@ double ManylightRenderer::now() const {
   return (config_.cpu_clock ? process_cpu_ms() : wall_ms()) * 1e-3;
 }
 
-VisibilityMode parse_visibility_mode(const std::string& name) {
-  if (name == "exact") return VisibilityMode::Exact;
-  if (name == "veach") return VisibilityMode::Veach;
-  if (name == "conservative") return VisibilityMode::Conservative;
-  if (name == "proposed") return VisibilityMode::Proposed;
-  throw InputError("--visibility: unknown mode '" + name + "' (known: exact, veach, conservative, proposed)");
-}
-
-std::string to_string(VisibilityMode mode) {
-  switch (mode) {
-    case VisibilityMode::Exact: return "exact";
-    case VisibilityMode::Veach: return "veach";
-    case VisibilityMode::Conservative: return "conservative";
-    case VisibilityMode::Proposed: return "proposed";
-  }
-  return "?";
-}
-
 namespace {
 /// What became of one slot of a round's sample buffer.
 enum class SampleState : uint8_t {

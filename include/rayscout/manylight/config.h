@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 
 namespace rayscout {
 
@@ -14,7 +15,12 @@ enum class VisibilityMode {
   Proposed,      ///< (v_i - r_i)^2 -> max(eps, r_i (1 - r_i)) (sec. 4.2)
 };
 
-/// "exact", "veach", "conservative", "proposed"; throws InputError otherwise.
+/// Every mode with its name (the values of --visibility).
+inline constexpr std::pair<const char*, VisibilityMode> kVisibilityModes[] = {
+    {"exact", VisibilityMode::Exact}, {"veach", VisibilityMode::Veach},
+    {"conservative", VisibilityMode::Conservative}, {"proposed", VisibilityMode::Proposed}};
+
+/// The mode named `name` in kVisibilityModes; throws InputError for any other name.
 VisibilityMode parse_visibility_mode(const std::string& name);
 std::string to_string(VisibilityMode mode);
 

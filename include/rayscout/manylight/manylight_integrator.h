@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -22,6 +23,11 @@ struct ManylightRunOptions {
   std::string skip_image;     ///< where to write the per-pixel skip rate (grey: white = skipped)
   bool verbose = true;        ///< summary lines on stderr
 };
+
+/// How an RMSE log is written, by the end of its file name: ".json" or ".csv"; nullopt for
+/// any other name.
+enum class RmseLogFormat { Json, Csv };
+std::optional<RmseLogFormat> rmse_log_format(const std::string& path);
 
 /// The width x height grey picture of per-pixel skip rates (ManylightRenderer::skip_image) to
 /// hand to write_image(path), so that the file holds the rate as its reader sees it: .exr and
