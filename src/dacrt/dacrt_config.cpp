@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <sstream>
 #include <optional>
+#include <sstream>
 #include <utility>
 
 namespace rayscout {
