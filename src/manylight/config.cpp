@@ -6,11 +6,10 @@
 namespace rayscout {
 
 VisibilityMode parse_visibility_mode(const std::string& name) {
-  std::string known;
-  for (const auto& [mode_name, mode] : kVisibilityModes) {
+  for (const auto& [mode_name, mode] : kVisibilityModes)
     if (name == mode_name) return mode;
-    known += (known.empty() ? "" : ", ") + std::string(mode_name);
-  }
+  std::string known;
+  for (const auto& [mode_name, mode] : kVisibilityModes) known += (known.empty() ? "" : ", ") + std::string(mode_name);
   throw InputError("--visibility: unknown mode '" + name + "' (known: " + known + ")");
 }
 

@@ -263,13 +263,14 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
                                              const VplSet& vpls, const ManylightConfig& config) {
   VisibilityClusters vc;
   auto t0 = SteadyClock::now();
-  cluster_points_and_vpls(points, vpls, length(scene.bounds().diagonal()), config, vc);
+  const float diag = length(scene.bounds().diagonal());
+  cluster_points_and_vpls(points, vpls, diag, config, vc);
   vc.cluster_ms = ms_since(t0);
 
   // The average visibility r of every cluster pair from a few member pairs' shadow rays.
   t0 = SteadyClock::now();
   const size_t ns = vc.shading.size(), nl = vc.lights.size(), pairs = ns * nl;
-  const float offset = manylight_detail::ray_offset(scene);
+  const float offset = manylight_detail::ray_offset(diag);
   const PairSampling ps{scene, points, vpls, config, vc, nl};
   PairEstimates est(pairs);
   if (config.contribution_samples > 0) sample_contributions(ps, pairs, est);

@@ -40,11 +40,11 @@ class AcceleratorOptions {
     const auto it = values_.find(key);
     used_.insert(key);
     if (it == values_.end()) return fallback;
+    for (const auto& [name, value] : names)
+      if (it->second == name) return value;
     std::string list;
-    for (size_t i = 0; i < names.size(); ++i) {
-      if (it->second == names[i].first) return names[i].second;
+    for (size_t i = 0; i < names.size(); ++i)
       list += std::string(i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i].first;
-    }
     throw InputError("option '" + key + "': '" + it->second + "' is not " + list);
   }
   template <class T>
