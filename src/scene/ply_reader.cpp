@@ -227,22 +227,121 @@ int face_index_property(const std::filesystem::path& path, const Element& el) {
   fail_at(path, el.header_line, "face element lacks a vertex_indices list");
 }
 
+// The values of one element instance after another, from the body after the header: an ascii
+// instance is one line, a binary one its bytes. Errors name the line (ascii) or the element,
+// its index and the byte offset where the instance starts (binary).
+class InstanceReader {
+ public:
+  InstanceReader(const std::filesystem::path& path, const Header& header, const std::string& data, const char* p,
+                 size_t line)
+      : path_(path), header_(header), data_(data), p_(p), line_(line) {}
+
+  bool binary() const { return header_.format != Format::Ascii; }
+
+  // Starts instance k of element el.
+  void begin(const Element& el, size_t k) {
+    el_ = &el;
+    k_ = k;
+    byte_ = size_t(p_ - data_.data());
+    if (binary()) return;
+    if (p_ >= end()) fail_at(path_, line_ + 1, "unexpected end of file in " + el.name + " " + std::to_string(k) +
+                                                  " of " + std::to_string(el.count));
+    const std::string_view text = detail::next_line(p_, end(), header_.eol);
+    q_ = text.data();
+    e_ = q_ + text.size();
+    ++line_;
+  }
+
+  // The next value of the instance. Ascii numbers are parsed by their declared type, so float
+  // coordinates round once and integer indices stay exact.
+  double next(Scalar type, const std::string& property) {
+    if (binary()) {
+      double x = 0;
+      if (!read_binary(p_, end(), type, swap(), x))
+        fail("unexpected end of data (" + std::to_string(el_->count) + " " +
+             (el_->name == "vertex" ? "vertices" : el_->name + "s") + " declared)");
+      return x;
+    }
+    const std::string_view t = next_token(q_, e_);
+    if (t.empty()) fail("too few values for " + el_->name + " (property " + property + ")");
+    if (type == Scalar::Float32) {
+      float f;
+      if (!detail::parse_float(t, f)) {
+        double d;
+        fail("'" + std::string(t) + (detail::parse_double(t, d) ? "' is out of float range" : "' is not a number"));
+      }
+      return f;
+    }
+    if (type == Scalar::Float64) {
+      double d;
+      if (!detail::parse_double(t, d)) fail("'" + std::string(t) + "' is not a number");
+      return d;
+    }
+    long long i;
+    if (!detail::parse_int(t, i)) fail("'" + std::string(t) + "' is not an integer");
+    if (const IntRange r = int_range(type); i < r.lo || i > r.hi)
+      fail("'" + std::string(t) + "' is out of range for " + r.name + " (" + std::to_string(r.lo) + " to " +
+           std::to_string(r.hi) + ")");
+    return double(i);
+  }
+
+  // Ends the instance: an ascii line must hold no more values than the header declares.
+  void finish() {
+    if (binary()) return;
+    if (const std::string_view t = next_token(q_, e_); !t.empty())
+      fail("more values than the header declares for " + el_->name + " ('" + std::string(t) + "')");
+  }
+
+  // After the last element. Ascii: only white space may follow. Binary: bytes after it are
+  // ignored, as rply does (it stops after the declared elements); writers pad files or append
+  // data the header does not describe, and the declared elements were all read whole.
+  void finish_file() {
+    while (!binary() && p_ < end()) {
+      const std::string_view text = detail::next_line(p_, end(), header_.eol);
+      const char* q = text.data();
+      ++line_;
+      if (const std::string_view t = next_token(q, q + text.size()); !t.empty())
+        fail_at(path_, line_, "data after the last element ('" + std::string(t) + "')");
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& message) const {
+    if (binary())
+      throw InputError(detail::printable(detail::display_name(path_) + ": " + el_->name + " " + std::to_string(k_) +
+                                         " (byte " + std::to_string(byte_) + "): " + message));
+    fail_at(path_, line_, message);
+  }
+
+ private:
+  const char* end() const { return data_.data() + data_.size(); }
+  bool swap() const { return (header_.format == Format::BinaryBig) != (std::endian::native == std::endian::big); }
+
+  const std::filesystem::path& path_;
+  const Header& header_;
+  const std::string& data_;
+  const char* p_;       // the next byte of the body
+  size_t line_;         // ascii: the line just read
+  const Element* el_ = nullptr;
+  size_t k_ = 0;        // the instance's index in its element
+  size_t byte_ = 0;     // where the instance starts
+  const char* q_ = nullptr;  // ascii: the rest of the instance's line [q_, e_)
+  const char* e_ = nullptr;
+};
+
 }  // namespace
 
 Mesh read_ply(const std::filesystem::path& path) {
   const std::string data = detail::read_file(path);
   const char* p = data.data();
-  const char* const end = p + data.size();
   size_t line = 0;
-  const Header header = read_header(path, p, end, line);
+  const Header header = read_header(path, p, data.data() + data.size(), line);
   const VertexLayout vertices = vertex_layout(path, header.elements);
+  InstanceReader in(path, header, data, p, line);
 
   Mesh mesh;
   mesh.materials.push_back(Material{.name = "default"});
   // A header may declare absurd counts; never reserve more than the data could hold.
   mesh.positions.reserve(std::min(vertices.count, data.size() / 3));
-  const bool binary = header.format != Format::Ascii;
-  const bool swap = (header.format == Format::BinaryBig) != (std::endian::native == std::endian::big);
   std::vector<double> values;
   std::vector<double> poly;  // face indices, range-checked before any conversion to an integer
 
@@ -251,93 +350,41 @@ Mesh read_ply(const std::filesystem::path& path) {
     const bool is_face = el.name == "face";
     const int face_prop = is_face ? face_index_property(path, el) : -1;
     // A binary instance without properties takes no bytes: nothing to read, whatever the count.
-    if (binary && el.props.empty()) continue;
+    if (in.binary() && el.props.empty()) continue;
     for (size_t k = 0; k < el.count; ++k) {
-      // Where an error is reported: a line (ascii) or element index and byte offset (binary).
-      const size_t byte = size_t(p - data.data());
-      auto fail = [&](const std::string& msg) -> void {
-        if (binary)
-          throw InputError(detail::printable(detail::display_name(path) + ": " + el.name + " " + std::to_string(k) +
-                                             " (byte " + std::to_string(byte) + "): " + msg));
-        fail_at(path, line, msg);
-      };
-      // Ascii: each element instance is one line [q, e).
-      const char* q = nullptr;
-      const char* e = nullptr;
-      if (!binary) {
-        if (p >= end) fail_at(path, line + 1, "unexpected end of file in " + el.name + " " + std::to_string(k) +
-                                                  " of " + std::to_string(el.count));
-        const std::string_view text = detail::next_line(p, end, header.eol);
-        q = text.data();
-        e = q + text.size();
-        ++line;
-      }
-      // The next value of the instance. Ascii numbers are parsed by their declared type, so
-      // float coordinates round once and integer indices stay exact.
-      auto next_value = [&](Scalar type, const std::string& what) -> double {
-        if (binary) {
-          double x = 0;
-          if (!read_binary(p, end, type, swap, x))
-            fail("unexpected end of data (" + std::to_string(el.count) + " " + (el.name == "vertex" ? "vertices" : el.name + "s") + " declared)");
-          return x;
-        }
-        std::string_view t = next_token(q, e);
-        if (t.empty()) fail("too few values for " + el.name + " (property " + what + ")");
-        if (type == Scalar::Float32) {
-          float f;
-          if (!detail::parse_float(t, f)) {
-            double d;
-            fail("'" + std::string(t) + (detail::parse_double(t, d) ? "' is out of float range" : "' is not a number"));
-          }
-          return f;
-        }
-        if (type == Scalar::Float64) {
-          double d;
-          if (!detail::parse_double(t, d)) fail("'" + std::string(t) + "' is not a number");
-          return d;
-        }
-        long long i;
-        if (!detail::parse_int(t, i)) fail("'" + std::string(t) + "' is not an integer");
-        if (const IntRange r = int_range(type); i < r.lo || i > r.hi)
-          fail("'" + std::string(t) + "' is out of range for " + r.name + " (" + std::to_string(r.lo) + " to " +
-               std::to_string(r.hi) + ")");
-        return double(i);
-      };
-
+      in.begin(el, k);
       values.clear();
       poly.clear();
       for (size_t i = 0; i < el.props.size(); ++i) {
         const auto& pr = el.props[i];
         if (!pr.is_list) {
-          values.push_back(next_value(pr.type, pr.name));
+          values.push_back(in.next(pr.type, pr.name));
           continue;
         }
         values.push_back(0);
-        const double cnt = next_value(pr.count_type, pr.name);
-        if (cnt < 0) fail("negative list length");
+        const double cnt = in.next(pr.count_type, pr.name);
+        if (cnt < 0) in.fail("negative list length");
         for (size_t j = 0; j < size_t(cnt); ++j) {
-          const double v = next_value(pr.type, pr.name);
+          const double v = in.next(pr.type, pr.name);
           if (int(i) == face_prop) {
-            if (v != std::floor(v)) fail("face index " + std::to_string(v) + " is not an integer");
+            if (v != std::floor(v)) in.fail("face index " + std::to_string(v) + " is not an integer");
             poly.push_back(v);
           }
         }
       }
-      if (!binary)
-        if (std::string_view t = next_token(q, e); !t.empty())
-          fail("more values than the header declares for " + el.name + " ('" + std::string(t) + "')");
+      in.finish();
 
       if (is_vertex) {
         Vec3 v(float(values[size_t(vertices.x)]), float(values[size_t(vertices.y)]), float(values[size_t(vertices.z)]));
-        if (!is_finite(v)) fail("vertex coordinate is not finite");
+        if (!is_finite(v)) in.fail("vertex coordinate is not finite");
         mesh.positions.push_back(v);
       }
       if (is_face) {
-        if (poly.size() < 3) fail(detail::face_too_small(poly.size()));
+        if (poly.size() < 3) in.fail(detail::face_too_small(poly.size()));
         for (double idx : poly)
           if (!(idx >= 0 && idx < double(vertices.count)))
-            fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertices.count) +
-                 " vertices)");
+            in.fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertices.count) +
+                    " vertices)");
         for (size_t j = 1; j + 1 < poly.size(); ++j) {
           mesh.faces.push_back({uint32_t(poly[0]), uint32_t(poly[j]), uint32_t(poly[j + 1])});
           mesh.face_materials.push_back(0);
@@ -345,16 +392,7 @@ Mesh read_ply(const std::filesystem::path& path) {
       }
     }
   }
-  // Ascii: only white space may follow the last element. Binary: bytes after it are ignored, as
-  // rply does (it stops after the declared elements); writers pad files or append data the header
-  // does not describe, and the declared elements were all read whole.
-  while (!binary && p < end) {
-    const std::string_view text = detail::next_line(p, end, header.eol);
-    const char* q = text.data();
-    ++line;
-    if (std::string_view t = next_token(q, q + text.size()); !t.empty())
-      fail_at(path, line, "data after the last element ('" + std::string(t) + "')");
-  }
+  in.finish_file();
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no faces (empty mesh)");
   return mesh;
 }
