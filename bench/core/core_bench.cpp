@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-#include <stdexcept>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -42,20 +42,8 @@ std::unique_ptr<Accelerator> build(const Column& c, const Scene& scene) {
   return make_accelerator(c.accel, scene, o);
 }
 
-// Shadow and AO rays are any-hit queries; primary and diffuse rays want the closest hit.
-bool any_hit(Workload w) { return w == Workload::Shadow || w == Workload::Ao; }
-
-bool g_cpu_time = false;  // --cpu-time: time traces by process CPU time instead of wall time
-
-double trace_ms(const Accelerator& a, const RayBatch& rays, bool occluded, TraceStats* stats = nullptr) {
-  HitBatch hits;
-  std::vector<uint8_t> occ;
-  const auto start = SteadyClock::now();
-  const double cpu0 = g_cpu_time ? process_cpu_ms() : 0.0;
-  if (occluded) a.occluded(rays, occ, stats);
-  else a.intersect(rays, hits, stats);
-  return g_cpu_time ? process_cpu_ms() - cpu0 : ms_since(start);
-}
+// --cpu-time: time traces by process CPU time instead of the wall clock.
+bench::Clock g_clock = bench::Clock::Wall;
 
 struct Options {
   std::vector<std::string> scenes;
@@ -119,11 +107,12 @@ int run(const Options& opt) {
     fmt::print(stderr, "{}: {} triangles loaded in {:.0f} ms\n", scene_name, scene.triangles.size(), ms_since(load_start));
 
     // Ray sets are made once (with all threads) and shared by every column and thread count.
-    std::map<std::string, RayBatch> ray_sets;
+    std::map<std::string, bench::RaySet> ray_sets;
     {
       const auto gen = make_accelerator("bvh", scene);
       for (const auto& w : opt.workloads)
-        ray_sets[w] = make_workload(scene, *gen, parse_workload(w), {.width = opt.width, .height = opt.height});
+        ray_sets[w] = {w, 0, is_any_hit(parse_workload(w)),
+                       make_workload(scene, *gen, parse_workload(w), {.width = opt.width, .height = opt.height})};
     }
 
     for (int threads : opt.threads) {
@@ -147,14 +136,15 @@ int run(const Options& opt) {
       fmt::print(stderr, "  {} threads: builds done\n", threads);
 
       for (const auto& w : opt.workloads) {
-        const RayBatch& rays = ray_sets[w];
-        const bool occluded = any_hit(parse_workload(w));
+        const bench::RaySet& set = ray_sets[w];
+        const RayBatch& rays = set.rays;
+        const bool occluded = set.occlusion;
         for (const auto& a : accels)
-          if (a) trace_ms(*a, rays, occluded);  // warm-up
+          if (a) bench::trace(*a, set);  // warm-up
         std::vector<std::vector<double>> times(columns.size());
         for (int r = 0; r < opt.repeat; ++r)
           for (size_t c = 0; c < columns.size(); ++c)
-            times[c].push_back(timed(c) ? trace_ms(*accels[c], rays, occluded) : 0.0);
+            times[c].push_back(timed(c) ? bench::trace_ms(g_clock, *accels[c], set) : 0.0);
         std::vector<double> mrays;
         for (size_t c = 0; c < columns.size(); ++c)
           mrays.push_back(timed(c) ? mrays_per_s(rays.size(), median(times[c])) : 0.0);
@@ -171,12 +161,12 @@ int run(const Options& opt) {
 
         if (threads == opt.threads.back()) {
           TraceStats s2, sw;
-          if (opt.bvh2) trace_ms(*accels[0], rays, occluded, &s2);
-          trace_ms(*accels[1], rays, occluded, &sw);
+          if (opt.bvh2) bench::trace(*accels[0], set, &s2);
+          bench::trace(*accels[1], set, &sw);
           for (size_t c = 5 - (opt.embree_variants ? 0 : 2); c < columns.size(); ++c)
             if (columns[c].accel == "bvh") {
               TraceStats sx;
-              trace_ms(*accels[c], rays, occluded, &sx);
+              bench::trace(*accels[c], set, &sx);
               const double n = double(std::max<size_t>(1, rays.size()));
               if (const auto* wa = dynamic_cast<const WideBvhAccelerator*>(accels[c].get())) {
                 const WideBvh& wb = wa->bvh();
@@ -234,9 +224,11 @@ int main(int argc, char** argv) {
   bool no_bvh2 = false;
   app.add_flag("--no-bvh2", no_bvh2, "Leave out the bvh2 column (its numbers print as 0)");
   app.add_option("--column", opt.extra, "Extra column label:accel[:key=value,...] (repeatable), e.g. bvh-p1:bvh:presplit=0.1");
-  app.add_flag("--cpu-time", rayscout::g_cpu_time,
+  bool cpu_time = false;
+  app.add_flag("--cpu-time", cpu_time,
                "Time traces by process CPU time (all threads summed; for 1 thread on a loaded machine)");
   CLI11_PARSE(app, argc, argv);
+  if (cpu_time) rayscout::g_clock = rayscout::bench::Clock::ProcessCpu;
   opt.embree_variants = !no_variants;
   opt.bvh2 = !no_bvh2;
   return rayscout::bench::run_bench("core_bench", [&] { return rayscout::run(opt); });

@@ -48,32 +48,13 @@ struct Options {
   bool variants_only = false;         // no dacrt / dacrt-rs columns (profiling one variant)
 };
 
-// The machine is shared: with one thread the process CPU time measures the work without the
-// waits for a core; with more threads wall time is all that is meaningful.
-bool g_cpu_time = true;
+// One thread is timed by the process CPU time, more by the wall clock (bench_support.h).
+Clock g_clock = Clock::ProcessCpu;
 
-double now_ms() { return g_cpu_time ? process_cpu_ms() : wall_ms(); }
-
-double ms_since(double t0) { return now_ms() - t0; }
-
-void trace(const Accelerator& a, const RaySet& s, TraceStats* st = nullptr) {
-  if (s.occlusion) {
-    std::vector<uint8_t> occ;
-    a.occluded(s.rays, occ, st);
-  } else {
-    HitBatch hits;
-    a.intersect(s.rays, hits, st);
-  }
-}
-
-/// Median wall time of reps trace calls (ms).
+/// Median time of reps traces of s (ms).
 double time_trace(const Accelerator& a, const RaySet& s, int reps) {
   std::vector<double> t;
-  for (int r = 0; r < reps; ++r) {
-    const double t0 = now_ms();
-    trace(a, s);
-    t.push_back(ms_since(t0));
-  }
+  for (int r = 0; r < reps; ++r) t.push_back(trace_ms(g_clock, a, s));
   return median(t);
 }
 
@@ -84,8 +65,6 @@ std::unique_ptr<Accelerator> make(const std::string& name, const Scene& scene, c
   for (const auto& e : extra) opts.set(e);
   return make_accelerator(name, scene, opts);
 }
-
-std::string set_label(const RaySet& s) { return s.kind + (s.bounce ? "@" + std::to_string(s.bounce) : ""); }
 
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
 
@@ -141,16 +120,16 @@ int main(int argc, char** argv) {
     if (!o.json.empty()) check_output_path(o.json, "--json");
     if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
-    g_cpu_time = o.threads == 1;
+    g_clock = o.threads == 1 ? Clock::ProcessCpu : Clock::Wall;
     auto wants = [&](const std::string& e) { return contains(o.experiments, e); };
 
     nlohmann::json out;
     out["threads"] = o.threads;
     out["reps"] = o.reps;
-    out["clock"] = g_cpu_time ? "process CPU time" : "wall";
+    out["clock"] = clock_name(g_clock);
     fmt::print("# machine: {}\n", machine_description());
     fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
-               g_cpu_time ? "process CPU time" : "wall", o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
+               clock_name(g_clock), o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
     // The configurations as make() builds them: parallel follows --threads.
     DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
     afra.parallel = rs.parallel = o.threads > 1;
@@ -176,7 +155,7 @@ int main(int argc, char** argv) {
       auto bvh = make_accelerator("bvh", scene);
       auto sets = render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
       if (!o.batches.empty())
-        std::erase_if(sets, [&](const RaySet& s) { return !contains(o.batches, set_label(s)); });
+        std::erase_if(sets, [&](const RaySet& s) { return !contains(o.batches, s.label()); });
       return sets;
     };
 
@@ -198,8 +177,8 @@ int main(int argc, char** argv) {
           for (const auto& s : sets) {
             const double ta = time_trace(*afra, s, o.reps), tr = time_trace(*rs, s, o.reps);
             fa += ta; fr += tr;
-            fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, set_label(s), s.rays.size(), ta, tr, ta / tr);
-            out["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
+            fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, s.label(), s.rays.size(), ta, tr, ta / tr);
+            out["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"rays", s.rays.size()},
                                          {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
           }
           const auto& pr = paper_ratios().at(v.name);
@@ -253,12 +232,8 @@ int main(int argc, char** argv) {
           for (const auto& s : sets) {
             std::vector<std::vector<double>> t(configs.size());
             for (int r = 0; r < o.reps; ++r)
-              for (size_t k = 0; k < accs.size(); ++k) {
-                const double t0 = now_ms();
-                trace(*accs[k], s);
-                t[k].push_back(ms_since(t0));
-              }
-            fmt::print("| {} | {} | {} | {} |", v.name, res, set_label(s), s.rays.size());
+              for (size_t k = 0; k < accs.size(); ++k) t[k].push_back(trace_ms(g_clock, *accs[k], s));
+            fmt::print("| {} | {} | {} | {} |", v.name, res, s.label(), s.rays.size());
             const double base = median(t[0]);
             for (size_t k = 0; k < accs.size(); ++k) {
               const double m = median(t[k]);
@@ -269,7 +244,7 @@ int main(int argc, char** argv) {
               fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
                          double(d.partition_box_tests) / double(s.rays.size()),
                          double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
-              out["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", set_label(s)}, {"config", configs[k].first},
+              out["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"config", configs[k].first},
                                          {"ms", m}, {"partition_box", d.partition_box_tests},
                                          {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
             }
@@ -362,10 +337,10 @@ int main(int argc, char** argv) {
           const DacrtDetails da = ad->last_details(), dr = rd->last_details();
           const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
           const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
-          fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", set_label(s), sa.ray_box_tests,
+          fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", s.label(), sa.ray_box_tests,
                      dr.partition_box_tests, dr.sampling_box_tests, 100 * ch_p, 100 * ch_a, sa.ray_tri_tests,
                      sr.ray_tri_tests, dr.skipped_partitions);
-          out["counts"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)},
+          out["counts"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", s.label()},
                                    {"dacrt_box", sa.ray_box_tests}, {"rs_partition_box", dr.partition_box_tests},
                                    {"rs_sampling_box", dr.sampling_box_tests}, {"rs_box", sr.ray_box_tests},
                                    {"dacrt_tri", sa.ray_tri_tests}, {"rs_tri", sr.ray_tri_tests}});
@@ -385,18 +360,16 @@ int main(int argc, char** argv) {
             if (k == 1 && !have_embree) continue;
             std::vector<double> b, t;
             for (int rep = 0; rep < o.reps; ++rep) {
-              const double t0 = now_ms();
+              const double t0 = now_ms(g_clock);
               auto acc = make_accelerator(names[k], *scene);
-              b.push_back(ms_since(t0));
-              const double t1 = now_ms();
-              trace(*acc, s);
-              t.push_back(ms_since(t1));
+              b.push_back(now_ms(g_clock) - t0);
+              t.push_back(trace_ms(g_clock, *acc, s));
             }
             peer[k][0] = median(b); peer[k][1] = median(t);
           }
-          fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", set_label(s), s.rays.size(), ta, tr,
+          fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", s.label(), s.rays.size(), ta, tr,
                      peer[0][0], peer[0][1], peer[0][0] + peer[0][1], peer[1][0], peer[1][1], peer[1][0] + peer[1][1]);
-          out["peers"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", set_label(s)}, {"rays", s.rays.size()},
+          out["peers"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", s.label()}, {"rays", s.rays.size()},
                                   {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", peer[0][0]}, {"bvh_trace_ms", peer[0][1]},
                                   {"embree_build_ms", peer[1][0]}, {"embree_trace_ms", peer[1][1]}});
         }
@@ -409,7 +382,7 @@ int main(int argc, char** argv) {
         fmt::print("## Memory, {} primary rays at {}^2 (fresh accelerator per row; peak = peak RSS over the call minus RSS before it)\n\n", v.name, o.study_res);
         fmt::print("| accelerator | \\|R\\| | \\|T\\| | formula MiB | peak MiB | peak / formula |\n|---|---:|---:|---:|---:|---:|\n");
         const RaySet* primary = nullptr;
-        for (const auto& s : sets) if (set_label(s) == "primary") primary = &s;
+        for (const auto& s : sets) if (s.label() == "primary") primary = &s;
         if (!primary) { fmt::print("(no primary batch)\n\n"); continue; }
         const size_t nr = primary->rays.size(), nt = scene->triangles.size();
         const std::vector<std::pair<size_t, size_t>> sizes = {{nr / 16, nt}, {nr / 4, nt}, {nr, nt}, {nr, nt / 4}, {nr, nt / 16}};

@@ -6,18 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.h"
 #include "rayscout/core/accelerator.h"
 #include "rayscout/scene/scene.h"
 
 namespace rayscout::bench {
-
-/// One traced batch of a frame.
-struct RaySet {
-  std::string kind;        ///< "primary", "shadow", "mirror", "ao"
-  int bounce = 0;          ///< 0 = from the camera or the primary hits; 1 = after the mirror
-  bool occlusion = false;  ///< any-hit batch (shadow, ao)
-  RayBatch rays;
-};
 
 /// A benchmark view: camera, lights and which surfaces mirror.
 struct View {

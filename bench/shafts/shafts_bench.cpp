@@ -22,15 +22,12 @@
 #include "rayscout/shafts/shafts_accelerator.h"
 
 using namespace rayscout;
+using bench::Clock;
 using bench::median;
+using bench::RaySet;
 
 namespace {
 
-struct RaySet {
-  std::string name;
-  RayBatch rays;
-  bool occlusion = false;
-};
 
 std::vector<RaySet> make_ray_sets(const Scene& scene, const Accelerator& accel, int width, int height,
                                   const std::vector<std::string>& wanted) {
@@ -41,11 +38,11 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const Accelerator& accel, 
   auto want = [&](const std::string& n) { return std::find(wanted.begin(), wanted.end(), n) != wanted.end(); };
   for (Workload w : {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse}) {
     if (!want(workload_name(w))) continue;
-    sets.push_back({workload_name(w), make_workload(scene, accel, w, wc), w == Workload::Shadow || w == Workload::Ao});
+    sets.push_back({workload_name(w), 0, is_any_hit(w), make_workload(scene, accel, w, wc)});
   }
   if (want("path")) {
     // Path-tracing bounces 1..3 (closest hit), recorded from a low-resolution render.
-    RaySet path{"path", {}, false};
+    RaySet path{"path", 0, false, {}};
     RenderConfig rc;
     rc.width = width / 2;
     rc.height = height / 2;
@@ -61,10 +58,10 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const Accelerator& accel, 
   return sets;
 }
 
-bool g_cpu_clock = false;
+/// The calling thread's CPU time with one thread (TBB then runs inline), else the wall clock.
+Clock g_clock = Clock::Wall;
 
-/// Milliseconds: the calling thread's CPU time with one thread (TBB then runs inline), else wall.
-double now_ms() { return g_cpu_clock ? thread_cpu_ms() : wall_ms(); }
+double now_ms() { return bench::now_ms(g_clock); }
 
 struct Measure {
   TraceStats with, without;
@@ -161,10 +158,10 @@ int main(int argc, char** argv) {
 
     const int nthreads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
-    g_cpu_clock = nthreads == 1;
+    g_clock = nthreads == 1 ? Clock::ThreadCpu : Clock::Wall;
     fmt::print("# machine: {}\n", bench::machine_description());
     fmt::print("# shafts_bench: {} thread(s), trace times = {}, {}x{} workloads, median of {} reps\n", nthreads,
-               g_cpu_clock ? "thread CPU time" : "wall clock", width, height, reps);
+               bench::clock_name(g_clock), width, height, reps);
     std::ofstream out;
     if (!csv.empty()) {
       out.open(csv);
@@ -246,7 +243,7 @@ int main(int argc, char** argv) {
               if (set.occlusion) acc.occluded(set.rays, occ, nullptr, profile_side == "lists");
               else acc.intersect(set.rays, hits, nullptr, profile_side == "lists");
             }
-            fmt::print("{} {}: {:.2f} ms per pass\n", set.name, profile_side, (now_ms() - t0) / reps);
+            fmt::print("{} {}: {:.2f} ms per pass\n", set.label(), profile_side, (now_ms() - t0) / reps);
           }
           continue;
         }
@@ -257,12 +254,12 @@ int main(int argc, char** argv) {
           saved_sum += 1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps));
           log_speedup_sum += std::log(m.ms_without / m.ms_with);
           fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.1f} % | {:.1f} / {:.1f} | {:.1f} / {:.1f} | {:.2f} | {:.2f} | {:.2f}x | {:.1f} |\n",
-                     set.name, set.rays.size(), m.without.traversal_steps / n, m.with.traversal_steps / n,
+                     set.label(), set.rays.size(), m.without.traversal_steps / n, m.with.traversal_steps / n,
                      100.0 * (1.0 - double(m.with.traversal_steps) / double(std::max<uint64_t>(1, m.without.traversal_steps))),
                      m.without.ray_box_tests / n, m.with.ray_box_tests / n, m.without.ray_tri_tests / n,
                      m.with.ray_tri_tests / n, m.ms_without, m.ms_with, m.ms_without / m.ms_with, m.ms_lookup * 1e6 / n);
           if (out.is_open())
-            out << sname << "," << v.base << "," << cfg.budget_rel << "," << cfg.dir_res << "," << set.name << ","
+            out << sname << "," << v.base << "," << cfg.budget_rel << "," << cfg.dir_res << "," << set.label() << ","
                 << set.rays.size() << "," << m.without.traversal_steps / n << "," << m.with.traversal_steps / n << ","
                 << m.ms_without << "," << m.ms_with << "," << bvh_clock_ms << "," << all_clock_ms - bvh_clock_ms << ","
                 << bvh_mib << "," << st.memory_bytes() / 1048576.0 << "," << st.mean_list << ","

@@ -1,4 +1,5 @@
-// What the benchmark drivers share: medians of repetitions, checks of name lists, error exits.
+// What the benchmark drivers share: clocks, ray sets and their tracing, medians of repetitions,
+// checks of name lists, the machine line, error exits.
 #pragma once
 
 #include <algorithm>
@@ -11,14 +12,73 @@
 
 #include <fmt/core.h>
 
+#include "rayscout/core/accelerator.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/median.h"
+#include "rayscout/core/stopwatch.h"
 
 namespace rayscout::bench {
 
 // Median of the repetitions' times; never empty: every driver's repetition options are
 // checked to be at least 1.
 using rayscout::median;
+
+/// The clock a driver times with. On a shared machine the CPU time of a one-thread run
+/// measures the work without the waits for a core; with more threads only wall time means
+/// anything (TBB's workers are other threads, and CPU time sums them).
+enum class Clock { Wall, ProcessCpu, ThreadCpu };
+
+inline double now_ms(Clock clock) {
+  switch (clock) {
+    case Clock::ProcessCpu: return process_cpu_ms();
+    case Clock::ThreadCpu: return thread_cpu_ms();
+    case Clock::Wall: break;
+  }
+  return wall_ms();
+}
+
+inline const char* clock_name(Clock clock) {
+  switch (clock) {
+    case Clock::ProcessCpu: return "process CPU time";
+    case Clock::ThreadCpu: return "thread CPU time";
+    case Clock::Wall: break;
+  }
+  return "wall clock";
+}
+
+/// One traced batch of a workload and the query it is traced with.
+struct RaySet {
+  std::string kind;        ///< "primary", "shadow", "ao", "diffuse", "mirror", "path", ...
+  int bounce = 0;          ///< 0 = from the camera or the primary hits; k = after k bounces
+  bool occlusion = false;  ///< any-hit batch (shadow, ao)
+  RayBatch rays;
+
+  /// "shadow", or "shadow@1" for a later bounce's batch.
+  std::string label() const { return kind + (bounce ? "@" + std::to_string(bounce) : ""); }
+};
+
+/// Traces rays once with `a`: occluded() for an any-hit batch, else intersect(); the results
+/// are dropped, the work is counted into stats if given.
+inline void trace(const Accelerator& a, const RayBatch& rays, bool occlusion, TraceStats* stats = nullptr) {
+  if (occlusion) {
+    std::vector<uint8_t> occluded;
+    a.occluded(rays, occluded, stats);
+  } else {
+    HitBatch hits;
+    a.intersect(rays, hits, stats);
+  }
+}
+
+inline void trace(const Accelerator& a, const RaySet& set, TraceStats* stats = nullptr) {
+  trace(a, set.rays, set.occlusion, stats);
+}
+
+/// Milliseconds one trace of set takes on clock.
+inline double trace_ms(Clock clock, const Accelerator& a, const RaySet& set) {
+  const double t0 = now_ms(clock);
+  trace(a, set);
+  return now_ms(clock) - t0;
+}
 
 /// Throws InputError naming `option` and the first of `given` that is not in `known`, so a
 /// misspelt workload or view is an error instead of an empty table.

@@ -36,4 +36,8 @@ Workload parse_workload(const std::string& name);
 /// The name parse_workload accepts.
 std::string workload_name(Workload workload);
 
+/// Shadow and AO rays ask whether anything is hit (occluded()); primary and diffuse rays want
+/// the closest hit (intersect()).
+inline bool is_any_hit(Workload workload) { return workload == Workload::Shadow || workload == Workload::Ao; }
+
 }  // namespace rayscout
