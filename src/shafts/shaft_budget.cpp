@@ -65,7 +65,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     return finish(build_grid(tree, grid, tris, trace, sample_rays, config), 1);
   }
   const double cells = 6.0 * config.dir_res * config.dir_res;
-  const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
+  const double min_prob = config.min_prob;
   // Predicted memory of a grid of about n voxels: the voxel table, entry tables of the listed
   // voxels and lists whose mean length a pilot of up to 192 random listed shafts measures
   // (dedup assumed to save 5 %). Two pilot iterations settle the resolution before the one

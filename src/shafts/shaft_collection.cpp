@@ -375,7 +375,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
                      " voxels listed; budget_mib, budget_rel or voxels decide the grid) needs");
 
   std::vector<detail::VoxelLists> out(listed.size());  // per listed voxel, its lists before packing
-  const double min_prob = config.min_prob >= 0.0 ? config.min_prob : double(tree.arity - 1) / tree.arity;
+  const double min_prob = config.min_prob;
 
   // Cones are the same in every voxel: made once, moved to each voxel.
   std::vector<Shaft> cell_shafts;

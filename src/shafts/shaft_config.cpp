@@ -35,6 +35,7 @@ ShaftConfig ShaftConfig::resolved(int arity) const {
   if (!c.samples) c.samples = binary ? 4 : 3;
   if (!c.reuse_rays) c.reuse_rays = !binary;
   if (!c.entry_boxes) c.entry_boxes = !binary;
+  if (c.min_prob < 0.0) c.min_prob = double(arity - 1) / arity;
   return c;
 }
 

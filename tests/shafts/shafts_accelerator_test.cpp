@@ -350,6 +350,11 @@ TEST(ShaftsOptions, AutoValuesResolvePerArity) {
   EXPECT_EQ(wide.reuse_rays, true);
   EXPECT_EQ(binary.entry_boxes, false);
   EXPECT_EQ(wide.entry_boxes, true);
+  EXPECT_EQ(binary.min_prob, 0.5);  // (k-1)/k
+  EXPECT_EQ(wide.min_prob, 7.0 / 8.0);
+  ShaftConfig fixed = c;
+  fixed.min_prob = 0.3;
+  EXPECT_EQ(fixed.resolved(kWideWidth).min_prob, 0.3);
   AcceleratorOptions m;
   m.set("samples=-1");
   m.set("entry_boxes=1");

@@ -90,7 +90,7 @@ struct ShaftConfig {
   unsigned seed = 1;
 
   /// The unset (automatic) values filled in for a BVH of the given arity (2 = Bvh2): samples,
-  /// reuse_rays, entry_boxes. Validates first, so that every builder checks the config it
+  /// reuse_rays, entry_boxes, min_prob. Validates first, so that every builder checks the config it
   /// was handed.
   ShaftConfig resolved(int arity) const;
   /// Throws InputError naming the first value out of range: the one place of the rules.
