@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <tbb/parallel_for.h>
 
@@ -127,9 +128,71 @@ void ManylightRenderer::render_pass() {
   ++passes_;
 }
 
+// Phase A for one sample: sample j of shading point pid (in shading cluster c) draws a VPL
+// from the cluster's row, weighs its tentative contribution and tosses the skip coin; a
+// traced sample's shadow ray goes to `ray`.
+void ManylightRenderer::draw_sample(size_t c, uint32_t pid, int j, Forced forced, double t_hat_value, double sigma2,
+                                    Sample& s, Ray& ray) const {
+  const ShadingPoint& sp = points_[pid];
+  const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
+  manylight_detail::Rng rng(seed_ + passes_ * kGolden64, pid, uint64_t(j) | (uint64_t(forced) << 32));
+  s.point = pid;
+  const size_t l = cluster_choice.sample_bits(rng.bits64());
+  const double pmf_cluster = cluster_choice.probability(l);
+  const uint32_t members = clusters_.lights.count(l);
+  const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
+  const double p = pmf_cluster / double(members);
+  const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
+  if (max_component(t) <= 0.0f) {
+    s.state = SampleState::ZeroContribution;
+    s.value = Vec3(0.0f);
+    s.q = 1;
+    s.r = 0;
+    s.lum_t = 0;
+    return;
+  }
+  s.value = t * float(1.0 / p);
+  s.lum_t = channel_mean(s.value);
+  s.r = float(visibility_prediction(config_.mode, clusters_.r[c * clusters_.vpl_cluster_count() + l]));
+  double q = 0;
+  if (forced == Forced::One) q = 1;
+  else if (forced == Forced::None)
+    q = skip_probability(config_.mode, channel_mean(t), p, s.r, t_hat_value, sigma2, config_.epsilon);
+  s.q = q;
+  // skip_coin skips with probability exactly q (q is on its 2^-53 grid), and eq. (8) in
+  // resolve_samples weights with the same double q.
+  if (skip_coin(q, rng.bits64())) {
+    s.state = SampleState::Skipped;
+    return;
+  }
+  s.state = SampleState::Traced;
+  ray = shadow_ray(sp, vpl, offset_);
+}
+
+// Phase B for the samples of one shading cluster: V~ of eq. (8), the pixel estimate of
+// eq. (6), and the cluster statistics.
+void ManylightRenderer::resolve_samples(size_t c, std::span<const Sample> samples, const std::vector<uint8_t>& occluded,
+                                        bool accumulate) {
+  ClusterSampleStats& st = stats_[c];
+  const int spp_samples = config_.samples_per_pass;
+  for (const Sample& s : samples) {
+    if (s.state == SampleState::Empty) continue;
+    double vt = 0;
+    if (s.state == SampleState::Skipped) vt = s.r;
+    else if (s.state == SampleState::Traced) vt = visibility_estimate(false, occluded[s.ray] ? 0.0 : 1.0, s.r, s.q);
+    if (s.state != SampleState::ZeroContribution) st.add(s.q, s.lum_t * vt);
+    else st.add(1.0, 0.0);
+    if (!accumulate) continue;
+    point_sum_[s.point] += s.value * float(vt / spp_samples);
+    if (s.state != SampleState::ZeroContribution) {
+      point_samples_[s.point]++;
+      point_skipped_[s.point] += s.state == SampleState::Skipped ? 1u : 0u;
+    }
+  }
+}
+
 size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster_points, Forced forced, bool accumulate) {
   const size_t nc = cluster_points.size();
-  const size_t nl = clusters_.vpl_cluster_count();
   const size_t per_round = size_t(config_.points_per_round);
   const int spp_samples = config_.samples_per_pass;
   const size_t stride = per_round * spp_samples;
@@ -149,39 +212,12 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
       const ClusterSampleStats& st = stats_[c];
       const double th = t_hat(t_hat_base_eval, t_hat_base_skip, st.mean_q());
       const double var = st.variance();
-      const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
-      const float* rr = &clusters_.r[c * nl];
       for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = SampleState::Empty;
-      for (size_t i = b; i < e; ++i) {
-        const uint32_t pid = list[i];
-        const ShadingPoint& sp = points_[pid];
+      for (size_t i = b; i < e; ++i)
         for (int j = 0; j < spp_samples; ++j) {
-          manylight_detail::Rng rng(seed_ + passes_ * kGolden64, pid, uint64_t(j) | (uint64_t(forced) << 32));
-          Sample& s = samples[c * stride + (i - b) * spp_samples + j];
-          s.point = pid;
-          const size_t l = cluster_choice.sample_bits(rng.bits64());
-          const double pmf_cluster = cluster_choice.probability(l);
-          const uint32_t members = clusters_.lights.count(l);
-          const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
-          const double p = pmf_cluster / double(members);
-          const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
-          if (max_component(t) <= 0.0f) { s.state = SampleState::ZeroContribution; s.value = Vec3(0.0f); s.q = 1; s.r = 0; s.lum_t = 0; continue; }
-          s.value = t * float(1.0 / p);
-          s.lum_t = channel_mean(s.value);
-          s.r = float(visibility_prediction(config_.mode, rr[l]));
-          double q = 0;
-          if (forced == Forced::One) q = 1;
-          else if (forced == Forced::None)
-            q = skip_probability(config_.mode, channel_mean(t), p, s.r, th, var, config_.epsilon);
-          s.q = q;
-          // skip_coin skips with probability exactly q (q is on its 2^-53 grid), and eq. (8)
-          // below weights with the same double q.
-          const bool skip = skip_coin(q, rng.bits64());
-          if (skip) { s.state = SampleState::Skipped; continue; }
-          s.state = SampleState::Traced;
-          ray_of[c * stride + (i - b) * spp_samples + j] = shadow_ray(sp, vpl, offset_);
+          const size_t k = c * stride + (i - b) * spp_samples + j;
+          draw_sample(c, list[i], j, forced, th, var, samples[k], ray_of[k]);
         }
-      }
     });
     rays.clear();
     for (size_t k = 0; k < samples.size(); ++k) {
@@ -193,22 +229,7 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
     rays_traced_ += accumulate ? rays.size() : 0;
     // Phase B: V~ of eq. (8), the pixel estimate of eq. (6), and the cluster statistics.
     tbb::parallel_for(size_t(0), nc, [&](size_t c) {
-      ClusterSampleStats& st = stats_[c];
-      for (size_t k = c * stride; k < (c + 1) * stride; ++k) {
-        const Sample& s = samples[k];
-        if (s.state == SampleState::Empty) continue;
-        double vt = 0;
-        if (s.state == SampleState::Skipped) vt = s.r;
-        else if (s.state == SampleState::Traced) vt = visibility_estimate(false, occ[s.ray] ? 0.0 : 1.0, s.r, s.q);
-        if (s.state != SampleState::ZeroContribution) st.add(s.q, s.lum_t * vt);
-        else st.add(1.0, 0.0);
-        if (!accumulate) continue;
-        point_sum_[s.point] += s.value * float(vt / spp_samples);
-        if (s.state != SampleState::ZeroContribution) {
-          point_samples_[s.point]++;
-          point_skipped_[s.point] += s.state == SampleState::Skipped ? 1u : 0u;
-        }
-      }
+      resolve_samples(c, std::span<const Sample>(samples).subspan(c * stride, stride), occ, accumulate);
     });
   }
   return nonzero;
