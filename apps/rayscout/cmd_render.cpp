@@ -86,10 +86,9 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
                                        : ""));
 }
 
-void run(RenderOptions& o) {
-  const ThreadLimit limit(o.threads);
-  const int n_threads = limit.threads;
-  // Output paths are checked before the work, not after it.
+// What can be checked before the scene load: output paths (before the work, not after it),
+// memory, and the manylight run's files.
+void check_before_work(const RenderOptions& o) {
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
   check_memory(o.config, o.integrator, manylight_cli_options().config);
@@ -110,6 +109,41 @@ void run(RenderOptions& o) {
         throw InputError("--reference " + ml.reference + ": no such file");
     }
   }
+}
+
+// Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
+void warn_if_not_finite(const Image& image) {
+  size_t nonfinite = 0;
+  for (const Vec3& p : image.pixels) nonfinite += !is_finite(p);
+  if (nonfinite > 0)
+    fmt::print(stderr, "rayscout: warning: {} of {} pixels are not finite (inf or NaN): radiance beyond the float "
+               "range; lower the scene's light intensities or emission\n", nonfinite, image.pixels.size());
+}
+
+// --stats: the renderer's stats, what was rendered and how, and the load and build times.
+void write_stats(const RenderOptions& o, const RenderStats& stats, const Scene& scene, const Integrator& integrator,
+                 const Accelerator& accel, int n_threads, double load_ms, double build_ms) {
+  nlohmann::json j = nlohmann::json::parse(stats.to_json());
+  j["scene"] = o.scene.empty() ? "cornell" : o.scene;
+  j["integrator"] = integrator.name();
+  j["accel"] = accel.name();
+  j["threads"] = n_threads;
+  j["width"] = o.config.width;
+  j["height"] = o.config.height;
+  j["spp"] = o.config.spp;
+  j["seed"] = o.config.seed;
+  j["triangles"] = scene.triangles.size();
+  j["load_ms"] = load_ms;
+  j["build_ms"] = build_ms;
+  j["accel_memory_bytes"] = accel.build_info().memory_bytes;
+  if (o.stats == "-") fmt::print("{}\n", j.dump());
+  else write_file(o.stats, j.dump() + "\n", "--stats");
+}
+
+void run(RenderOptions& o) {
+  const ThreadLimit limit(o.threads);
+  const int n_threads = limit.threads;
+  check_before_work(o);
   const auto integrator = make_integrator(o.integrator);
   AcceleratorOptions accel_options;
   for (const auto& kv : o.accel_opts) accel_options.set(kv);
@@ -134,12 +168,7 @@ void run(RenderOptions& o) {
   const Image image = integrator->render(scene, *accel, o.config, &stats);
   if (show_progress) fmt::print(stderr, "\n");
   write_image(image, o.out);
-  // Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
-  size_t nonfinite = 0;
-  for (const Vec3& p : image.pixels) nonfinite += !is_finite(p);
-  if (nonfinite > 0)
-    fmt::print(stderr, "rayscout: warning: {} of {} pixels are not finite (inf or NaN): radiance beyond the float "
-               "range; lower the scene's light intensities or emission\n", nonfinite, image.pixels.size());
+  warn_if_not_finite(image);
 
   fmt::print("wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
              o.config.height, o.config.spp, integrator->name(), accel->name(), n_threads);
@@ -152,26 +181,7 @@ void run(RenderOptions& o) {
     fmt::print("work: {} rays, per ray {:.2f} traversal steps, {:.2f} ray-box tests, {:.2f} ray-triangle tests\n", w.rays,
                double(w.traversal_steps) / double(w.rays), double(w.ray_box_tests) / double(w.rays),
                double(w.ray_tri_tests) / double(w.rays));
-  if (!o.stats.empty()) {
-    nlohmann::json j = nlohmann::json::parse(stats.to_json());
-    j["scene"] = o.scene.empty() ? "cornell" : o.scene;
-    j["integrator"] = integrator->name();
-    j["accel"] = accel->name();
-    j["threads"] = n_threads;
-    j["width"] = o.config.width;
-    j["height"] = o.config.height;
-    j["spp"] = o.config.spp;
-    j["seed"] = o.config.seed;
-    j["triangles"] = scene.triangles.size();
-    j["load_ms"] = load_ms;
-    j["build_ms"] = build_ms;
-    j["accel_memory_bytes"] = accel->build_info().memory_bytes;
-    if (o.stats == "-") {
-      fmt::print("{}\n", j.dump());
-    } else {
-      write_file(o.stats, j.dump() + "\n", "--stats");
-    }
-  }
+  if (!o.stats.empty()) write_stats(o, stats, scene, *integrator, *accel, n_threads, load_ms, build_ms);
 }
 
 CommandRegistration registration{[](CLI::App& app) {
