@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -32,6 +33,8 @@ using namespace rayscout::bench;
 
 namespace {
 
+const std::vector<std::string> kExperiments = {"resolution", "ablation", "sampling", "counts", "peers", "variants", "memory"};
+
 struct Options {
   std::vector<std::string> views;
   std::vector<int> res{512, 1024, 2048};
@@ -48,25 +51,25 @@ struct Options {
   bool variants_only = false;         // no dacrt / dacrt-rs columns (profiling one variant)
 };
 
-// One thread is timed by the process CPU time, more by the wall clock (bench_support.h).
-Clock g_clock = Clock::ProcessCpu;
-
-/// Median time of reps traces of s (ms).
-double time_trace(const Accelerator& a, const RaySet& s, int reps) {
-  std::vector<double> t;
-  for (int r = 0; r < reps; ++r) t.push_back(trace_ms(g_clock, a, s));
-  return median(t);
-}
-
-std::unique_ptr<Accelerator> make(const std::string& name, const Scene& scene, const Options& o,
-                                  const std::vector<std::string>& extra = {}) {
-  AcceleratorOptions opts;
-  if (name.rfind("dacrt", 0) == 0) opts.set("parallel", o.threads > 1 ? "on" : "off");
-  for (const auto& e : extra) opts.set(e);
-  return make_accelerator(name, scene, opts);
-}
+/// A labelled set of accelerator options ("key=value") on top of an accelerator's defaults.
+using Config = std::pair<std::string, std::vector<std::string>>;
 
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
+
+/// "label=key:value;key:value" (--variants) as the label and its "key=value" options.
+Config parse_variant(const std::string& spec) {
+  const auto eq = spec.find('=');
+  std::vector<std::string> extra;
+  const std::string rest = eq == std::string::npos ? "" : spec.substr(eq + 1);
+  for (size_t a = 0; !rest.empty() && a != std::string::npos;) {
+    const size_t b = rest.find(';', a);
+    std::string kv = rest.substr(a, b == std::string::npos ? std::string::npos : b - a);
+    if (const auto c = kv.find(':'); c != std::string::npos) kv[c] = '=';
+    if (!kv.empty()) extra.push_back(kv);
+    a = b == std::string::npos ? b : b + 1;
+  }
+  return {spec.substr(0, eq), extra};
+}
 
 /// "VmRSS" or "VmHWM" (peak resident) of this process in bytes, from /proc/self/status.
 double status_bytes(const std::string& key) {
@@ -83,6 +86,346 @@ double restart_peak() {
   std::ofstream("/proc/self/clear_refs") << "5";
   return status_bytes("VmRSS");
 }
+
+/// One run of the driver: the options, the scenes loaded so far and the JSON results; one
+/// method per experiment.
+class DacrtBench {
+ public:
+  explicit DacrtBench(const Options& o) : o_(o), clock_(o.threads == 1 ? Clock::ProcessCpu : Clock::Wall) {}
+
+  int run() {
+    print_header();
+    if (wants("resolution")) resolution();
+    if (wants("variants")) variants();
+    for (const auto& v : paper_views())
+      if (contains(o_.study_views, v.name)) study(v);
+    if (!o_.json.empty()) {
+      write_file(o_.json, out_.dump(1) + "\n", "results file");
+      fmt::print("results: {}\n", o_.json);
+    }
+    return 0;
+  }
+
+ private:
+  /// A study view's ray sets at --study-res and dacrt's frame time on them (when needed).
+  struct Study {
+    const View& view;
+    const Scene& scene;
+    std::vector<RaySet> sets;
+    double afra_ms = 0;
+  };
+
+  bool wants(const std::string& e) const { return contains(o_.experiments, e); }
+  bool rendered() const { return o_.source == "render"; }
+
+  std::unique_ptr<Accelerator> make(const std::string& name, const Scene& scene,
+                                    const std::vector<std::string>& extra = {}) const {
+    AcceleratorOptions opts;
+    if (name.rfind("dacrt", 0) == 0) opts.set("parallel", o_.threads > 1 ? "on" : "off");
+    for (const auto& e : extra) opts.set(e);
+    return make_accelerator(name, scene, opts);
+  }
+
+  /// Median time of reps traces of s (ms). One thread is timed by the process CPU time, more
+  /// by the wall clock (bench_support.h).
+  double time_trace(const Accelerator& a, const RaySet& s) const {
+    std::vector<double> t;
+    for (int r = 0; r < o_.reps; ++r) t.push_back(trace_ms(clock_, a, s));
+    return median(t);
+  }
+
+  double frame_ms(const Accelerator& a, const Study& st) const {
+    double t = 0;
+    for (const auto& s : st.sets) t += time_trace(a, s);
+    return t;
+  }
+
+  /// The view's scene, loaded once; null when its file is missing (or, for the renderer's ray
+  /// sets, when the view has no bench scene).
+  std::shared_ptr<Scene> scene_of(const View& v) {
+    if (rendered() && v.scene_json.empty()) return nullptr;
+    const std::string key = rendered() ? v.scene_json : v.file;
+    if (auto it = scenes_.find(key); it != scenes_.end()) return it->second;
+    if (!find_scene_file(v.file)) return nullptr;
+    auto s = std::make_shared<Scene>(load_scene(rendered() ? std::string(RAYSCOUT_BENCH_SCENES) + "/" + v.scene_json
+                                                           : find_scene_file(v.file)->string()));
+    scenes_[key] = s;
+    return s;
+  }
+
+  std::vector<RaySet> ray_sets(const View& v, const Scene& scene, int res) const {
+    auto bvh = make_accelerator("bvh", scene);
+    auto sets = rendered() ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
+    if (!o_.batches.empty()) std::erase_if(sets, [&](const RaySet& s) { return !contains(o_.batches, s.label()); });
+    return sets;
+  }
+
+  void print_header() {
+    out_["threads"] = o_.threads;
+    out_["reps"] = o_.reps;
+    out_["clock"] = clock_name(clock_);
+    fmt::print("# machine: {}\n", machine_description());
+    fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o_.threads, o_.reps,
+               clock_name(clock_), rendered() ? "renderer batches of bench/scenes" : "own camera");
+    // The configurations as make() builds them: parallel follows --threads.
+    DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
+    afra.parallel = rs.parallel = o_.threads > 1;
+    fmt::print("# dacrt:    {}\n# dacrt-rs: {}\n\n", afra.describe(), rs.describe());
+    out_["dacrt_config"] = afra.describe();
+    out_["dacrt_rs_config"] = rs.describe();
+    out_["source"] = o_.source;
+  }
+
+  /// 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
+  void resolution() {
+    fmt::print("## Tracing time per resolution and batch (ms)\n\n");
+    fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | ratio | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
+    for (const auto& v : paper_views()) {
+      if (!contains(o_.views, v.name)) continue;
+      auto scene = scene_of(v);
+      if (!scene) {
+        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file);
+        continue;
+      }
+      auto afra = make("dacrt", *scene), rs = make("dacrt-rs", *scene);
+      for (int res : o_.res) {
+        double fa = 0, fr = 0;
+        for (const auto& s : ray_sets(v, *scene, res)) {
+          const double ta = time_trace(*afra, s), tr = time_trace(*rs, s);
+          fa += ta;
+          fr += tr;
+          fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, s.label(), s.rays.size(), ta, tr, ta / tr);
+          out_["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"rays", s.rays.size()},
+                                        {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
+        }
+        const auto& pr = paper_ratios().at(v.name);
+        // The paper measured 512^2 to 4096^2 only; other resolutions have no value to compare with.
+        const bool has_paper = pr.count(res) > 0;
+        fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {} |\n", v.name, res, fa, fr, fa / fr,
+                   has_paper ? fmt::format("{:.2f}", pr.at(res)) : "–");
+        out_["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr},
+                                  {"paper_ratio", has_paper ? nlohmann::json(pr.at(res)) : nlohmann::json(nullptr)}});
+        std::fflush(stdout);
+      }
+    }
+    fmt::print("\n");
+  }
+
+  /// Variants: dacrt, dacrt-rs and option sets on top of dacrt-rs, repetitions interleaved so
+  /// that every ratio is measured side by side; plus each one's counts.
+  void variants() {
+    // Every variant is dacrt-rs plus its options (the first column is plain dacrt).
+    std::vector<Config> configs = {{"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
+    if (o_.variants_only) configs.clear();
+    for (const auto& v : o_.variants) configs.push_back(parse_variant(v));
+    fmt::print("## Variants (ms, ratio = dacrt / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n");
+    fmt::print("| view | res | batch | rays |");
+    for (const auto& c : configs) fmt::print(" {} |", c.first);
+    fmt::print("\n|---|---|---|---|");
+    for (size_t k = 0; k < configs.size(); ++k) fmt::print("---|");
+    fmt::print("\n");
+    for (const auto& v : paper_views()) {
+      if (!contains(o_.views, v.name)) continue;
+      auto scene = scene_of(v);
+      if (!scene) continue;
+      std::vector<std::unique_ptr<Accelerator>> accs;
+      for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, c.second));
+      for (int res : o_.res) {
+        std::vector<double> frame(configs.size(), 0.0);
+        for (const auto& s : ray_sets(v, *scene, res)) {
+          std::vector<std::vector<double>> t(configs.size());
+          for (int r = 0; r < o_.reps; ++r)
+            for (size_t k = 0; k < accs.size(); ++k) t[k].push_back(trace_ms(clock_, *accs[k], s));
+          fmt::print("| {} | {} | {} | {} |", v.name, res, s.label(), s.rays.size());
+          const double base = median(t[0]);
+          for (size_t k = 0; k < accs.size(); ++k) {
+            const double m = median(t[k]);
+            frame[k] += m;
+            TraceStats st;
+            trace(*accs[k], s, &st);
+            const auto d = dynamic_cast<const Dacrt*>(accs[k].get())->last_details();
+            fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
+                       double(d.partition_box_tests) / double(s.rays.size()),
+                       double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
+            out_["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"config", configs[k].first},
+                                        {"ms", m}, {"partition_box", d.partition_box_tests},
+                                        {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
+          }
+          fmt::print("\n");
+          std::fflush(stdout);
+        }
+        fmt::print("| {} | {} | **frame** | |", v.name, res);
+        for (size_t k = 0; k < accs.size(); ++k) fmt::print(" {:.1f} ({:.2f}x) |", frame[k], frame[0] / frame[k]);
+        fmt::print("\n");
+      }
+    }
+    fmt::print("\n");
+  }
+
+  /// 2-5. The studies at one resolution on one view.
+  void study(const View& v) {
+    if (!(wants("ablation") || wants("sampling") || wants("counts") || wants("peers") || wants("memory"))) return;
+    auto scene = scene_of(v);
+    if (!scene) {
+      fmt::print("{}: scene missing, skipped\n", v.name);
+      return;
+    }
+    Study st{v, *scene, ray_sets(v, *scene, o_.study_res)};
+    if (wants("ablation") || wants("sampling")) st.afra_ms = frame_ms(*make("dacrt", *scene), st);
+    if (wants("ablation")) ablation(st);
+    if (wants("sampling")) sampling(st);
+    if (wants("counts")) counts(st);
+    if (wants("peers")) peers(st);
+    if (wants("memory")) memory(st);
+    std::fflush(stdout);
+  }
+
+  void ablation(const Study& st) {
+    const std::string& name = st.view.name;
+    fmt::print("## Ablation, {} at {}^2 (frame ms; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n", name, o_.study_res);
+    fmt::print("| configuration | frame ms | speed-up vs dacrt |\n|---|---|---|\n");
+    fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", st.afra_ms);
+    const std::vector<Config> configs = {
+        {"cost only (eq. 2)", {"cost=sampled"}},
+        {"order only (Algorithm 2 as printed)", {"order=literal-votes"}},
+        {"order only (entry votes)", {"order=sampled"}},
+        {"skip only (eq. 5)", {"skip=on"}},
+        {"cost + order (entry votes)", {"cost=sampled", "order=sampled"}},
+        {"all three, as printed (paper)", {"cost=sampled", "order=literal-votes", "skip=on"}},
+        {"all three, entry votes", {"cost=sampled", "order=sampled", "skip=on"}},
+        {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
+        {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
+        {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
+        {"all three, entry votes + sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
+        {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
+    auto counted = [&](const Accelerator& a) {
+      TraceStats stats;
+      for (const auto& s : st.sets) trace(a, s, &stats);
+      return stats;
+    };
+    const TraceStats base = counted(*make("dacrt", st.scene));
+    fmt::print("| (counts of dacrt) | box {} | tri {} |\n", base.ray_box_tests, base.ray_tri_tests);
+    for (const auto& [label, extra] : configs) {
+      auto acc = make("dacrt", st.scene, extra);
+      const double t = frame_ms(*acc, st);
+      const TraceStats c = counted(*acc);
+      fmt::print("| {} | {:.1f} | {:.2f} (box {:+.1f} %, tri {:+.1f} %) |\n", label, t, st.afra_ms / t,
+                 100.0 * (double(c.ray_box_tests) / double(base.ray_box_tests) - 1.0),
+                 100.0 * (double(c.ray_tri_tests) / double(base.ray_tri_tests) - 1.0));
+      out_["ablation"].push_back({{"view", name}, {"res", o_.study_res}, {"config", label}, {"ms", t},
+                                  {"speedup", st.afra_ms / t}, {"box", c.ray_box_tests}, {"tri", c.ray_tri_tests}});
+    }
+    fmt::print("\n");
+  }
+
+  void sampling(const Study& st) {
+    const std::string& name = st.view.name;
+    fmt::print("## Sampling strategies, {} at {}^2 (speed-up of dacrt-rs vs dacrt; fig. 9)\n\n", name, o_.study_res);
+    fmt::print("| sampling | frame ms | speed-up |\n|---|---|---|\n");
+    const std::vector<Config> configs = {
+        {"stride 1 %", {"fraction=0.01"}},   {"random 1 %", {"fraction=0.01", "strategy=random"}},
+        {"stride 0.1 %", {"fraction=0.001"}}, {"random 0.1 %", {"fraction=0.001", "strategy=random"}},
+        {"stride 100", {}},                  {"random 100", {"strategy=random"}}};
+    for (const auto& [label, extra] : configs) {
+      const double t = frame_ms(*make("dacrt-rs", st.scene, extra), st);
+      fmt::print("| {} | {:.1f} | {:.2f} |\n", label, t, st.afra_ms / t);
+      out_["sampling"].push_back({{"view", name}, {"res", o_.study_res}, {"config", label}, {"ms", t}, {"speedup", st.afra_ms / t}});
+    }
+    fmt::print("\n");
+  }
+
+  void counts(const Study& st) {
+    fmt::print("## Ray-box tests per batch, {} at {}^2 (fig. 10; paper: -30..-50 % primary, -30..-40 % shadow, -50 % mirror, -20 % random)\n\n", st.view.name, o_.study_res);
+    fmt::print("| batch | dacrt box tests | dacrt-rs partition | dacrt-rs sampling | change (partition) | change (all) | tri tests dacrt | tri tests dacrt-rs | skipped |\n|---|---|---|---|---|---|---|---|---|\n");
+    auto a = make("dacrt", st.scene), r = make("dacrt-rs", st.scene);
+    const auto* ad = dynamic_cast<const Dacrt*>(a.get());
+    const auto* rd = dynamic_cast<const Dacrt*>(r.get());
+    for (const auto& s : st.sets) {
+      TraceStats sa, sr;
+      trace(*a, s, &sa);
+      trace(*r, s, &sr);
+      const DacrtDetails da = ad->last_details(), dr = rd->last_details();
+      const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
+      const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
+      fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", s.label(), sa.ray_box_tests,
+                 dr.partition_box_tests, dr.sampling_box_tests, 100 * ch_p, 100 * ch_a, sa.ray_tri_tests,
+                 sr.ray_tri_tests, dr.skipped_partitions);
+      out_["counts"].push_back({{"view", st.view.name}, {"res", o_.study_res}, {"batch", s.label()},
+                                {"dacrt_box", sa.ray_box_tests}, {"rs_partition_box", dr.partition_box_tests},
+                                {"rs_sampling_box", dr.sampling_box_tests}, {"rs_box", sr.ray_box_tests},
+                                {"dacrt_tri", sa.ray_tri_tests}, {"rs_tri", sr.ray_tri_tests}});
+    }
+    fmt::print("\n");
+  }
+
+  /// Median build and trace time (ms) of the named accelerator, built afresh for each repetition.
+  std::pair<double, double> build_and_trace(const char* name, const Scene& scene, const RaySet& s) const {
+    std::vector<double> b, t;
+    for (int rep = 0; rep < o_.reps; ++rep) {
+      const double t0 = now_ms(clock_);
+      auto acc = make_accelerator(name, scene);
+      b.push_back(now_ms(clock_) - t0);
+      t.push_back(trace_ms(clock_, *acc, s));
+    }
+    return {median(b), median(t)};
+  }
+
+  void peers(const Study& st) {
+    fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch)\n\n", st.view.name, o_.study_res);
+    fmt::print("| batch | rays | dacrt | dacrt-rs | bvh build | bvh trace | bvh total | embree build | embree trace | embree total |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    auto a = make("dacrt", st.scene), r = make("dacrt-rs", st.scene);
+    const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
+    for (const auto& s : st.sets) {
+      const double ta = time_trace(*a, s), tr = time_trace(*r, s);
+      const auto [bvh_build, bvh_trace] = build_and_trace("bvh", st.scene, s);
+      const auto [embree_build, embree_trace] = have_embree ? build_and_trace("embree", st.scene, s) : std::pair{0.0, 0.0};
+      fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", s.label(), s.rays.size(), ta, tr,
+                 bvh_build, bvh_trace, bvh_build + bvh_trace, embree_build, embree_trace, embree_build + embree_trace);
+      out_["peers"].push_back({{"view", st.view.name}, {"res", o_.study_res}, {"batch", s.label()}, {"rays", s.rays.size()},
+                               {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", bvh_build}, {"bvh_trace_ms", bvh_trace},
+                               {"embree_build_ms", embree_build}, {"embree_trace_ms", embree_trace}});
+    }
+    fmt::print("\n");
+  }
+
+  /// Sec. 3: DACRT's memory is known in advance from |R| and |T| alone. Each row traces the
+  /// first |R| primary rays over the first |T| triangles with a fresh accelerator and compares
+  /// the formula (last_trace_memory_bytes) with the peak resident memory it added.
+  void memory(const Study& st) {
+    fmt::print("## Memory, {} primary rays at {}^2 (fresh accelerator per row; peak = peak RSS over the call minus RSS before it)\n\n", st.view.name, o_.study_res);
+    fmt::print("| accelerator | \\|R\\| | \\|T\\| | formula MiB | peak MiB | peak / formula |\n|---|---:|---:|---:|---:|---:|\n");
+    const auto primary = std::find_if(st.sets.begin(), st.sets.end(), [](const RaySet& s) { return s.label() == "primary"; });
+    if (primary == st.sets.end()) {
+      fmt::print("(no primary batch)\n\n");
+      return;
+    }
+    const size_t nr = primary->rays.size(), nt = st.scene.triangles.size();
+    const std::vector<std::pair<size_t, size_t>> sizes = {{nr / 16, nt}, {nr / 4, nt}, {nr, nt}, {nr, nt / 4}, {nr, nt / 16}};
+    for (const char* name : {"dacrt", "dacrt-rs"})
+      for (const auto& [r, t] : sizes) {
+        Scene part = st.scene;
+        part.triangles.resize(t);
+        part.emissive_triangles.clear();
+        RayBatch rays = primary->rays;
+        rays.resize(r);
+        auto acc = make(name, part);
+        HitBatch hits;
+        hits.reset(r);  // the output, written before the peak restarts: not the accelerator's
+        const double before = restart_peak();
+        acc->intersect(rays, hits);
+        const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
+        fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
+        out_["memory"].push_back({{"view", st.view.name}, {"accel", name}, {"rays", r}, {"triangles", t},
+                                  {"formula_bytes", formula}, {"peak_bytes", grown}});
+      }
+    fmt::print("\n");
+  }
+
+  const Options& o_;
+  const Clock clock_;
+  nlohmann::json out_;
+  std::map<std::string, std::shared_ptr<Scene>> scenes_;
+};
 
 }  // namespace
 
@@ -116,301 +459,10 @@ int main(int argc, char** argv) {
     for (const auto& v : paper_views()) view_names.push_back(v.name);
     check_names("--views", o.views, view_names);
     check_names("--study-views", o.study_views, view_names);
-    check_names("--experiments", o.experiments, {"resolution", "ablation", "sampling", "counts", "peers", "variants", "memory"});
+    check_names("--experiments", o.experiments, kExperiments);
     if (!o.json.empty()) check_output_path(o.json, "--json");
     if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
-    g_clock = o.threads == 1 ? Clock::ProcessCpu : Clock::Wall;
-    auto wants = [&](const std::string& e) { return contains(o.experiments, e); };
-
-    nlohmann::json out;
-    out["threads"] = o.threads;
-    out["reps"] = o.reps;
-    out["clock"] = clock_name(g_clock);
-    fmt::print("# machine: {}\n", machine_description());
-    fmt::print("# dacrt_bench: threads={} reps={} (median), clock: {}, ray sets: {}\n\n", o.threads, o.reps,
-               clock_name(g_clock), o.source == "render" ? "renderer batches of bench/scenes" : "own camera");
-    // The configurations as make() builds them: parallel follows --threads.
-    DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
-    afra.parallel = rs.parallel = o.threads > 1;
-    fmt::print("# dacrt:    {}\n# dacrt-rs: {}\n\n", afra.describe(), rs.describe());
-    out["dacrt_config"] = afra.describe();
-    out["dacrt_rs_config"] = rs.describe();
-
-    std::map<std::string, std::shared_ptr<Scene>> scenes;
-    const bool render = o.source == "render";
-    out["source"] = o.source;
-    auto scene_of = [&](const View& v) -> std::shared_ptr<Scene> {
-      if (render && v.scene_json.empty()) return nullptr;
-      const std::string key = render ? v.scene_json : v.file;
-      auto it = scenes.find(key);
-      if (it != scenes.end()) return it->second;
-      if (!find_scene_file(v.file)) return nullptr;
-      auto s = std::make_shared<Scene>(load_scene(render ? std::string(RAYSCOUT_BENCH_SCENES) + "/" + v.scene_json
-                                                         : find_scene_file(v.file)->string()));
-      scenes[key] = s;
-      return s;
-    };
-    auto ray_sets = [&](const View& v, const Scene& scene, int res) {
-      auto bvh = make_accelerator("bvh", scene);
-      auto sets = render ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
-      if (!o.batches.empty())
-        std::erase_if(sets, [&](const RaySet& s) { return !contains(o.batches, s.label()); });
-      return sets;
-    };
-
-    // 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
-    if (wants("resolution")) {
-      fmt::print("## Tracing time per resolution and batch (ms)\n\n");
-      fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | ratio | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
-      for (const auto& v : paper_views()) {
-        if (!contains(o.views, v.name)) continue;
-        auto scene = scene_of(v);
-        if (!scene) {
-          if (!render || !v.scene_json.empty()) fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file);
-          continue;
-        }
-        auto afra = make("dacrt", *scene, o), rs = make("dacrt-rs", *scene, o);
-        for (int res : o.res) {
-          const auto sets = ray_sets(v, *scene, res);
-          double fa = 0, fr = 0;
-          for (const auto& s : sets) {
-            const double ta = time_trace(*afra, s, o.reps), tr = time_trace(*rs, s, o.reps);
-            fa += ta; fr += tr;
-            fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, s.label(), s.rays.size(), ta, tr, ta / tr);
-            out["resolution"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"rays", s.rays.size()},
-                                         {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}});
-          }
-          const auto& pr = paper_ratios().at(v.name);
-          // The paper measured 512^2 to 4096^2 only; other resolutions have no value to compare with.
-          const bool has_paper = pr.count(res) > 0;
-          fmt::print("| {} | {} | **frame** | | {:.1f} | {:.1f} | **{:.2f}** | {} |\n", v.name, res, fa, fr, fa / fr,
-                     has_paper ? fmt::format("{:.2f}", pr.at(res)) : "–");
-          out["frames"].push_back({{"view", v.name}, {"res", res}, {"dacrt_ms", fa}, {"dacrt_rs_ms", fr},
-                                   {"paper_ratio", has_paper ? nlohmann::json(pr.at(res)) : nlohmann::json(nullptr)}});
-          std::fflush(stdout);
-        }
-      }
-      fmt::print("\n");
-    }
-
-    // Variants: dacrt, dacrt-rs and option sets on top of dacrt, repetitions interleaved so that
-    // every ratio is measured side by side; plus each one's counts.
-    if (wants("variants")) {
-      // Every variant is dacrt-rs plus its options (the first column is plain dacrt).
-      std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
-          {"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
-      if (o.variants_only) configs.clear();
-      for (const auto& v : o.variants) {
-        const auto eq = v.find('=');
-        std::vector<std::string> extra;
-        std::string rest = eq == std::string::npos ? "" : v.substr(eq + 1);
-        for (size_t a = 0; !rest.empty() && a != std::string::npos;) {
-          const size_t b = rest.find(';', a);
-          std::string kv = rest.substr(a, b == std::string::npos ? std::string::npos : b - a);
-          if (const auto c = kv.find(':'); c != std::string::npos) kv[c] = '=';
-          if (!kv.empty()) extra.push_back(kv);
-          a = b == std::string::npos ? b : b + 1;
-        }
-        configs.push_back({v.substr(0, eq), extra});
-      }
-      fmt::print("## Variants (ms, ratio = dacrt / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n");
-      fmt::print("| view | res | batch | rays |");
-      for (const auto& c : configs) fmt::print(" {} |", c.first);
-      fmt::print("\n|---|---|---|---|");
-      for (size_t k = 0; k < configs.size(); ++k) fmt::print("---|");
-      fmt::print("\n");
-      for (const auto& v : paper_views()) {
-        if (!contains(o.views, v.name)) continue;
-        auto scene = scene_of(v);
-        if (!scene) continue;
-        std::vector<std::unique_ptr<Accelerator>> accs;
-        for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, o, c.second));
-        for (int res : o.res) {
-          const auto sets = ray_sets(v, *scene, res);
-          std::vector<double> frame(configs.size(), 0.0);
-          for (const auto& s : sets) {
-            std::vector<std::vector<double>> t(configs.size());
-            for (int r = 0; r < o.reps; ++r)
-              for (size_t k = 0; k < accs.size(); ++k) t[k].push_back(trace_ms(g_clock, *accs[k], s));
-            fmt::print("| {} | {} | {} | {} |", v.name, res, s.label(), s.rays.size());
-            const double base = median(t[0]);
-            for (size_t k = 0; k < accs.size(); ++k) {
-              const double m = median(t[k]);
-              frame[k] += m;
-              TraceStats st;
-              trace(*accs[k], s, &st);
-              const auto d = dynamic_cast<const Dacrt*>(accs[k].get())->last_details();
-              fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
-                         double(d.partition_box_tests) / double(s.rays.size()),
-                         double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
-              out["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"config", configs[k].first},
-                                         {"ms", m}, {"partition_box", d.partition_box_tests},
-                                         {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
-            }
-            fmt::print("\n");
-            std::fflush(stdout);
-          }
-          fmt::print("| {} | {} | **frame** | |", v.name, res);
-          for (size_t k = 0; k < accs.size(); ++k) fmt::print(" {:.1f} ({:.2f}x) |", frame[k], frame[0] / frame[k]);
-          fmt::print("\n");
-        }
-      }
-      fmt::print("\n");
-    }
-
-    // 2-5. Studies at one resolution on a few views.
-    const bool studies = wants("ablation") || wants("sampling") || wants("counts") || wants("peers") || wants("memory");
-    for (const auto& v : paper_views()) {
-      if (!studies || !contains(o.study_views, v.name)) continue;
-      auto scene = scene_of(v);
-      if (!scene) { fmt::print("{}: scene missing, skipped\n", v.name); continue; }
-      const auto sets = ray_sets(v, *scene, o.study_res);
-      auto frame_ms = [&](const Accelerator& a) {
-        double t = 0;
-        for (const auto& s : sets) t += time_trace(a, s, o.reps);
-        return t;
-      };
-      double afra_ms = 0;
-      if (wants("ablation") || wants("sampling")) afra_ms = frame_ms(*make("dacrt", *scene, o));
-
-      if (wants("ablation")) {
-        fmt::print("## Ablation, {} at {}^2 (frame ms; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n", v.name, o.study_res);
-        fmt::print("| configuration | frame ms | speed-up vs dacrt |\n|---|---|---|\n");
-        fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", afra_ms);
-        const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
-            {"cost only (eq. 2)", {"cost=sampled"}},
-            {"order only (Algorithm 2 as printed)", {"order=literal-votes"}},
-            {"order only (entry votes)", {"order=sampled"}},
-            {"skip only (eq. 5)", {"skip=on"}},
-            {"cost + order (entry votes)", {"cost=sampled", "order=sampled"}},
-            {"all three, as printed (paper)", {"cost=sampled", "order=literal-votes", "skip=on"}},
-            {"all three, entry votes", {"cost=sampled", "order=sampled", "skip=on"}},
-            {"cost + skip (one-ray order)", {"cost=sampled", "skip=on"}},
-            {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
-            {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
-            {"all three, entry votes + sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
-            {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
-        auto counted = [&](const Accelerator& a) {
-          TraceStats st;
-          for (const auto& s : sets) trace(a, s, &st);
-          return st;
-        };
-        const TraceStats base = counted(*make("dacrt", *scene, o));
-        fmt::print("| (counts of dacrt) | box {} | tri {} |\n", base.ray_box_tests, base.ray_tri_tests);
-        for (const auto& [label, extra] : configs) {
-          auto acc = make("dacrt", *scene, o, extra);
-          const double t = frame_ms(*acc);
-          const TraceStats st = counted(*acc);
-          fmt::print("| {} | {:.1f} | {:.2f} (box {:+.1f} %, tri {:+.1f} %) |\n", label, t, afra_ms / t,
-                     100.0 * (double(st.ray_box_tests) / double(base.ray_box_tests) - 1.0),
-                     100.0 * (double(st.ray_tri_tests) / double(base.ray_tri_tests) - 1.0));
-          out["ablation"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t},
-                                     {"box", st.ray_box_tests}, {"tri", st.ray_tri_tests}});
-        }
-        fmt::print("\n");
-      }
-      if (wants("sampling")) {
-        fmt::print("## Sampling strategies, {} at {}^2 (speed-up of dacrt-rs vs dacrt; fig. 9)\n\n", v.name, o.study_res);
-        fmt::print("| sampling | frame ms | speed-up |\n|---|---|---|\n");
-        const std::vector<std::pair<std::string, std::vector<std::string>>> configs = {
-            {"stride 1 %", {"fraction=0.01"}}, {"random 1 %", {"fraction=0.01", "strategy=random"}},
-            {"stride 0.1 %", {"fraction=0.001"}}, {"random 0.1 %", {"fraction=0.001", "strategy=random"}},
-            {"stride 100", {}}, {"random 100", {"strategy=random"}}};
-        for (const auto& [label, extra] : configs) {
-          const double t = frame_ms(*make("dacrt-rs", *scene, o, extra));
-          fmt::print("| {} | {:.1f} | {:.2f} |\n", label, t, afra_ms / t);
-          out["sampling"].push_back({{"view", v.name}, {"res", o.study_res}, {"config", label}, {"ms", t}, {"speedup", afra_ms / t}});
-        }
-        fmt::print("\n");
-      }
-      if (wants("counts")) {
-        fmt::print("## Ray-box tests per batch, {} at {}^2 (fig. 10; paper: -30..-50 % primary, -30..-40 % shadow, -50 % mirror, -20 % random)\n\n", v.name, o.study_res);
-        fmt::print("| batch | dacrt box tests | dacrt-rs partition | dacrt-rs sampling | change (partition) | change (all) | tri tests dacrt | tri tests dacrt-rs | skipped |\n|---|---|---|---|---|---|---|---|---|\n");
-        auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
-        const auto* ad = dynamic_cast<const Dacrt*>(a.get());
-        const auto* rd = dynamic_cast<const Dacrt*>(r.get());
-        for (const auto& s : sets) {
-          TraceStats sa, sr;
-          trace(*a, s, &sa);
-          trace(*r, s, &sr);
-          const DacrtDetails da = ad->last_details(), dr = rd->last_details();
-          const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
-          const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
-          fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", s.label(), sa.ray_box_tests,
-                     dr.partition_box_tests, dr.sampling_box_tests, 100 * ch_p, 100 * ch_a, sa.ray_tri_tests,
-                     sr.ray_tri_tests, dr.skipped_partitions);
-          out["counts"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", s.label()},
-                                   {"dacrt_box", sa.ray_box_tests}, {"rs_partition_box", dr.partition_box_tests},
-                                   {"rs_sampling_box", dr.sampling_box_tests}, {"rs_box", sr.ray_box_tests},
-                                   {"dacrt_tri", sa.ray_tri_tests}, {"rs_tri", sr.ray_tri_tests}});
-        }
-        fmt::print("\n");
-      }
-      if (wants("peers")) {
-        fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch)\n\n", v.name, o.study_res);
-        fmt::print("| batch | rays | dacrt | dacrt-rs | bvh build | bvh trace | bvh total | embree build | embree trace | embree total |\n|---|---|---|---|---|---|---|---|---|---|\n");
-        auto a = make("dacrt", *scene, o), r = make("dacrt-rs", *scene, o);
-        const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
-        for (const auto& s : sets) {
-          const double ta = time_trace(*a, s, o.reps), tr = time_trace(*r, s, o.reps);
-          double peer[2][2] = {{0, 0}, {0, 0}};
-          const char* names[2] = {"bvh", "embree"};
-          for (int k = 0; k < 2; ++k) {
-            if (k == 1 && !have_embree) continue;
-            std::vector<double> b, t;
-            for (int rep = 0; rep < o.reps; ++rep) {
-              const double t0 = now_ms(g_clock);
-              auto acc = make_accelerator(names[k], *scene);
-              b.push_back(now_ms(g_clock) - t0);
-              t.push_back(trace_ms(g_clock, *acc, s));
-            }
-            peer[k][0] = median(b); peer[k][1] = median(t);
-          }
-          fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", s.label(), s.rays.size(), ta, tr,
-                     peer[0][0], peer[0][1], peer[0][0] + peer[0][1], peer[1][0], peer[1][1], peer[1][0] + peer[1][1]);
-          out["peers"].push_back({{"view", v.name}, {"res", o.study_res}, {"batch", s.label()}, {"rays", s.rays.size()},
-                                  {"dacrt_ms", ta}, {"dacrt_rs_ms", tr}, {"bvh_build_ms", peer[0][0]}, {"bvh_trace_ms", peer[0][1]},
-                                  {"embree_build_ms", peer[1][0]}, {"embree_trace_ms", peer[1][1]}});
-        }
-        fmt::print("\n");
-      }
-      if (wants("memory")) {
-        // Sec. 3: DACRT's memory is known in advance from |R| and |T| alone. Each row traces the
-        // first |R| primary rays over the first |T| triangles with a fresh accelerator and
-        // compares the formula (last_trace_memory_bytes) with the peak resident memory it added.
-        fmt::print("## Memory, {} primary rays at {}^2 (fresh accelerator per row; peak = peak RSS over the call minus RSS before it)\n\n", v.name, o.study_res);
-        fmt::print("| accelerator | \\|R\\| | \\|T\\| | formula MiB | peak MiB | peak / formula |\n|---|---:|---:|---:|---:|---:|\n");
-        const RaySet* primary = nullptr;
-        for (const auto& s : sets) if (s.label() == "primary") primary = &s;
-        if (!primary) { fmt::print("(no primary batch)\n\n"); continue; }
-        const size_t nr = primary->rays.size(), nt = scene->triangles.size();
-        const std::vector<std::pair<size_t, size_t>> sizes = {{nr / 16, nt}, {nr / 4, nt}, {nr, nt}, {nr, nt / 4}, {nr, nt / 16}};
-        for (const char* name : {"dacrt", "dacrt-rs"})
-          for (const auto& [r, t] : sizes) {
-            Scene part = *scene;
-            part.triangles.resize(t);
-            part.emissive_triangles.clear();
-            RayBatch rays = primary->rays;
-            rays.resize(r);
-            auto acc = make(name, part, o);
-            HitBatch hits;
-            hits.reset(r);  // the output, written before the peak restarts: not the accelerator's
-            const double before = restart_peak();
-            acc->intersect(rays, hits);
-            const double grown = status_bytes("VmHWM") - before, formula = double(acc->last_trace_memory_bytes());
-            fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.2f} |\n", name, r, t, formula / 1048576.0, grown / 1048576.0, grown / formula);
-            out["memory"].push_back({{"view", v.name}, {"accel", name}, {"rays", r}, {"triangles", t},
-                                     {"formula_bytes", formula}, {"peak_bytes", grown}});
-          }
-        fmt::print("\n");
-      }
-      std::fflush(stdout);
-    }
-    if (!o.json.empty()) {
-      write_file(o.json, out.dump(1) + "\n", "results file");
-      fmt::print("results: {}\n", o.json);
-    }
-    return 0;
+    return DacrtBench(o).run();
   });
 }
