@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -66,6 +67,106 @@ Image skip_to_image(const std::vector<float>& s, int w, int h) {
   return img;
 }
 
+const std::vector<VisibilityMode> kModes = {VisibilityMode::Exact, VisibilityMode::Veach, VisibilityMode::Conservative,
+                                            VisibilityMode::Proposed};
+
+/// Per mode, the progress records of each repetition.
+using Runs = std::map<VisibilityMode, std::vector<std::vector<ProgressRecord>>>;
+
+/// The reference image and its own noise.
+struct Reference {
+  Image image;
+  double mse = 0;  ///< per pixel and channel
+};
+
+/// Exact visibility, many passes, as two independent halves A and B (own seeds). The
+/// reference's own noise is MSE_ref = E[(A - B)^2] / 4 per pixel and channel; every measured
+/// MSE (against (A + B) / 2, independent of the run) is MSE_run + MSE_ref, so it is subtracted.
+Reference render_reference(ManylightRenderer& r, const Options& o) {
+  std::vector<Vec3> half[2];
+  for (int h = 0; h < 2; ++h) {
+    r.reset(VisibilityMode::Exact);
+    r.set_seed(0xFEF0 + uint64_t(h));
+    r.render_for(o.budget * o.ref_factor / 2, {});
+    half[h] = r.image().pixels;
+  }
+  Reference ref{Image(o.width, o.height)};
+  for (size_t i = 0; i < ref.image.pixels.size(); ++i) {
+    ref.image.pixels[i] = (half[0][i] + half[1][i]) * 0.5f;
+    const Vec3 d = half[0][i] - half[1][i];
+    ref.mse += (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / (4.0 * 3.0 * double(ref.image.pixels.size()));
+  }
+  return ref;
+}
+
+/// Every mode, o.reps times, modes interleaved within each repetition so that a change of
+/// machine load hits all of them; the first repetition's images are written.
+Runs render_modes(ManylightRenderer& r, const std::string& name, const Image& ref, const Options& o) {
+  Runs runs;
+  for (int rep = 0; rep < o.reps; ++rep)
+    for (VisibilityMode mode : kModes) {
+      r.reset(mode);
+      // Common random numbers: all modes of a repetition draw the same VPL samples pass by
+      // pass (the skip decisions use further numbers), so a rare huge sample (an unclamped
+      // VPL next to a surface) hits every mode that reaches that pass, not one at random.
+      r.set_seed(100 + 16 * uint64_t(rep));
+      runs[mode].push_back(o.equal_passes > 0 ? r.render_for(1e300, ref, size_t(o.equal_passes))
+                                              : r.render_for(o.budget, ref));
+      if (rep > 0) continue;
+      write_image(to_image(r.image().pixels, o.width, o.height), o.out_dir + "/" + name + "_" + to_string(mode) + ".png");
+      if (mode != VisibilityMode::Exact)
+        write_image(skip_to_image(r.skip_image(), o.width, o.height),
+                    o.out_dir + "/" + name + "_skip_" + to_string(mode) + ".png");
+    }
+  return runs;
+}
+
+/// Table 2 and 3 of one scene, printed, and its JSON record. Unbiased progressive estimates
+/// have MSE ~ 1 / t, so MSE * t is a mode's inverse efficiency and the time to reach exact's
+/// equal-time MSE is T * (MSE t)_mode / (MSE t)_exact. This uses every sample of every run; the
+/// first crossing of a single, firefly-noisy curve would not.
+nlohmann::json summarise(const ManylightRenderer& r, const Runs& runs, const std::function<double(double)>& corrected,
+                         const Options& o) {
+  const auto& tm = r.timings();
+  std::map<VisibilityMode, double> mse_t, mse, skip, passes;
+  for (const auto& [mode, reps] : runs)
+    for (const auto& rec : reps) {
+      mse_t[mode] += corrected(rec.back().rmse) * rec.back().seconds / o.reps;
+      mse[mode] += corrected(rec.back().rmse) / o.reps;
+      skip[mode] += rec.back().skip_rate / o.reps;
+      passes[mode] += double(rec.back().passes) / o.reps;
+    }
+  const double pre = tm.preprocess_ms() * 1e-3;
+  const std::string passes_of = o.equal_passes > 0 ? "the same for every mode" : fmt::format("in {:g} CPU s", o.budget);
+  fmt::print("\n| mode | passes ({}) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", passes_of);
+  fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  nlohmann::json modes;
+  // Exact's mean render time: the budget (slightly exceeded by the last pass), or the time of
+  // its equal passes.
+  double t_exact = 0;
+  for (const auto& rec : runs.at(VisibilityMode::Exact)) t_exact += rec.back().seconds / o.reps;
+  for (VisibilityMode mode : kModes) {
+    const double t_reach = t_exact * mse_t[mode] / mse_t[VisibilityMode::Exact];
+    // With the preprocess: every mode pays VisibilityCluster (exact samples with its pdf
+    // too); the probabilistic modes also pay the calibration renders.
+    const double extra = mode == VisibilityMode::Exact ? 0.0 : tm.calibration_ms * 1e-3;
+    const double with = (t_exact + pre) / (t_reach + pre + extra);
+    const double speed = t_exact / t_reach;
+    std::string per_run;
+    std::vector<double> per;
+    for (const auto& rec : runs.at(mode)) {
+      per.push_back(corrected(rec.back().rmse) * rec.back().seconds);
+      per_run += fmt::format("{}{:.3g}", per_run.empty() ? "" : " ", per.back());
+    }
+    fmt::print("| {} | {:.1f} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x | {} |\n", to_string(mode),
+               passes[mode], std::sqrt(mse[mode]), 100 * skip[mode], t_reach, speed, with, per_run);
+    modes[to_string(mode)] = {{"passes", passes[mode]}, {"rmse", std::sqrt(mse[mode])},
+                              {"skip_rate", skip[mode]}, {"time_to_exact_rmse_s", t_reach},
+                              {"speedup", speed}, {"speedup_with_preprocess", with}, {"mse_times_t", per}};
+  }
+  return modes;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -104,8 +205,6 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(o.out_dir);
     check_output_path(o.json, "--json");
 
-    const std::vector<VisibilityMode> modes = {VisibilityMode::Exact, VisibilityMode::Veach,
-                                               VisibilityMode::Conservative, VisibilityMode::Proposed};
     nlohmann::json results = nlohmann::json::array();
     fmt::print("# machine: {}\n", bench::machine_description());
     std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
@@ -140,100 +239,29 @@ int main(int argc, char** argv) {
                  r.clusters().shadow_rays, r.clusters().refined_pairs, tm.pmf_ms * 1e-3, tm.calibration_ms * 1e-3,
                  tm.t_eval * 1e6, tm.t_skip * 1e6, tm.t_skip / tm.t_eval);
       std::fflush(stdout);
-      // Reference: exact visibility, many passes, as two independent halves A and B (own seeds).
-      // Its own noise is MSE_ref = E[(A - B)^2] / 4 per pixel and channel; every measured MSE
-      // (against (A + B) / 2, independent of the run) is MSE_run + MSE_ref, so it is subtracted.
-      const double ref_seconds = o.budget * o.ref_factor;
-      std::vector<Vec3> half[2];
-      for (int h = 0; h < 2; ++h) {
-        r.reset(VisibilityMode::Exact);
-        r.set_seed(0xFEF0 + uint64_t(h));
-        r.render_for(ref_seconds / 2, {});
-        half[h] = r.image().pixels;
-      }
-      Image ref(o.width, o.height);
-      double mse_ref = 0;
-      for (size_t i = 0; i < ref.pixels.size(); ++i) {
-        ref.pixels[i] = (half[0][i] + half[1][i]) * 0.5f;
-        const Vec3 d = half[0][i] - half[1][i];
-        mse_ref += (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / (4.0 * 3.0 * double(ref.pixels.size()));
-      }
-      write_image(to_image(ref.pixels, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
-      write_image(to_image(ref.pixels, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
-
-      // Modes interleaved within each repetition, so a change of machine load hits all of them.
-      std::map<VisibilityMode, std::vector<std::vector<ProgressRecord>>> runs;
-      for (int rep = 0; rep < o.reps; ++rep)
-        for (size_t m = 0; m < modes.size(); ++m) {
-          r.reset(modes[m]);
-          // Common random numbers: all modes of a repetition draw the same VPL samples pass by
-          // pass (the skip decisions use further numbers), so a rare huge sample (an unclamped
-          // VPL next to a surface) hits every mode that reaches that pass, not one at random.
-          r.set_seed(100 + 16 * uint64_t(rep));
-          runs[modes[m]].push_back(o.equal_passes > 0 ? r.render_for(1e300, ref, size_t(o.equal_passes))
-                                                      : r.render_for(o.budget, ref));
-          if (rep > 0) continue;
-          write_image(to_image(r.image().pixels, o.width, o.height), o.out_dir + "/" + name + "_" + to_string(modes[m]) + ".png");
-          if (modes[m] != VisibilityMode::Exact)
-            write_image(skip_to_image(r.skip_image(), o.width, o.height),
-                        o.out_dir + "/" + name + "_skip_" + to_string(modes[m]) + ".png");
-        }
-      auto corrected = [&](double rmse) { return std::max(1e-30, rmse * rmse - mse_ref); };
-      for (auto& [mode, reps] : runs)
+      const Reference ref = render_reference(r, o);
+      write_image(to_image(ref.image.pixels, o.width, o.height), o.out_dir + "/" + name + "_reference.png");
+      write_image(to_image(ref.image.pixels, o.width, o.height), o.out_dir + "/" + name + "_reference.exr");
+      const Runs runs = render_modes(r, name, ref.image, o);
+      auto corrected = [&](double rmse) { return std::max(1e-30, rmse * rmse - ref.mse); };
+      for (const auto& [mode, reps] : runs)
         for (size_t rep = 0; rep < reps.size(); ++rep)
           for (const auto& p : reps[rep])
             csv << name << "," << to_string(mode) << "," << rep << "," << p.seconds << "," << p.passes << "," << p.rmse
                 << "," << std::sqrt(corrected(p.rmse)) << "," << p.skip_rate << "\n";
-      // Unbiased progressive estimates have MSE ~ 1 / t, so MSE * t is a mode's inverse
-      // efficiency and the time to reach exact's equal-time MSE is T * (MSE t)_mode / (MSE t)_exact.
-      // This uses every sample of every run; the first crossing of a single, firefly-noisy curve
-      // would not.
-      std::map<VisibilityMode, double> mse_t, mse, skip, passes;
-      for (auto& [mode, reps] : runs)
-        for (const auto& rec : reps) {
-          mse_t[mode] += corrected(rec.back().rmse) * rec.back().seconds / o.reps;
-          mse[mode] += corrected(rec.back().rmse) / o.reps;
-          skip[mode] += rec.back().skip_rate / o.reps;
-          passes[mode] += double(rec.back().passes) / o.reps;
-        }
-      const double pre = tm.preprocess_ms() * 1e-3;
-      const std::string passes_of = o.equal_passes > 0 ? "the same for every mode" : fmt::format("in {:g} CPU s", o.budget);
-      fmt::print("\n| mode | passes ({}) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", passes_of);
-      fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
       nlohmann::json js = {{"scene", name}, {"triangles", scene.triangles.size()}, {"vpls", r.vpls().vpls.size()},
                            {"width", o.width}, {"height", o.height}, {"threads", o.threads}, {"accel", accel->name()},
-                           {"budget_cpu_s", o.budget}, {"reference_cpu_s", ref_seconds}, {"preprocess_cpu_s", pre},
-                           {"reps", o.reps}, {"clamp_fraction", o.clamp_fraction},
+                           {"budget_cpu_s", o.budget}, {"reference_cpu_s", o.budget * o.ref_factor},
+                           {"preprocess_cpu_s", tm.preprocess_ms() * 1e-3}, {"reps", o.reps},
+                           {"clamp_fraction", o.clamp_fraction},
                            {"vpl_s", tm.vpl_ms * 1e-3}, {"shading_points_s", tm.shading_points_ms * 1e-3},
                            {"cluster_s", tm.cluster_ms * 1e-3}, {"visibility_s", tm.visibility_ms * 1e-3},
                            {"pmf_s", tm.pmf_ms * 1e-3}, {"calibration_s", tm.calibration_ms * 1e-3},
                            {"t_eval_us", tm.t_eval * 1e6}, {"t_skip_us", tm.t_skip * 1e6},
-                           {"t_skip_over_t_eval", tm.t_skip / tm.t_eval}, {"rmse_ref_noise", std::sqrt(mse_ref)},
+                           {"t_skip_over_t_eval", tm.t_skip / tm.t_eval}, {"rmse_ref_noise", std::sqrt(ref.mse)},
                            {"shadow_rays_visibility_cluster", r.clusters().shadow_rays},
                            {"refined_pairs", r.clusters().refined_pairs}};
-      // Exact's mean render time: the budget (slightly exceeded by the last pass), or the time of
-      // its equal passes.
-      double t_exact = 0;
-      for (const auto& rec : runs[VisibilityMode::Exact]) t_exact += rec.back().seconds / o.reps;
-      for (VisibilityMode mode : modes) {
-        const double t_reach = t_exact * mse_t[mode] / mse_t[VisibilityMode::Exact];
-        // With the preprocess: every mode pays VisibilityCluster (exact samples with its pdf
-        // too); the probabilistic modes also pay the calibration renders.
-        const double extra = mode == VisibilityMode::Exact ? 0.0 : tm.calibration_ms * 1e-3;
-        const double with = (t_exact + pre) / (t_reach + pre + extra);
-        const double speed = t_exact / t_reach;
-        std::string per_run;
-        std::vector<double> per;
-        for (const auto& rec : runs[mode]) {
-          per.push_back(corrected(rec.back().rmse) * rec.back().seconds);
-          per_run += fmt::format("{}{:.3g}", per_run.empty() ? "" : " ", per.back());
-        }
-        fmt::print("| {} | {:.1f} | {:.5g} | {:.1f} % | {:.2f} s | {:.2f}x | {:.2f}x | {} |\n", to_string(mode),
-                   passes[mode], std::sqrt(mse[mode]), 100 * skip[mode], t_reach, speed, with, per_run);
-        js["modes"][to_string(mode)] = {{"passes", passes[mode]}, {"rmse", std::sqrt(mse[mode])},
-                                        {"skip_rate", skip[mode]}, {"time_to_exact_rmse_s", t_reach},
-                                        {"speedup", speed}, {"speedup_with_preprocess", with}, {"mse_times_t", per}};
-      }
+      js["modes"] = summarise(r, runs, corrected, o);
       std::fflush(stdout);
       results.push_back(js);
       write_file(o.json, results.dump(2) + "\n", "--json");
