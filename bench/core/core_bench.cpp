@@ -29,7 +29,6 @@ namespace {
 
 using bench::median;
 
-
 /// One accelerator column: registry name plus options ("embree" with robust=off is Embree's fastest mode).
 struct Column {
   std::string label, accel;
@@ -69,38 +68,82 @@ Column parse_column(const std::string& spec) {
   return c;
 }
 
-int run(const Options& opt) {
-  // Columns 0..2 are bvh2, bvh, embree (the ratios use them); a left-out bvh2 is not timed.
-  std::vector<Column> columns = {{"bvh2", "bvh2", {}}, {"bvh", "bvh", {}}, {"embree", "embree", {}}};
-  if (opt.embree_variants) {
-    columns.push_back({"embree-fast", "embree", {"robust=off"}});
-    columns.push_back({"embree-p16", "embree", {"packet=16"}});
-  }
-  for (const auto& e : opt.extra) columns.push_back(parse_column(e));
-  auto timed = [&](size_t c) { return c != 0 || opt.bvh2; };
-  const auto& known = accelerators();
-  for (const auto& c : columns)
-    if (std::none_of(known.begin(), known.end(), [&](const AcceleratorInfo& a) { return a.name == c.accel; })) {
-      fmt::print(stderr, "core_bench: accelerator '{}' is not registered in this build\n", c.accel);
-      return 2;
+/// Prints the tree shape of a wide BVH column and its exact counters on one ray set (stderr).
+void print_extra_counters(const Column& column, const Accelerator& accel, const bench::RaySet& set) {
+  TraceStats st;
+  bench::trace(accel, set, &st);
+  const double n = double(std::max<size_t>(1, set.rays.size()));
+  if (const auto* wa = dynamic_cast<const WideBvhAccelerator*>(&accel)) {
+    const WideBvh& wb = wa->bvh();
+    size_t slots = 0, leaves = 0, leaf_tris = 0;
+    for (const WideNode& nd : wb.nodes) {
+      slots += nd.count;
+      for (uint32_t k = 0; k < nd.count; ++k)
+        if (WideRef::is_leaf(nd.child[k])) {
+          ++leaves;
+          leaf_tris += WideRef::leaf_count(nd.child[k]);
+        }
     }
-  for (const auto& w : opt.workloads) (void)parse_workload(w);  // a misspelt one fails before any scene loads
+    fmt::print(stderr, "    {} tree: {} nodes, {:.2f} children/node, {} leaves, {:.2f} tris/leaf, {} blocks\n", column.label,
+               wb.nodes.size(), double(slots) / double(wb.nodes.size()), leaves, double(leaf_tris) / double(leaves),
+               wb.leaf_blocks.size());
+  }
+  fmt::print(stderr, "    {} counters: {:.1f} nodes, {:.1f} boxes, {:.2f} tris per ray; {:.1f} MB\n", column.label,
+             st.traversal_steps / n, st.ray_box_tests / n, st.ray_tri_tests / n, accel.build_info().memory_bytes / 1048576.0);
+}
 
-  std::string trace_table, build_table, counter_table;
-  trace_table += "| scene | workload | rays | threads |";
-  for (const auto& c : columns) trace_table += fmt::format(" {} Mrays/s |", c.label);
-  trace_table += " bvh/embree | bvh/best embree | bvh2/embree |\n|---|---|---:|---:|";
-  for (size_t i = 0; i < columns.size() + 3; ++i) trace_table += "---:|";
-  trace_table += "\n";
-  build_table = "| scene | triangles | threads |";
-  for (const auto& c : columns) build_table += fmt::format(" {} build ms |", c.label);
-  build_table += " bvh/embree build | bvh MB | embree MB |\n|---|---:|---:|";
-  for (size_t i = 0; i < columns.size() + 3; ++i) build_table += "---:|";
-  build_table += "\n";
-  counter_table = "| scene | workload | bvh2 nodes/ray | bvh2 boxes/ray | bvh2 tris/ray | bvh nodes/ray | bvh boxes/ray | bvh tris/ray |\n"
-                  "|---|---|---:|---:|---:|---:|---:|---:|\n";
+/// One run: the columns, and the three tables filled row by row, printed at the end.
+class CoreBench {
+ public:
+  explicit CoreBench(const Options& opt) : opt_(opt) {
+    // Columns 0..2 are bvh2, bvh, embree (the ratios use them); a left-out bvh2 is not timed.
+    columns_ = {{"bvh2", "bvh2", {}}, {"bvh", "bvh", {}}, {"embree", "embree", {}}};
+    if (opt.embree_variants) {
+      columns_.push_back({"embree-fast", "embree", {"robust=off"}});
+      columns_.push_back({"embree-p16", "embree", {"packet=16"}});
+    }
+    for (const auto& e : opt.extra) columns_.push_back(parse_column(e));
+  }
 
-  for (const std::string& scene_arg : opt.scenes) {
+  int run() {
+    const auto& known = accelerators();
+    for (const auto& c : columns_)
+      if (std::none_of(known.begin(), known.end(), [&](const AcceleratorInfo& a) { return a.name == c.accel; })) {
+        fmt::print(stderr, "core_bench: accelerator '{}' is not registered in this build\n", c.accel);
+        return 2;
+      }
+    for (const auto& w : opt_.workloads) (void)parse_workload(w);  // a misspelt one fails before any scene loads
+    start_tables();
+    for (const std::string& scene_arg : opt_.scenes) run_scene(scene_arg);
+    fmt::print("# machine: {}\n\n", bench::machine_description());
+    fmt::print("### Trace throughput (median of {} interleaved repetitions after a warm-up, {}x{})\n\n{}\n", opt_.repeat,
+               opt_.width, opt_.height, trace_table_);
+    fmt::print("### Build time (median of {} builds) and memory\n\n{}\n", opt_.build_repeat, build_table_);
+    fmt::print("### Work counters (exact, separate untimed run; Embree has none)\n\n{}", counter_table_);
+    return 0;
+  }
+
+ private:
+  bool timed(size_t c) const { return c != 0 || opt_.bvh2; }
+  /// The first extra column (after bvh2, bvh, embree and the Embree variants).
+  size_t first_extra() const { return opt_.embree_variants ? 5 : 3; }
+
+  void start_tables() {
+    trace_table_ += "| scene | workload | rays | threads |";
+    for (const auto& c : columns_) trace_table_ += fmt::format(" {} Mrays/s |", c.label);
+    trace_table_ += " bvh/embree | bvh/best embree | bvh2/embree |\n|---|---|---:|---:|";
+    for (size_t i = 0; i < columns_.size() + 3; ++i) trace_table_ += "---:|";
+    trace_table_ += "\n";
+    build_table_ = "| scene | triangles | threads |";
+    for (const auto& c : columns_) build_table_ += fmt::format(" {} build ms |", c.label);
+    build_table_ += " bvh/embree build | bvh MB | embree MB |\n|---|---:|---:|";
+    for (size_t i = 0; i < columns_.size() + 3; ++i) build_table_ += "---:|";
+    build_table_ += "\n";
+    counter_table_ = "| scene | workload | bvh2 nodes/ray | bvh2 boxes/ray | bvh2 tris/ray | bvh nodes/ray | bvh boxes/ray | bvh tris/ray |\n"
+                     "|---|---|---:|---:|---:|---:|---:|---:|\n";
+  }
+
+  void run_scene(const std::string& scene_arg) {
     const std::string scene_name = std::filesystem::path(scene_arg).stem().string();
     const auto load_start = SteadyClock::now();
     const Scene scene = resolve_scene(scene_arg);
@@ -110,95 +153,85 @@ int run(const Options& opt) {
     std::map<std::string, bench::RaySet> ray_sets;
     {
       const auto gen = make_accelerator("bvh", scene);
-      for (const auto& w : opt.workloads)
+      for (const auto& w : opt_.workloads)
         ray_sets[w] = {w, 0, is_any_hit(parse_workload(w)),
-                       make_workload(scene, *gen, parse_workload(w), {.width = opt.width, .height = opt.height})};
+                       make_workload(scene, *gen, parse_workload(w), {.width = opt_.width, .height = opt_.height})};
     }
-
-    for (int threads : opt.threads) {
+    for (int threads : opt_.threads) {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-      // Builds: interleaved repetitions, median of the reported build_ms.
-      std::vector<std::vector<double>> build_ms(columns.size());
-      std::vector<std::unique_ptr<Accelerator>> accels(columns.size());
-      for (int r = 0; r < opt.build_repeat; ++r)
-        for (size_t c = 0; c < columns.size(); ++c) {
-          if (!timed(c)) { build_ms[c].push_back(0); continue; }
-          accels[c] = build(columns[c], scene);
-          build_ms[c].push_back(accels[c]->build_info().build_ms);
-        }
-      std::vector<double> build_med;
-      for (const auto& b : build_ms) build_med.push_back(median(b));
-      build_table += fmt::format("| {} | {} | {} |", scene_name, scene.triangles.size(), threads);
-      for (double b : build_med) build_table += fmt::format(" {:.0f} |", b);
-      build_table += fmt::format(" {:.2f} | {:.1f} | {:.1f} |\n", build_med[1] / build_med[2],
-                                 accels[1]->build_info().memory_bytes / 1048576.0,
-                                 accels[2]->build_info().memory_bytes / 1048576.0);
-      fmt::print(stderr, "  {} threads: builds done\n", threads);
-
-      for (const auto& w : opt.workloads) {
-        const bench::RaySet& set = ray_sets[w];
-        const RayBatch& rays = set.rays;
-        const bool occluded = set.occlusion;
-        for (const auto& a : accels)
-          if (a) bench::trace(*a, set);  // warm-up
-        std::vector<std::vector<double>> times(columns.size());
-        for (int r = 0; r < opt.repeat; ++r)
-          for (size_t c = 0; c < columns.size(); ++c)
-            times[c].push_back(timed(c) ? bench::trace_ms(g_clock, *accels[c], set) : 0.0);
-        std::vector<double> mrays;
-        for (size_t c = 0; c < columns.size(); ++c)
-          mrays.push_back(timed(c) ? mrays_per_s(rays.size(), median(times[c])) : 0.0);
-        trace_table += fmt::format("| {} | {}{} | {} | {} |", scene_name, w, occluded ? " (any hit)" : "", rays.size(), threads);
-        for (double m : mrays) trace_table += fmt::format(" {:.2f} |", m);
-        double best = 0;
-        for (size_t c = 0; c < columns.size(); ++c)
-          if (columns[c].accel == "embree") best = std::max(best, mrays[c]);
-        trace_table += fmt::format(" **{:.2f}** | {:.2f} | {:.2f} |\n", mrays[1] / mrays[2], mrays[1] / best, mrays[0] / mrays[2]);
-        fmt::print(stderr, "  {} {} threads: bvh {:.2f}, embree {:.2f} Mrays/s", w, threads, mrays[1], mrays[2]);
-        for (size_t c = 5 - (opt.embree_variants ? 0 : 2); c < columns.size(); ++c)
-          fmt::print(stderr, ", {} {:.2f} ({:.3f}x embree)", columns[c].label, mrays[c], mrays[c] / mrays[2]);
-        fmt::print(stderr, "\n");
-
-        if (threads == opt.threads.back()) {
-          TraceStats s2, sw;
-          if (opt.bvh2) bench::trace(*accels[0], set, &s2);
-          bench::trace(*accels[1], set, &sw);
-          for (size_t c = 5 - (opt.embree_variants ? 0 : 2); c < columns.size(); ++c)
-            if (columns[c].accel == "bvh") {
-              TraceStats sx;
-              bench::trace(*accels[c], set, &sx);
-              const double n = double(std::max<size_t>(1, rays.size()));
-              if (const auto* wa = dynamic_cast<const WideBvhAccelerator*>(accels[c].get())) {
-                const WideBvh& wb = wa->bvh();
-                size_t slots = 0, leaves = 0, leaf_tris = 0;
-                for (const WideNode& nd : wb.nodes) {
-                  slots += nd.count;
-                  for (uint32_t k = 0; k < nd.count; ++k)
-                    if (WideRef::is_leaf(nd.child[k])) { ++leaves; leaf_tris += WideRef::leaf_count(nd.child[k]); }
-                }
-                fmt::print(stderr, "    {} tree: {} nodes, {:.2f} children/node, {} leaves, {:.2f} tris/leaf, {} blocks\n", columns[c].label,
-                           wb.nodes.size(), double(slots) / double(wb.nodes.size()), leaves, double(leaf_tris) / double(leaves),
-                           wb.leaf_blocks.size());
-              }
-              fmt::print(stderr, "    {} counters: {:.1f} nodes, {:.1f} boxes, {:.2f} tris per ray; {:.1f} MB\n", columns[c].label,
-                         sx.traversal_steps / n, sx.ray_box_tests / n, sx.ray_tri_tests / n,
-                         accels[c]->build_info().memory_bytes / 1048576.0);
-            }
-          const double n = double(std::max<size_t>(1, rays.size()));
-          counter_table += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | {:.2f} |\n", scene_name, w,
-                                       s2.traversal_steps / n, s2.ray_box_tests / n, s2.ray_tri_tests / n,
-                                       sw.traversal_steps / n, sw.ray_box_tests / n, sw.ray_tri_tests / n);
-        }
+      const auto accels = build_all(scene, scene_name, threads);
+      for (const auto& w : opt_.workloads) {
+        time_row(accels, ray_sets[w], scene_name, threads);
+        if (threads == opt_.threads.back()) count_row(accels, ray_sets[w], scene_name);
       }
     }
   }
-  fmt::print("# machine: {}\n\n", bench::machine_description());
-  fmt::print("### Trace throughput (median of {} interleaved repetitions after a warm-up, {}x{})\n\n{}\n", opt.repeat,
-             opt.width, opt.height, trace_table);
-  fmt::print("### Build time (median of {} builds) and memory\n\n{}\n", opt.build_repeat, build_table);
-  fmt::print("### Work counters (exact, separate untimed run; Embree has none)\n\n{}", counter_table);
-  return 0;
-}
+
+  /// Builds every column with interleaved repetitions; a row of the build table (median of
+  /// the reported build_ms).
+  std::vector<std::unique_ptr<Accelerator>> build_all(const Scene& scene, const std::string& scene_name, int threads) {
+    std::vector<std::vector<double>> build_ms(columns_.size());
+    std::vector<std::unique_ptr<Accelerator>> accels(columns_.size());
+    for (int r = 0; r < opt_.build_repeat; ++r)
+      for (size_t c = 0; c < columns_.size(); ++c) {
+        if (!timed(c)) { build_ms[c].push_back(0); continue; }
+        accels[c] = build(columns_[c], scene);
+        build_ms[c].push_back(accels[c]->build_info().build_ms);
+      }
+    std::vector<double> build_med;
+    for (const auto& b : build_ms) build_med.push_back(median(b));
+    build_table_ += fmt::format("| {} | {} | {} |", scene_name, scene.triangles.size(), threads);
+    for (double b : build_med) build_table_ += fmt::format(" {:.0f} |", b);
+    build_table_ += fmt::format(" {:.2f} | {:.1f} | {:.1f} |\n", build_med[1] / build_med[2],
+                                accels[1]->build_info().memory_bytes / 1048576.0,
+                                accels[2]->build_info().memory_bytes / 1048576.0);
+    fmt::print(stderr, "  {} threads: builds done\n", threads);
+    return accels;
+  }
+
+  /// A row of the trace table: a warm-up, then repeat rounds of every column once.
+  void time_row(const std::vector<std::unique_ptr<Accelerator>>& accels, const bench::RaySet& set,
+                const std::string& scene_name, int threads) {
+    for (const auto& a : accels)
+      if (a) bench::trace(*a, set);  // warm-up
+    std::vector<std::vector<double>> times(columns_.size());
+    for (int r = 0; r < opt_.repeat; ++r)
+      for (size_t c = 0; c < columns_.size(); ++c)
+        times[c].push_back(timed(c) ? bench::trace_ms(g_clock, *accels[c], set) : 0.0);
+    std::vector<double> mrays;
+    for (size_t c = 0; c < columns_.size(); ++c)
+      mrays.push_back(timed(c) ? mrays_per_s(set.rays.size(), median(times[c])) : 0.0);
+    trace_table_ += fmt::format("| {} | {}{} | {} | {} |", scene_name, set.kind, set.occlusion ? " (any hit)" : "",
+                                set.rays.size(), threads);
+    for (double m : mrays) trace_table_ += fmt::format(" {:.2f} |", m);
+    double best = 0;
+    for (size_t c = 0; c < columns_.size(); ++c)
+      if (columns_[c].accel == "embree") best = std::max(best, mrays[c]);
+    trace_table_ += fmt::format(" **{:.2f}** | {:.2f} | {:.2f} |\n", mrays[1] / mrays[2], mrays[1] / best, mrays[0] / mrays[2]);
+    fmt::print(stderr, "  {} {} threads: bvh {:.2f}, embree {:.2f} Mrays/s", set.kind, threads, mrays[1], mrays[2]);
+    for (size_t c = first_extra(); c < columns_.size(); ++c)
+      fmt::print(stderr, ", {} {:.2f} ({:.3f}x embree)", columns_[c].label, mrays[c], mrays[c] / mrays[2]);
+    fmt::print(stderr, "\n");
+  }
+
+  /// A row of the counter table (bvh2, bvh), plus the counters of extra bvh columns (stderr).
+  void count_row(const std::vector<std::unique_ptr<Accelerator>>& accels, const bench::RaySet& set,
+                 const std::string& scene_name) {
+    TraceStats s2, sw;
+    if (opt_.bvh2) bench::trace(*accels[0], set, &s2);
+    bench::trace(*accels[1], set, &sw);
+    for (size_t c = first_extra(); c < columns_.size(); ++c)
+      if (columns_[c].accel == "bvh") print_extra_counters(columns_[c], *accels[c], set);
+    const double n = double(std::max<size_t>(1, set.rays.size()));
+    counter_table_ += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | {:.2f} |\n", scene_name, set.kind,
+                                  s2.traversal_steps / n, s2.ray_box_tests / n, s2.ray_tri_tests / n,
+                                  sw.traversal_steps / n, sw.ray_box_tests / n, sw.ray_tri_tests / n);
+  }
+
+  const Options& opt_;
+  std::vector<Column> columns_;
+  std::string trace_table_, build_table_, counter_table_;
+};
 
 }  // namespace
 }  // namespace rayscout
@@ -231,5 +264,5 @@ int main(int argc, char** argv) {
   if (cpu_time) rayscout::g_clock = rayscout::bench::Clock::ProcessCpu;
   opt.embree_variants = !no_variants;
   opt.bvh2 = !no_bvh2;
-  return rayscout::bench::run_bench("core_bench", [&] { return rayscout::run(opt); });
+  return rayscout::bench::run_bench("core_bench", [&] { return rayscout::CoreBench(opt).run(); });
 }
