@@ -1,5 +1,8 @@
 // WideBvh single-ray traversal: SIMD test of 8 child boxes, ordered closest hit, any hit.
+#include <array>
 #include <bit>
+#include <climits>
+#include <cstdint>
 #include <cmath>
 
 #include <immintrin.h>
@@ -39,6 +42,58 @@ inline void sort_lanes_descending(__m256& keys, __m256i& vals) {
     layer(_mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7), 0x0C);
     layer(_mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7), 0x2A);
   }
+}
+#elif defined(__AVX2__)
+// The same network with AVX2: integer keys (sortable_key), no mask registers. Unused lanes
+// must hold INT32_MIN, below every key. Equal keys are never swapped.
+template <int Lanes>
+inline void sort_lanes_descending(__m256i& keys, __m256i& vals) {
+  // low: the lanes that keep the larger key of their pair.
+  auto layer = [&](__m256i partner, __m256i low) {
+    const __m256i pk = _mm256_permutevar8x32_epi32(keys, partner);
+    const __m256i pv = _mm256_permutevar8x32_epi32(vals, partner);
+    const __m256i swap = _mm256_blendv_epi8(_mm256_cmpgt_epi32(keys, pk), _mm256_cmpgt_epi32(pk, keys), low);
+    keys = _mm256_blendv_epi8(keys, pk, swap);
+    vals = _mm256_blendv_epi8(vals, pv, swap);
+  };
+  constexpr int Y = -1;
+  if constexpr (Lanes == 4) {
+    layer(_mm256_setr_epi32(1, 0, 3, 2, 4, 5, 6, 7), _mm256_setr_epi32(Y, 0, Y, 0, 0, 0, 0, 0));
+    layer(_mm256_setr_epi32(2, 3, 0, 1, 4, 5, 6, 7), _mm256_setr_epi32(Y, Y, 0, 0, 0, 0, 0, 0));
+    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 5, 6, 7), _mm256_setr_epi32(0, Y, 0, 0, 0, 0, 0, 0));
+  } else {
+    layer(_mm256_setr_epi32(1, 0, 3, 2, 5, 4, 7, 6), _mm256_setr_epi32(Y, 0, Y, 0, Y, 0, Y, 0));
+    layer(_mm256_setr_epi32(2, 3, 0, 1, 6, 7, 4, 5), _mm256_setr_epi32(Y, Y, 0, 0, Y, Y, 0, 0));
+    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7), _mm256_setr_epi32(0, Y, 0, 0, 0, Y, 0, 0));
+    layer(_mm256_setr_epi32(4, 5, 6, 7, 0, 1, 2, 3), _mm256_setr_epi32(Y, Y, Y, Y, 0, 0, 0, 0));
+    layer(_mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7), _mm256_setr_epi32(0, 0, Y, Y, 0, 0, 0, 0));
+    layer(_mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7), _mm256_setr_epi32(0, Y, 0, Y, 0, Y, 0, 0));
+  }
+}
+
+// Float bits as an int32 with the same order (negative floats: flip the magnitude bits); the
+// map is its own inverse. Keeps -inf above the INT32_MIN of unused lanes.
+inline __m256i sortable_key(__m256i bits) {
+  return _mm256_xor_si256(bits, _mm256_and_si256(_mm256_srai_epi32(bits, 31), _mm256_set1_epi32(INT32_MAX)));
+}
+
+// For each 8-bit lane mask, the indices of its set lanes first (3 bits each, lowest first):
+// the permutation that compresses those lanes to the front, as AVX-512's compress does.
+constexpr std::array<uint32_t, 256> kCompress = [] {
+  std::array<uint32_t, 256> t{};
+  for (uint32_t m = 0; m < 256; ++m) {
+    uint32_t packed = 0;
+    int k = 0;
+    for (uint32_t l = 0; l < 8; ++l)
+      if (m >> l & 1u) packed |= l << (3 * k++);
+    t[m] = packed;
+  }
+  return t;
+}();
+
+inline __m256i compress_index(uint32_t mask) {
+  return _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(int(kCompress[mask])), _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21)),
+                          _mm256_set1_epi32(7));
 }
 #endif
 
@@ -192,6 +247,37 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         if (n <= 4) sort_lanes_descending<4>(keys, vals);
         else sort_lanes_descending<8>(keys, vals);
         const __m256i ki = _mm256_castps_si256(keys);
+        const __m256i lo = _mm256_unpacklo_epi32(vals, ki), hi = _mm256_unpackhi_epi32(vals, ki);
+        __m256i* top = reinterpret_cast<__m256i*>(sp);
+        _mm256_storeu_si256(top, _mm256_permute2x128_si256(lo, hi, 0x20));
+        _mm256_storeu_si256(top + 1, _mm256_permute2x128_si256(lo, hi, 0x31));
+        sp += n;
+        e = {node.child[near_c], near_d};
+        continue;
+      }
+#elif defined(__AVX2__)
+      {
+        // As above, with AVX2: a table-driven compress, integer keys.
+        uint32_t m = mask;
+        int near_c = std::countr_zero(m);
+        float near_d = dist[near_c];
+        for (m &= m - 1; m; m &= m - 1) {
+          const int c = std::countr_zero(m);
+          const float d = dist[c];
+          near_c = d < near_d ? c : near_c;
+          near_d = d < near_d ? d : near_d;
+        }
+        const uint32_t rest = mask & ~(1u << near_c);
+        const int n = std::popcount(rest);
+        const __m256i idx = compress_index(rest);
+        const __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        __m256i keys = _mm256_blendv_epi8(_mm256_set1_epi32(INT32_MIN),
+                                          sortable_key(_mm256_permutevar8x32_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(dist)), idx)),
+                                          used);
+        __m256i vals = _mm256_permutevar8x32_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(node.child)), idx);
+        if (n <= 4) sort_lanes_descending<4>(keys, vals);
+        else sort_lanes_descending<8>(keys, vals);
+        const __m256i ki = sortable_key(keys);
         const __m256i lo = _mm256_unpacklo_epi32(vals, ki), hi = _mm256_unpackhi_epi32(vals, ki);
         __m256i* top = reinterpret_cast<__m256i*>(sp);
         _mm256_storeu_si256(top, _mm256_permute2x128_si256(lo, hi, 0x20));
