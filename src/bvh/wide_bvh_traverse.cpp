@@ -16,6 +16,11 @@
 namespace rayscout {
 namespace {
 
+struct Entry {
+  uint32_t ref;
+  float dist;  // entry distance of the ref's box
+};
+
 #if defined(__AVX512F__) && defined(__AVX512VL__)
 // Sorts (key, value) lanes by descending key with a comparator network (Lanes = 4: 3
 // layers on lanes 0..3; Lanes = 8: Batcher's 19 comparators in 6 layers). Unused lanes must
@@ -97,10 +102,49 @@ inline __m256i compress_index(uint32_t mask) {
 }
 #endif
 
-struct Entry {
-  uint32_t ref;
-  float dist;  // entry distance of the ref's box
-};
+#if defined(__AVX2__)
+// The nearest of the hit children in mask (the lowest slot among equal distances).
+inline int nearest_child(uint32_t mask, const float* dist) {
+  int near_c = std::countr_zero(mask);
+  float near_d = dist[near_c];
+  for (mask &= mask - 1; mask; mask &= mask - 1) {
+    const int c = std::countr_zero(mask);
+    const float d = dist[c];
+    near_c = d < near_d ? c : near_c;
+    near_d = d < near_d ? d : near_d;
+  }
+  return near_c;
+}
+
+// Pushes the children in rest sorted far to near (the nearest on top) with two 256-bit stores
+// (the stack holds kWideWidth entries of slack above its top); returns the new top.
+inline Entry* push_far_to_near(Entry* sp, const WideNode& node, const float* dist, uint32_t rest) {
+  const int n = std::popcount(rest);
+  const __m256i refs = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  __m256 keys = _mm256_mask_compress_ps(_mm256_set1_ps(-kInfinity), __mmask8(rest), _mm256_load_ps(dist));
+  __m256i vals = _mm256_maskz_compress_epi32(__mmask8(rest), refs);
+  if (n <= 4) sort_lanes_descending<4>(keys, vals);
+  else sort_lanes_descending<8>(keys, vals);
+  const __m256i dist_bits = _mm256_castps_si256(keys);
+#else
+  const __m256i idx = compress_index(rest);
+  const __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i dists = _mm256_permutevar8x32_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(dist)), idx);
+  __m256i keys = _mm256_blendv_epi8(_mm256_set1_epi32(INT32_MIN), sortable_key(dists), used);
+  __m256i vals = _mm256_permutevar8x32_epi32(refs, idx);
+  if (n <= 4) sort_lanes_descending<4>(keys, vals);
+  else sort_lanes_descending<8>(keys, vals);
+  const __m256i dist_bits = sortable_key(keys);
+#endif
+  // (ref, dist) pairs in lane order.
+  const __m256i lo = _mm256_unpacklo_epi32(vals, dist_bits), hi = _mm256_unpackhi_epi32(vals, dist_bits);
+  __m256i* top = reinterpret_cast<__m256i*>(sp);
+  _mm256_storeu_si256(top, _mm256_permute2x128_si256(lo, hi, 0x20));
+  _mm256_storeu_si256(top + 1, _mm256_permute2x128_si256(lo, hi, 0x31));
+  return sp + n;
+}
+#endif
 
 // True when no slab distance of the ray can be NaN: a NaN needs 0 * inf, i.e. an infinite
 // inverse direction component, a zero one (an infinite direction) against an empty slot's
@@ -225,65 +269,15 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         continue;
       }
       mask |= 1u << c0;
-#if defined(__AVX512F__) && defined(__AVX512VL__)
+#if defined(__AVX2__)
       {
         // Three or more: the nearest child by a scalar scan (it is visited next, so this is
         // the critical path); the others sorted far to near by a comparator network, off
         // that path, and pushed at once. Sorting all of them and taking the nearest from the
         // network measured slower than the insertion sort below (its latency is on the path).
-        uint32_t m = mask;
-        int near_c = std::countr_zero(m);
-        float near_d = dist[near_c];
-        for (m &= m - 1; m; m &= m - 1) {
-          const int c = std::countr_zero(m);
-          const float d = dist[c];
-          near_c = d < near_d ? c : near_c;
-          near_d = d < near_d ? d : near_d;
-        }
-        const uint32_t rest = mask & ~(1u << near_c);
-        const int n = std::popcount(rest);
-        __m256 keys = _mm256_mask_compress_ps(_mm256_set1_ps(-kInfinity), __mmask8(rest), _mm256_load_ps(dist));
-        __m256i vals = _mm256_maskz_compress_epi32(__mmask8(rest), _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child)));
-        if (n <= 4) sort_lanes_descending<4>(keys, vals);
-        else sort_lanes_descending<8>(keys, vals);
-        const __m256i ki = _mm256_castps_si256(keys);
-        const __m256i lo = _mm256_unpacklo_epi32(vals, ki), hi = _mm256_unpackhi_epi32(vals, ki);
-        __m256i* top = reinterpret_cast<__m256i*>(sp);
-        _mm256_storeu_si256(top, _mm256_permute2x128_si256(lo, hi, 0x20));
-        _mm256_storeu_si256(top + 1, _mm256_permute2x128_si256(lo, hi, 0x31));
-        sp += n;
-        e = {node.child[near_c], near_d};
-        continue;
-      }
-#elif defined(__AVX2__)
-      {
-        // As above, with AVX2: a table-driven compress, integer keys.
-        uint32_t m = mask;
-        int near_c = std::countr_zero(m);
-        float near_d = dist[near_c];
-        for (m &= m - 1; m; m &= m - 1) {
-          const int c = std::countr_zero(m);
-          const float d = dist[c];
-          near_c = d < near_d ? c : near_c;
-          near_d = d < near_d ? d : near_d;
-        }
-        const uint32_t rest = mask & ~(1u << near_c);
-        const int n = std::popcount(rest);
-        const __m256i idx = compress_index(rest);
-        const __m256i used = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-        __m256i keys = _mm256_blendv_epi8(_mm256_set1_epi32(INT32_MIN),
-                                          sortable_key(_mm256_permutevar8x32_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(dist)), idx)),
-                                          used);
-        __m256i vals = _mm256_permutevar8x32_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(node.child)), idx);
-        if (n <= 4) sort_lanes_descending<4>(keys, vals);
-        else sort_lanes_descending<8>(keys, vals);
-        const __m256i ki = sortable_key(keys);
-        const __m256i lo = _mm256_unpacklo_epi32(vals, ki), hi = _mm256_unpackhi_epi32(vals, ki);
-        __m256i* top = reinterpret_cast<__m256i*>(sp);
-        _mm256_storeu_si256(top, _mm256_permute2x128_si256(lo, hi, 0x20));
-        _mm256_storeu_si256(top + 1, _mm256_permute2x128_si256(lo, hi, 0x31));
-        sp += n;
-        e = {node.child[near_c], near_d};
+        const int near_c = nearest_child(mask, dist);
+        sp = push_far_to_near(sp, node, dist, mask & ~(1u << near_c));
+        e = {node.child[near_c], dist[near_c]};
         continue;
       }
 #else
