@@ -1,9 +1,8 @@
 // WideBvh single-ray traversal: SIMD test of 8 child boxes, ordered closest hit, any hit.
 #include <array>
 #include <bit>
-#include <climits>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 
 #include <immintrin.h>
 
