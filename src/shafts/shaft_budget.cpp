@@ -26,7 +26,7 @@ constexpr double kMaxShafts = 0.9 * 4294967296.0;
 /// build's overflow policy (retry_overflow; it may clamp samples' distances), then the
 /// cullNodeSubtree(root) fallback.
 void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
-               const detail::VoxelSurfaces* surfaces, const ShaftConfig& config, double min_prob,
+               const detail::VoxelSurfaces* surfaces, const ShaftConfig& config,
                detail::ShaftSamples& samples, std::vector<uint32_t>& list) {
   list.clear();
   if (tree.size() == 0) return;
@@ -35,9 +35,9 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell,
                             surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
   detail::CandidateListBuilder builder(tree, shaft, samples);
-  const bool ok = builder.build(min_prob, config.max_list, list) ||
+  const bool ok = builder.build(config.min_prob, config.max_list, list) ||
                   detail::retry_overflow(
-                      config.near_retries, config.retries, min_prob, length(shaft.voxel().diagonal()),
+                      config.near_retries, config.retries, config.min_prob, length(shaft.voxel().diagonal()),
                       [&](double p, bool) { return builder.build(p, config.max_list, list); },
                       [&](float reach) { samples.clamp_hits(reach); });
   if (!ok) detail::fallback_list(tree, shaft, list);
@@ -65,7 +65,6 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     return finish(build_grid(tree, grid, tris, trace, sample_rays, config), 1);
   }
   const double cells = 6.0 * config.dir_res * config.dir_res;
-  const double min_prob = config.min_prob;
   // Predicted memory of a grid of about n voxels: the voxel table, entry tables of the listed
   // voxels and lists whose mean length a pilot of up to 192 random listed shafts measures
   // (dedup assumed to save 5 %). Two pilot iterations settle the resolution before the one
@@ -96,7 +95,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const uint64_t id = ids[i * ids.size() / pilots];
         build_one(tree, grid, {uint32_t(id / grid.cells_per_voxel()), uint32_t(id % grid.cells_per_voxel())},
-                  trace, surfaces ? &*surfaces : nullptr, config, min_prob, samples, list);
+                  trace, surfaces ? &*surfaces : nullptr, config, samples, list);
         lengths[i] = list.size();
       }
     });

@@ -90,8 +90,7 @@ class VoxelListMaker {
   struct Context {
     const TreeView& tree;
     const ShaftGrid& grid;
-    const ShaftConfig& config;
-    double min_prob;
+    const ShaftConfig& config;  ///< resolved (min_prob filled in)
     const std::vector<CellGroup>& groups;
     const std::vector<Shaft>& group_shafts;  ///< one group cone per group, at voxel 0
     const std::vector<Shaft>& cell_shafts;   ///< one cone per cell, at voxel 0
@@ -134,12 +133,12 @@ class VoxelListMaker {
       const uint64_t all = members_.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members_.size()) - 1;
       if (tree.size() > 0) {
         detail::GroupListBuilder builder(tree, group, members_, samples_, int(per), scratch_);
-        uint64_t failed = all & ~builder.build(c_.min_prob, c_.config.max_list, all, lists_.data());
+        uint64_t failed = all & ~builder.build(c_.config.min_prob, c_.config.max_list, all, lists_.data());
         // Overflowing members retry together (retry_overflow: clamped distances, then raised
         // thresholds), then fall back to cullNodeSubtree(root).
         if (failed)
           detail::retry_overflow(
-              c_.config.near_retries, c_.config.retries, c_.min_prob, length(group.voxel().diagonal()),
+              c_.config.near_retries, c_.config.retries, c_.config.min_prob, length(group.voxel().diagonal()),
               [&](double p, bool clamped) {
                 (clamped ? vl.near_retries : vl.retries) += size_t(std::popcount(failed));
                 failed &= ~builder.build(p, c_.config.max_list, failed, lists_.data());
@@ -375,7 +374,6 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
                      " voxels listed; budget_mib, budget_rel or voxels decide the grid) needs");
 
   std::vector<detail::VoxelLists> out(listed.size());  // per listed voxel, its lists before packing
-  const double min_prob = config.min_prob;
 
   // Cones are the same in every voxel: made once, moved to each voxel.
   std::vector<Shaft> cell_shafts;
@@ -407,7 +405,7 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
 
   // Chunks of up to kChunk listed voxels: their sample rays are traced cell-major first.
   constexpr size_t kChunk = 32;
-  const VoxelListMaker::Context context{tree, grid, config, min_prob, groups, group_shafts, cell_shafts, shaft_selected};
+  const VoxelListMaker::Context context{tree, grid, config, groups, group_shafts, cell_shafts, shaft_selected};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), kChunk / 2), [&](const auto& range) {
     VoxelListMaker maker(context);
     std::vector<PooledSample> chunk_pool;
