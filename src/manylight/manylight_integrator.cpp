@@ -38,6 +38,7 @@ class ManylightIntegrator final : public Integrator {
                                      reference.height, rc.width, rc.height));
     }
     ManylightRenderer r(scene, accel, config);
+    if (o_.pass_seed) r.set_seed(*o_.pass_seed);
     if (config.mode != VisibilityMode::Exact) r.calibrate();
     const auto& tm = r.timings();
     // Progress per pass, timed from the first pass (the preprocess is done); with a time

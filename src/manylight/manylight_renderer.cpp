@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <string>
 
 #include <tbb/parallel_for.h>
 
@@ -45,6 +46,17 @@ ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& acce
   if (config_.samples_per_pass <= 0 || config_.points_per_round <= 0)
     throw InputError("manylight: samples_per_pass and points_per_round must be positive");
   if (!(config_.epsilon >= 0.0f)) throw InputError("manylight: epsilon must be >= 0");
+  // Without the uniform mix a VPL cluster whose estimated contribution is 0 would never be
+  // drawn, and its light would be missing from the image (biased).
+  if (!(config_.uniform_mix > 0.0f && config_.uniform_mix <= 1.0f))
+    throw InputError("manylight: uniform_mix must be in (0, 1], got " + std::to_string(config_.uniform_mix));
+  if (config_.visibility_samples < 1 || config_.visibility_samples > kMaxPairSamples ||
+      config_.refine_samples < 0 || config_.refine_samples > kMaxPairSamples ||
+      config_.contribution_samples < 0 || config_.contribution_samples > kMaxPairSamples)
+    throw InputError("manylight: visibility_samples must be in [1, " + std::to_string(kMaxPairSamples) +
+                     "], refine_samples and contribution_samples in [0, " + std::to_string(kMaxPairSamples) + "]");
+  if (!(config_.r_floor >= 0.0f && config_.r_floor <= 1.0f))
+    throw InputError("manylight: r_floor must be in [0, 1], got " + std::to_string(config_.r_floor));
   offset_ = manylight_detail::ray_offset(scene);
   // Preprocess times on the configured clock; the split of VisibilityCluster into its
   // phases is wall-clock, scaled to the measured total.
@@ -81,7 +93,7 @@ ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& acce
 void ManylightRenderer::reset(VisibilityMode mode) {
   config_.mode = mode;
   stats_.assign(cluster_points_.size(), {});
-  point_sum_.assign(points_.size(), Vec3(0.0f));
+  point_sum_.assign(points_.size(), {0.0, 0.0, 0.0});
   point_skipped_.assign(points_.size(), 0);
   point_samples_.assign(points_.size(), 0);
   passes_ = 0;
@@ -135,7 +147,8 @@ void ManylightRenderer::draw_sample(size_t c, uint32_t pid, int j, Forced forced
                                     Sample& s, Ray& ray) const {
   const ShadingPoint& sp = points_[pid];
   const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
-  manylight_detail::Rng rng(seed_ + passes_ * kGolden64, pid, uint64_t(j) | (uint64_t(forced) << 32));
+  manylight_detail::Rng rng(seed_ + passes_ * kGolden64, manylight_detail::kRenderStream | pid,
+                            uint64_t(j) | (uint64_t(forced) << 32));
   s.point = pid;
   const size_t l = cluster_choice.sample_bits(rng.bits64());
   const double pmf_cluster = cluster_choice.probability(l);
@@ -183,7 +196,7 @@ void ManylightRenderer::resolve_samples(size_t c, std::span<const Sample> sample
     if (s.state != SampleState::ZeroContribution) st.add(s.q, s.lum_t * vt);
     else st.add(1.0, 0.0);
     if (!accumulate) continue;
-    point_sum_[s.point] += s.value * float(vt / spp_samples);
+    for (int k = 0; k < 3; ++k) point_sum_[s.point][k] += double(s.value[k]) * vt / spp_samples;
     if (s.state != SampleState::ZeroContribution) {
       point_samples_[s.point]++;
       point_skipped_[s.point] += s.state == SampleState::Skipped ? 1u : 0u;
@@ -256,10 +269,12 @@ std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, const 
 
 Image ManylightRenderer::image() const {
   Image img(config_.width, config_.height);
-  const float inv = passes_ ? 1.0f / float(passes_) : 0.0f;
+  const double inv = passes_ ? 1.0 / double(passes_) : 0.0;
   for (size_t p = 0; p < points_.size(); ++p) {
     const ShadingPoint& sp = points_[p];
-    img.pixels[sp.pixel] += sp.emitted + sp.weight * point_sum_[p] * inv;
+    const std::array<double, 3>& sum = point_sum_[p];
+    const Vec3 mean(float(sum[0] * inv), float(sum[1] * inv), float(sum[2] * inv));
+    img.pixels[sp.pixel] += sp.emitted + sp.weight * mean;
   }
   return img;
 }

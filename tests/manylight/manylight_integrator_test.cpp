@@ -112,6 +112,25 @@ TEST(ManylightIntegrator, SceneWithoutALightThatEmitsIsAnInputError) {
   }
 }
 
+// Without the uniform mix, a VPL cluster whose estimated contribution is 0 is never drawn
+// (its light would be missing from the image): refused, like a floor outside [0, 1].
+TEST(ManylightConfig, UniformMixMustBePositiveAndFloorAProbability) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  ManylightConfig c;
+  c.width = c.height = 4;
+  c.vpl_count = 10;
+  EXPECT_NO_THROW(ManylightRenderer(scene, *accel, c));
+  for (float mix : {0.0f, -0.1f, 1.5f}) {
+    ManylightConfig bad = c;
+    bad.uniform_mix = mix;
+    EXPECT_THROW(ManylightRenderer(scene, *accel, bad), InputError) << "uniform_mix " << mix;
+  }
+  ManylightConfig bad = c;
+  bad.r_floor = 1.5f;
+  EXPECT_THROW(ManylightRenderer(scene, *accel, bad), InputError);
+}
+
 // A skip image shows the rate in every format: .pfm and .exr store it, a .png's 8-bit pixel
 // value is rate * 255 (rounded) after the writer's sRGB encoding.
 TEST(ManylightIntegrator, SkipImageStoresTheRateInEveryFormat) {

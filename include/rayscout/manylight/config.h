@@ -24,6 +24,10 @@ inline constexpr std::pair<const char*, VisibilityMode> kVisibilityModes[] = {
 VisibilityMode parse_visibility_mode(const std::string& name);
 std::string to_string(VisibilityMode mode);
 
+/// Most member pairs sampled per cluster pair (visibility, refinement, contribution): one
+/// pair's visibility samples are traced as one batch.
+inline constexpr int kMaxPairSamples = 65536;
+
 /// Tunables of instant radiosity, VisibilityCluster and probabilistic visibility.
 struct ManylightConfig {
   // Image and shading points.

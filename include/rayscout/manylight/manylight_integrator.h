@@ -22,6 +22,10 @@ struct ManylightRunOptions {
   std::string rmse_log;       ///< where to write the RMSE-over-time records: .json or .csv
   std::string skip_image;     ///< where to write the per-pixel skip rate (grey: white = skipped)
   bool verbose = true;        ///< summary lines on stderr
+  /// Seed of the render passes only (unset: the render seed). VPLs and shading points keep the
+  /// render seed, so a reference rendered with another pass seed sums the same eq. (1) with
+  /// noise independent of the run measured against it.
+  std::optional<uint64_t> pass_seed;
 };
 
 /// How an RMSE log is written, by the end of its file name: ".json" or ".csv"; nullopt for

@@ -2,6 +2,7 @@
 // probabilistic visibility (Nabata & Iwasaki 2019, building on Wu & Chuang 2013).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -102,7 +103,8 @@ class ManylightRenderer {
   float offset_ = 1e-4f;
 
   std::vector<ClusterSampleStats> stats_;  ///< per shading cluster, eqs. (16), (17)
-  std::vector<Vec3> point_sum_;            ///< per shading point, sum of per-pass estimates
+  /// Per shading point, the sum of per-pass estimates; double, as a reference adds thousands of passes.
+  std::vector<std::array<double, 3>> point_sum_;
   std::vector<uint32_t> point_skipped_, point_samples_;
   size_t passes_ = 0;
   uint64_t rays_traced_ = 0;
