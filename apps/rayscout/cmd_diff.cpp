@@ -1,4 +1,5 @@
 // `rayscout diff A B`: error metrics between two images and an optional false-colour difference.
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -6,6 +7,7 @@
 
 #include "commands.h"
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
 
 namespace rayscout::cli {
@@ -29,6 +31,8 @@ CommandRegistration registration{[](CLI::App& app) {
       ->transform(in_range(0.0));
   cmd->callback([opts] {
     if (!opts->out.empty()) check_image_path(opts->out);  // before the work, not after it
+    check_distinct_files(std::array{NamedFile{opts->out, "--out " + opts->out}},
+                         std::array{NamedFile{opts->a, "image A " + opts->a}, NamedFile{opts->b, "reference B " + opts->b}});
     const Image a = read_image(opts->a), b = read_image(opts->b);
     if (a.width != b.width || a.height != b.height)
       throw InputError(fmt::format("{} and {}: images differ in size: {}x{} vs {}x{}", opts->a, opts->b, a.width,

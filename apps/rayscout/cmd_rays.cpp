@@ -1,4 +1,5 @@
 // `rayscout rays`: writes a workload's ray set (primary, shadow, ao, diffuse) to a RAYS file.
+#include <array>
 #include <memory>
 #include <string>
 
@@ -36,6 +37,8 @@ void check_memory(const WorkloadConfig& c, Workload workload) {
 void run_rays(const RaysArgs& a) {
   const Workload workload = parse_workload(a.workload);
   check_output_path(a.out, "--out " + a.out);
+  check_distinct_files(std::array{NamedFile{a.out, "--out " + a.out}},
+                       std::array{NamedFile{a.scene, "the input --scene " + a.scene}});
   check_memory(a.config, workload);
   check_accelerator(a.accel);
   const auto start = SteadyClock::now();

@@ -109,6 +109,15 @@ void check_before_work(const RenderOptions& o) {
         throw InputError("--reference " + ml.reference + ": no such file");
     }
   }
+  const ManylightRunOptions& ml = manylight_cli_options();
+  const bool manylight = o.integrator == "manylight";
+  const NamedFile outputs[] = {{o.out, "--out " + o.out},
+                               {o.stats, "--stats " + o.stats},
+                               {manylight ? ml.skip_image : "", "--skip-image " + ml.skip_image},
+                               {manylight ? ml.rmse_log : "", "--rmse-log " + ml.rmse_log}};
+  const NamedFile inputs[] = {{o.scene, "the input --scene " + o.scene},
+                              {manylight ? ml.reference : "", "the input --reference " + ml.reference}};
+  check_distinct_files(outputs, inputs);
 }
 
 // Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
@@ -132,6 +141,8 @@ void write_stats(const RenderOptions& o, const RenderStats& stats, const Scene& 
   j["height"] = o.config.height;
   j["spp"] = o.config.spp;
   j["seed"] = o.config.seed;
+  if (const auto& pass_seed = manylight_cli_options().pass_seed; o.integrator == "manylight" && pass_seed)
+    j["pass_seed"] = *pass_seed;
   j["triangles"] = scene.triangles.size();
   j["load_ms"] = load_ms;
   j["build_ms"] = build_ms;
@@ -170,15 +181,17 @@ void run(RenderOptions& o) {
   write_image(image, o.out);
   warn_if_not_finite(image);
 
-  fmt::print("wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
+  // With --stats - stdout carries only the JSON, so that it can be piped into a parser.
+  std::FILE* const summary = o.stats == "-" ? stderr : stdout;
+  fmt::print(summary, "wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
              o.config.height, o.config.spp, integrator->name(), accel->name(), n_threads);
   // Integrators that do not time their batches (manylight) report no tracing share.
   const std::string tracing = stats.rays() == 0 ? std::string()
       : fmt::format(" ({:.3f} s tracing {} rays, {:.2f} Mrays/s)", stats.trace_ms * 1e-3, stats.rays(), stats.mrays_per_s());
-  fmt::print("time: {:.3f} s render{}, {:.3f} s scene load, {:.3f} s build\n", stats.total_ms * 1e-3, tracing,
+  fmt::print(summary, "time: {:.3f} s render{}, {:.3f} s scene load, {:.3f} s build\n", stats.total_ms * 1e-3, tracing,
              load_ms * 1e-3, build_ms * 1e-3);
   if (const TraceStats w = stats.counters(); w.rays > 0)
-    fmt::print("work: {} rays, per ray {:.2f} traversal steps, {:.2f} ray-box tests, {:.2f} ray-triangle tests\n", w.rays,
+    fmt::print(summary, "work: {} rays, per ray {:.2f} traversal steps, {:.2f} ray-box tests, {:.2f} ray-triangle tests\n", w.rays,
                double(w.traversal_steps) / double(w.rays), double(w.ray_box_tests) / double(w.rays),
                double(w.ray_tri_tests) / double(w.rays));
   if (!o.stats.empty()) write_stats(o, stats, scene, *integrator, *accel, n_threads, load_ms, build_ms);
@@ -207,7 +220,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--max-batch", c.max_batch_rays, "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced in passes of whole samples that stay under this; an image with more pixels is traced in bands of rows, one sample per pass (0 = 2^24)")->capture_default_str()->transform(in_range(0L));
   cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
   cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower); printed, and in --stats");
-  cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout)");
+  cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout, which then holds only the JSON: the summary lines go to stderr)");
   cmd->add_option("--out", opts->out, "output image: .png, .exr or .pfm")->capture_default_str();
 
   // ---- Integrator-specific options: one option group per integrator module (a warning

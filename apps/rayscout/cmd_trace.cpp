@@ -1,5 +1,6 @@
 // `rayscout trace`: traces a ray file with one accelerator and prints one JSON line of timings.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -36,6 +37,9 @@ void run_trace(const TraceArgs& a) {
   const int threads = limit.threads;
 
   if (!a.out.empty()) check_output_path(a.out, "--out " + a.out);
+  check_distinct_files(std::array{NamedFile{a.out, "--out " + a.out}},
+                       std::array{NamedFile{a.scene, "the input --scene " + a.scene},
+                                  NamedFile{a.rays, "the input --rays " + a.rays}});
   AcceleratorOptions options;
   for (const auto& kv : a.accel_opts) options.set(kv);
   check_accelerator(a.accel, options);  // before the scene and rays are read

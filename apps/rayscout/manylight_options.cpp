@@ -60,6 +60,10 @@ void add_manylight_options(CLI::App& cmd) {
   cmd.add_option("--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass")
       ->capture_default_str()
       ->transform(in_range(1));
+  cmd.add_option("--pass-seed", o.pass_seed,
+                 "manylight: seed of the render passes only (default: --seed, which also makes the VPLs and shading "
+                 "points); render a --reference with another one, so that its noise is independent of the run's")
+      ->transform(in_range<uint64_t>(0));
   cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass");
   cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)");
   cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)");
@@ -75,7 +79,7 @@ void add_manylight_options(CLI::App& cmd) {
   cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters")->capture_default_str()->transform(in_range(1));
   cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")
       ->capture_default_str()
-      ->transform(in_range(1));
+      ->transform(in_range(1, kMaxPairSamples));
   cmd.add_flag("--cpu-clock", c.cpu_clock, "manylight: time budget and calibration in process CPU time");
   cmd.add_option("--costs", parsed_costs(),
                  "manylight: EVAL,SKIP microseconds per VPL sample with / without its shadow ray, instead of "

@@ -12,9 +12,34 @@
 
 namespace rayscout {
 
+namespace {
+
+// Where a file or a symbolic link chain ends: the target a writer opening `path` creates or
+// replaces (a dangling link is written through, not replaced).
+std::filesystem::path link_target(const std::filesystem::path& path, const std::string& label) {
+  std::filesystem::path p = path;
+  std::error_code ec;
+  for (int hops = 0; std::filesystem::is_symlink(std::filesystem::symlink_status(p, ec)); ++hops) {
+    if (hops == 40) throw InputError(label + ": too many levels of symbolic links");
+    const std::filesystem::path to = std::filesystem::read_symlink(p, ec);
+    if (ec) throw InputError(label + ": cannot read the symbolic link " + p.string() + ": " + ec.message());
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return p;
+}
+
+bool names_a_file(const NamedFile& f) { return !f.path.empty() && f.path != "-"; }
+
+}  // namespace
+
 void check_output_path(const std::filesystem::path& path, const std::string& label) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(label + ": is a directory");
+  // A dangling link: the probe below must create its target, not fail on the link itself.
+  if (const std::filesystem::path target = link_target(path, label); target != path) {
+    check_output_path(target, label);
+    return;
+  }
   const std::filesystem::path parent = path.parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
     throw InputError(label + ": folder " + parent.string() + " does not exist");
@@ -27,6 +52,29 @@ void check_output_path(const std::filesystem::path& path, const std::string& lab
   if (fd < 0) throw InputError(label + ": cannot open for writing: " + std::strerror(errno));
   ::close(fd);
   if (!exists) std::filesystem::remove(path, ec);
+}
+
+void check_distinct_files(std::span<const NamedFile> outputs, std::span<const NamedFile> inputs) {
+  // One file: the same inode when both exist, else the same absolute path with links resolved.
+  auto same = [](const std::filesystem::path& a, const std::filesystem::path& b) {
+    std::error_code ec;
+    if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
+    const std::filesystem::path ca = std::filesystem::weakly_canonical(std::filesystem::absolute(a, ec), ec);
+    if (ec) return false;
+    const std::filesystem::path cb = std::filesystem::weakly_canonical(std::filesystem::absolute(b, ec), ec);
+    return !ec && ca == cb;
+  };
+  std::error_code ec;
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const NamedFile& out = outputs[i];
+    if (!names_a_file(out)) continue;
+    for (const NamedFile& in : inputs)  // an input that is no file (a built-in scene) is never overwritten
+      if (names_a_file(in) && std::filesystem::exists(in.path, ec) && same(out.path, in.path))
+        throw InputError(out.label + ": is also " + in.label + ", which would be overwritten");
+    for (size_t j = 0; j < i; ++j)
+      if (names_a_file(outputs[j]) && same(out.path, outputs[j].path))
+        throw InputError(out.label + ": is also the output " + outputs[j].label);
+  }
 }
 
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label) {

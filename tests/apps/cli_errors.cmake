@@ -74,7 +74,7 @@ expect(2 "--vpls: '0' is not a number" ${R} --integrator manylight --vpls 0)
 expect(2 "--passes: '-1' is not a number >= 1" ${R} --integrator manylight --passes -1)
 expect(2 "--time-budget: 'inf' is not a number >= 0" ${R} --integrator manylight --time-budget inf)
 expect(2 "--clamp-distance: '-1' is not a number >= 0" ${R} --integrator manylight --clamp-distance -1)
-expect(2 "--visibility-samples: '0' is not a number >= 1" ${R} --integrator manylight --visibility-samples 0)
+expect(2 "--visibility-samples: '0' is not a number in \\[1, 65536\\]" ${R} --integrator manylight --visibility-samples 0)
 expect(2 "--shading-clusters: '-4' is not a number >= 1" ${R} --integrator manylight --shading-clusters -4)
 expect(2 "--seed: '-1' is not a number" rays --scene cornell --seed -1 --out ${WORK}/x.rays)
 expect(2 "--ao-radius: '-1' is not a number >= 0" rays --scene cornell --workload ao --ao-radius -1 --out ${WORK}/x.rays)
@@ -213,3 +213,29 @@ file(WRITE ${WORK}/hot.json [=[{"meshes": [{"shape": "quad", "corner": [-5, -5, 
   "camera": {"eye": [0, -3, 0.5], "look_at": [0, 0, 0], "up": [0, 0, 1]}}]=])
 expect(0 "warning: [0-9]+ of 64 pixels are not finite" render --scene ${WORK}/hot.json --integrator area
        --width 8 --height 8 --spp 1 --out ${WORK}/x.pfm)
+# An output that names an input, or another output, is refused before any work: it would
+# destroy the input (`trace --out` over its --rays left HITS data there) or one of the outputs.
+expect(0 "wrote" rays --scene cornell --workload primary --width 4 --height 4 --out ${WORK}/in.rays)
+expect(2 "--out .*in\\.rays: is also the input --rays .*in\\.rays, which would be overwritten"
+       trace --scene cornell --rays ${WORK}/in.rays --repeat 1 --out ${WORK}/in.rays)
+expect(2 "--stats .*same\\.png: is also the output --out .*/\\./same\\.png"
+       render --width 8 --height 8 --out ${WORK}/./same.png --stats ${WORK}/same.png)
+expect(2 "--out .*ml1\\.pfm: is also the input --reference .*ml1\\.pfm"
+       ${ML} --reference ${WORK}/ml1.pfm --out ${WORK}/ml1.pfm)
+expect(2 "--out .*ml1\\.pfm: is also image A" diff ${WORK}/ml1.pfm ${WORK}/ml2.pfm --out ${WORK}/ml1.pfm)
+# An output path that is a dangling symbolic link is written through the link.
+file(REMOVE ${WORK}/link-target.png)
+file(CREATE_LINK ${WORK}/link-target.png ${WORK}/dangling.png SYMBOLIC)
+expect(0 "wrote" render --width 8 --height 8 --spp 1 --out ${WORK}/dangling.png)
+if(NOT EXISTS ${WORK}/link-target.png)
+  message(FATAL_ERROR "render --out through a dangling link did not write the link's target")
+endif()
+# --stats -: stdout holds the JSON alone (the summary lines go to stderr), so it can be parsed.
+execute_process(COMMAND ${RAYSCOUT} render --width 8 --height 6 --spp 1 --out ${WORK}/x.png --stats -
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(JSON json_height ERROR_VARIABLE json_error GET "${out}" height)
+if(NOT rc EQUAL 0 OR json_error OR NOT json_height EQUAL 6 OR NOT err MATCHES "wrote")
+  message(FATAL_ERROR "render --stats -: stdout is not the JSON alone (exit ${rc}, ${json_error}):\n${out}\nstderr:\n${err}")
+endif()
+# Manylight's visibility samples are traced one cluster pair at a time: bounded.
+expect(2 "--visibility-samples: '65537' is not a number in \\[1, 65536\\]" ${ML} --visibility-samples 65537 --out ${WORK}/x.pfm)

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -12,6 +13,18 @@ namespace rayscout {
 /// existing file is left as it is, a new one is removed again). Commands call it before long
 /// work, so that a mistyped or unwritable output path never costs a finished render.
 void check_output_path(const std::filesystem::path& path, const std::string& label);
+
+/// A file a command reads or writes, as its command line names it (label "--out a.png").
+struct NamedFile {
+  std::filesystem::path path;
+  std::string label;
+};
+
+/// Throws InputError "OUTPUT-LABEL: is also INPUT-LABEL" when an output names an existing input
+/// file (writing it would destroy what the command reads), or "... is also the output ..." when
+/// two outputs name one file (the last written would silently replace the other). Symbolic
+/// links and relative paths are followed. Empty paths and "-" (stdout) are skipped.
+void check_distinct_files(std::span<const NamedFile> outputs, std::span<const NamedFile> inputs);
 
 /// Writes bytes to path, replacing it, and checks the write only after closing the file: a full
 /// disk is often reported only by the last flush. Throws InputError "label: cannot write
