@@ -113,13 +113,27 @@ Image read_exr(const std::filesystem::path& path) {
     const size_t xs = sizeof(Vec3), ys = sizeof(Vec3) * size_t(image.width);
     // OpenEXR addresses slices by absolute pixel coordinates: shift the base to the data window.
     base -= (ptrdiff_t(dw.min.x) * ptrdiff_t(xs) + ptrdiff_t(dw.min.y) * ptrdiff_t(ys));
+    // R, G, B (one missing reads as 0), else a grey Y; a file with neither (only a layer's
+    // "diffuse.R", say) would read as black, so it is refused naming the channels it has.
+    const Imf::ChannelList& channels = file.header().channels();
+    auto has = [&](const char* name) { return channels.findChannel(name) != nullptr; };
+    const bool rgb = has("R") || has("G") || has("B");
+    if (!rgb && !has("Y")) {
+      std::string names;
+      for (auto c = channels.begin(); c != channels.end(); ++c) names += (names.empty() ? "" : ", ") + std::string(c.name());
+      throw InputError(path.string() + ": EXR without any of the channels R, G, B or Y; it has: " +
+                       (names.empty() ? "none" : names));
+    }
     Imf::FrameBuffer fb;
-    // Channels missing from the file read as 0.
-    fb.insert("R", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, x), xs, ys, 1, 1, 0.0));
-    fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, y), xs, ys, 1, 1, 0.0));
-    fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, z), xs, ys, 1, 1, 0.0));
+    fb.insert(rgb ? "R" : "Y", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, x), xs, ys, 1, 1, 0.0));
+    if (rgb) {
+      fb.insert("G", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, y), xs, ys, 1, 1, 0.0));
+      fb.insert("B", Imf::Slice(Imf::FLOAT, base + offsetof(Vec3, z), xs, ys, 1, 1, 0.0));
+    }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
+    if (!rgb)
+      for (Vec3& p : image.pixels) p = Vec3(p.x);
     return image;
   } catch (const InputError&) {
     throw;
@@ -214,6 +228,11 @@ void write_image(const Image& image, const std::filesystem::path& path) {
 Image read_image(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(path.string() + ": no such file");
+  // A device or pipe has no size to check a header against (/dev/zero as a .pfm was read
+  // until memory ran out).
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a directory, not an image file");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(path.string() + ": is not a regular file (a device or a pipe), not an image file");
   const std::string ext = lower_extension(path);
   if (ext == ".png") return read_png(path);
   if (ext == ".exr") return read_exr(path);

@@ -244,6 +244,39 @@ TEST(ImageIo, ExrDataWindowOffTheOriginAndMissingChannels) {
   fs::remove(p);
 }
 
+// A grey EXR (channel Y alone) reads as grey; one with none of R, G, B, Y (a layer's
+// "diffuse.R") is refused naming its channels, instead of reading as black.
+TEST(ImageIo, ExrGreyReadsAsGreyAndLayersOnlyAreRefused) {
+  auto write_one_channel = [](const fs::path& p, const char* name, float value) {
+    const int w = 2, h = 1;
+    std::vector<float> c(w * h, value);
+    Imf::Header header(w, h);
+    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(p.string().c_str(), header);
+    Imf::FrameBuffer fb;
+    fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(c.data()), sizeof(float), sizeof(float) * w));
+    file.setFrameBuffer(fb);
+    file.writePixels(h);
+  };
+  const fs::path grey = temp_file("grey.exr"), layer = temp_file("layer.exr");
+  write_one_channel(grey, "Y", 0.25f);
+  const Image img = read_image(grey);
+  ASSERT_EQ(img.width, 2);
+  EXPECT_EQ(img.at(0, 0), Vec3(0.25f));
+  EXPECT_EQ(img.at(1, 0), Vec3(0.25f));
+  fs::remove(grey);
+  write_one_channel(layer, "diffuse.R", 0.5f);
+  EXPECT_NE(read_error(layer).find("EXR without any of the channels R, G, B or Y; it has: diffuse.R"), std::string::npos);
+}
+
+// A device has no size to check a header against: refused, not read until memory runs out.
+TEST(ImageIo, DeviceIsNotAnImage) {
+  const fs::path link = temp_file("zero.pfm");
+  fs::remove(link);
+  fs::create_symlink("/dev/zero", link);
+  EXPECT_NE(read_error(link).find("is not a regular file"), std::string::npos);
+}
+
 // Found by fuzzing: the PFM header's size was allocated (up to 51 GB) before the data was read.
 TEST(ImageIo, PfmHugeHeaderIsCheckedAgainstTheFileSize) {
   const fs::path p = temp_file("huge.pfm");
