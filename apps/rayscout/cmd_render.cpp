@@ -156,14 +156,18 @@ void run(RenderOptions& o) {
   const int n_threads = limit.threads;
   check_before_work(o);
   const auto integrator = make_integrator(o.integrator);
-  AcceleratorOptions accel_options;
-  for (const auto& kv : o.accel_opts) accel_options.set(kv);
+  const AcceleratorOptions accel_options = AcceleratorOptions::from_list(o.accel_opts);
   check_accelerator(o.accel, accel_options);  // before the scene load
 
   auto t = SteadyClock::now();
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
   for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
+  if (o.integrator == "manylight" && scene.camera.lens_radius > 0)
+    fmt::print(stderr,
+               "rayscout: warning: --integrator manylight renders through a pinhole: the camera's lens_radius {} "
+               "(depth of field) is ignored\n",
+               scene.camera.lens_radius);
   if (o.integrator == "direct" && scene.point_lights.empty())
     fmt::print(stderr,
                "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "

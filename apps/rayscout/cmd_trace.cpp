@@ -40,8 +40,7 @@ void run_trace(const TraceArgs& a) {
   check_distinct_files(std::array{NamedFile{a.out, "--out " + a.out}},
                        std::array{NamedFile{a.scene, "the input --scene " + a.scene},
                                   NamedFile{a.rays, "the input --rays " + a.rays}});
-  AcceleratorOptions options;
-  for (const auto& kv : a.accel_opts) options.set(kv);
+  const AcceleratorOptions options = AcceleratorOptions::from_list(a.accel_opts);
   check_accelerator(a.accel, options);  // before the scene and rays are read
   const Scene scene = resolve_scene(a.scene);
   const RayBatch rays = read_rays(a.rays);

@@ -28,6 +28,19 @@ void AcceleratorOptions::set(const std::string& key_equals_value) {
   values_[key_equals_value.substr(0, eq)] = key_equals_value.substr(eq + 1);
 }
 
+AcceleratorOptions AcceleratorOptions::from_list(std::span<const std::string> key_equals_values) {
+  AcceleratorOptions options;
+  for (const std::string& kv : key_equals_values) {
+    AcceleratorOptions one;
+    one.set(kv);
+    const auto& [key, value] = *one.values_.begin();
+    if (const auto it = options.values_.find(key); it != options.values_.end())
+      throw InputError("option '" + key + "' given twice ('" + it->second + "' and '" + value + "')");
+    options.values_.insert({key, value});
+  }
+  return options;
+}
+
 bool AcceleratorOptions::get_bool(const std::string& key, bool fallback) const {
   auto it = values_.find(key);
   used_.insert(key);

@@ -239,3 +239,11 @@ if(NOT rc EQUAL 0 OR json_error OR NOT json_height EQUAL 6 OR NOT err MATCHES "w
 endif()
 # Manylight's visibility samples are traced one cluster pair at a time: bounded.
 expect(2 "--visibility-samples: '65537' is not a number in \\[1, 65536\\]" ${ML} --visibility-samples 65537 --out ${WORK}/x.pfm)
+# manylight renders through a pinhole: a scene's thin lens is said to be ignored.
+file(WRITE ${WORK}/lens.json [=[{"meshes": [{"shape": "box", "min": [-1, -1, -1], "max": [1, 1, 1]}],
+  "lights": [{"type": "point", "position": [0, 3, 3], "intensity": 10}],
+  "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0], "lens_radius": 0.5}}]=])
+expect(0 "manylight renders through a pinhole: the camera's lens_radius 0.5 \\(depth of field\\) is ignored"
+       render --scene ${WORK}/lens.json --integrator manylight --width 8 --height 8 --vpls 20 --passes 1 --out ${WORK}/x.pfm)
+# A tunable given twice is an error, as a repeated option is, not "the last one wins".
+expect(2 "option 'bins' given twice \\('8' and '9'\\)" render --accel bvh --accel-opt bins=8 --accel-opt bins=9 --width 8 --height 8 --out ${WORK}/x.png)

@@ -21,6 +21,9 @@ class AcceleratorOptions {
   /// Parses "key=value"; throws InputError on a missing '='.
   void set(const std::string& key_equals_value);
   void set(const std::string& key, const std::string& value) { values_[key] = value; }
+  /// A command line's "key=value" list (--accel-opt): set() for each, but a key given twice is
+  /// an InputError, as a repeated command-line option is, instead of the last one winning.
+  static AcceleratorOptions from_list(std::span<const std::string> key_equals_values);
 
   bool get_bool(const std::string& key, bool fallback) const;
   long get_int(const std::string& key, long fallback) const;
