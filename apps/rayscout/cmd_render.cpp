@@ -214,7 +214,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
   cmd->add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
   cmd->add_option("--spp", c.spp, "camera samples per pixel")->capture_default_str()->transform(in_range(1, 1 << 16));
-  cmd->add_option("--seed", c.seed, "random seed (same seed, same image; manylight's skipping modes also need --costs and no --time-budget)")->capture_default_str()->transform(in_range<uint64_t>(0));
+  cmd->add_option("--seed", c.seed, "random seed (same seed and --max-batch, same image: another batch size can move the last bits of a pixel sum; manylight's skipping modes also need --costs and no --time-budget)")->capture_default_str()->transform(in_range<uint64_t>(0));
   cmd->add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")->capture_default_str()->transform(in_range(0));
   cmd->add_option("--rr-depth", c.rr_depth, "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)")->capture_default_str()->transform(in_range(0));
   cmd->add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")->capture_default_str()->transform(in_range(1));

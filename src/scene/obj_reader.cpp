@@ -20,9 +20,10 @@ namespace {
 using detail::fail_at;
 using detail::next_token;
 
-// Reads three numbers (the rest of the line may hold more, e.g. w or vertex colours).
+// Reads three numbers (the rest of the line may hold more, e.g. w or vertex colours); an
+// error names `what` and the number as an `element` ("vertex: coordinate 1e39 ...").
 Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& file, size_t line,
-               std::string_view what, bool allow_one = false) {
+               std::string_view what, std::string_view element, bool allow_one = false) {
   float c[3];
   int n = 0;
   for (; n < 3; ++n) {
@@ -31,11 +32,11 @@ Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& fil
     if (!detail::parse_float(tok, c[n])) {
       double d;
       if (detail::parse_double(tok, d))
-        fail_at(file, line, std::string(what) + ": coordinate " + std::string(tok) + " is out of float range");
+        fail_at(file, line, std::string(what) + ": " + std::string(element) + " " + std::string(tok) + " is out of float range");
       fail_at(file, line, std::string(what) + ": '" + std::string(tok) + "' is not a number");
     }
     if (!std::isfinite(c[n]))
-      fail_at(file, line, std::string(what) + ": coordinate " + std::string(tok) + " is not finite");
+      fail_at(file, line, std::string(what) + ": " + std::string(element) + " " + std::string(tok) + " is not finite");
   }
   if (n == 1 && allow_one) return Vec3(c[0]);
   if (n < 3)
@@ -128,7 +129,7 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
     // Colours: one number (grey) or three, each >= 0, as in JSON scenes (a negative
     // reflectance or emission would make negative radiance).
     auto colour = [&](std::string_view what) {
-      const Vec3 c = read_vec3(q, line_end, path, line, what, true);
+      const Vec3 c = read_vec3(q, line_end, path, line, what, "component", true);
       if (c.x < 0 || c.y < 0 || c.z < 0) fail_at(path, line, std::string(what) + ": colour components must be >= 0");
       return c;
     };
@@ -195,7 +196,7 @@ class ObjReader {
   // else is refused: two statements run together (a file with classic Mac CR line ends read as
   // one line) used to give a single vertex and no error.
   void vertex(size_t line, const char* q, const char* end) {
-    mesh_.positions.push_back(read_vec3(q, end, path_, line, "vertex"));
+    mesh_.positions.push_back(read_vec3(q, end, path_, line, "vertex", "coordinate"));
     int extra = 0;
     for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end), ++extra) {
       double value;

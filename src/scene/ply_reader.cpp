@@ -376,7 +376,13 @@ Mesh read_ply(const std::filesystem::path& path) {
 
       if (is_vertex) {
         Vec3 v(float(values[size_t(vertices.x)]), float(values[size_t(vertices.y)]), float(values[size_t(vertices.z)]));
-        if (!is_finite(v)) in.fail("vertex coordinate is not finite");
+        if (!is_finite(v)) {
+          // A finite double beyond the float range becomes inf here: say which and why.
+          for (int a : {vertices.x, vertices.y, vertices.z})
+            if (const double d = values[size_t(a)]; std::isfinite(d) && !std::isfinite(float(d)))
+              in.fail("vertex coordinate " + detail::format_number(d) + " is out of float range");
+          in.fail("vertex coordinate is not finite");
+        }
         mesh.positions.push_back(v);
       }
       if (is_face) {

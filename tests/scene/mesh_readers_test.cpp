@@ -196,6 +196,16 @@ TEST(ObjReader, UnderflowGivesTheNearestFloatAsInJson) {
                                                                       "property float x\nproperty float y\n"
                                                                       "property float z\nend_header\n0 -1e39 0\n")); }),
                   {"big.ply:8: '-1e39' is out of float range"});
+  // A double property holds 1e39 exactly; it overflows only as a float vertex.
+  expect_contains(input_error_of([&] { read_mesh(dir.write("dbl.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"
+                                                                      "property double x\nproperty double y\n"
+                                                                      "property double z\nend_header\n0 1e39 0\n")); }),
+                  {"dbl.ply:8: vertex coordinate 1e+39 is out of float range"});
+  // A colour's number is a component, not a coordinate.
+  dir.write("hot.mtl", "newmtl m\nKe 1e39 0 0\n");
+  expect_contains(input_error_of([&] { read_mesh(dir.write("hot.obj", "mtllib hot.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                                                      "usemtl m\nf 1 2 3\n")); }),
+                  {"hot.mtl:2: Ke: component 1e39 is out of float range"});
 }
 
 // The same mesh (a quad and a triangle, coordinates exact in float) as PLY of each format.
