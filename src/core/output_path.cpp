@@ -35,7 +35,8 @@ bool names_a_file(const NamedFile& f) { return !f.path.empty() && f.path != "-";
 void check_output_path(const std::filesystem::path& path, const std::string& label) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(label + ": is a directory");
-  // A dangling link: the probe below must create its target, not fail on the link itself.
+  // A symbolic link: probe where it leads (a dangling link's target is created by the writer;
+  // probing the link itself failed with "File exists").
   if (const std::filesystem::path target = link_target(path, label); target != path) {
     check_output_path(target, label);
     return;
