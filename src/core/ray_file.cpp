@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -137,9 +138,9 @@ HitBatch hits_from(const std::filesystem::path& file, const std::string& data, u
     const Hit h{get_f32(p), get_u32(p + 4), get_f32(p + 8), get_f32(p + 12)};
     // A hit's t may be infinite: the accelerators report a hit at t = +-inf for a direction so
     // short (1e-45) that the distance overflows, within tmin = -inf or tmax = inf.
-    if (h.hit() ? std::isnan(h.t) : std::isfinite(h.t))
+    if (h.hit() ? std::isnan(h.t) : !(h.t == std::numeric_limits<float>::infinity()))
       fail(file, "record " + std::to_string(i) + ": " +
-                     (h.hit() ? "hit with t = nan" : "miss (id 0xFFFFFFFF) with finite t " + std::to_string(h.t)) +
+                     (h.hit() ? "hit with t = nan" : "miss (id 0xFFFFFFFF) with t " + std::to_string(h.t)) +
                      " (a miss must be t=+inf, id=0xFFFFFFFF)");
     hits.set(i, h);
   }

@@ -247,7 +247,13 @@ TEST_F(RayFileTest, InvalidRecordsAreNamed) {
   std::memset(&b[16 + 16], 0, 4);  // record 1: miss id with t = 0
   dump(path("bad.hits"), b);
   e = error_of([&] { read_hits(path("bad.hits")); });
-  EXPECT_NE(e.find("record 1: miss (id 0xFFFFFFFF) with finite t"), std::string::npos) << e;
+  EXPECT_NE(e.find("record 1: miss (id 0xFFFFFFFF) with t 0.0"), std::string::npos) << e;
+  // A miss with t = NaN is refused too (it was read back as a miss).
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&b[16 + 16], &nan, 4);
+  dump(path("nan.hits"), b);
+  e = error_of([&] { read_hits(path("nan.hits")); });
+  EXPECT_NE(e.find("record 1: miss (id 0xFFFFFFFF) with t nan"), std::string::npos) << e;
 }
 
 }  // namespace
