@@ -5,8 +5,10 @@
 // parses "v 1 abc 2" and "v nan 0 0" silently (unparsable numbers become 0); and it
 // builds per-vertex attribute arrays we do not need. Here every error names its line.
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -144,6 +146,7 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
       std::string_view tok = next_token(q, line_end);
       long long v;
       if (!detail::parse_int(tok, v)) fail_at(path, line, "illum: expected an integer, found '" + std::string(tok) + "'");
+      if (v < 0 || v > 10) fail_at(path, line, "illum " + std::string(tok) + ": the MTL illumination models are 0 to 10");
       d.illum = int(v);
     }
   });
@@ -157,6 +160,9 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
         conserve_energy_with_warning(m, detail::display_name(path) + ":" + std::to_string(d.line));
     if (!warning.empty() && warnings) warnings->push_back(warning);
     if (auto [it, added] = index.emplace(m.name, out.size()); !added) {
+      if (warnings)
+        warnings->push_back(detail::display_name(path) + ":" + std::to_string(d.line) + ": material '" + m.name +
+                            "' defined again; this later definition is used");
       out[it->second] = std::move(m);
     } else {
       out.push_back(std::move(m));
@@ -279,6 +285,8 @@ class ObjReader {
       }
       if (std::filesystem::is_directory(mtl, ec))
         fail_at(path_, line, "material library '" + f + "' is a directory, not a file");
+      if (std::ifstream probe(mtl); !probe)
+        fail_at(path_, line, "material library '" + f + "' cannot be read: " + std::strerror(errno));
       read_mtl(mtl, library_, &mesh_.warnings);
     }
   }

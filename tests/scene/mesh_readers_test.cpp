@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <unistd.h>
+
 #include "rayscout/scene/load_scene.h"
 #include "rayscout/scene/mesh.h"
 #include "temp_files.h"
@@ -166,6 +168,27 @@ TEST(ObjReader, MissingMtlAndUnknownMaterialAreWarnings) {
   ASSERT_EQ(s.warnings.size(), 2u);
   EXPECT_NE(s.warnings[0].find("w.obj:1: material library 'nothere.mtl' not found"), std::string::npos);
   EXPECT_NE(s.warnings[1].find("material 'x' is not defined"), std::string::npos);
+}
+
+// A material defined twice: the later definition is used, and said. An illumination model
+// outside the MTL's 0..10 is an error at its line, and an unreadable library one at the mtllib.
+TEST(ObjReader, RedefinedMaterialWarnsAndBadIllumOrUnreadableLibraryIsAnError) {
+  TempDir dir;
+  dir.write("twice.mtl", "newmtl m\nKd 0.2\nnewmtl m\nKd 0.6\n");
+  const Scene s = load_scene(dir.write("twice.obj", "mtllib twice.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n"));
+  EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.6f));
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("twice.mtl:3: material 'm' defined again; this later definition is used"),
+            std::string::npos) << s.warnings[0];
+  dir.write("illum.mtl", "newmtl m\nillum 99999999999\n");
+  expect_contains(input_error_of([&] { read_mesh(dir.write("illum.obj", "mtllib illum.mtl\nv 0 0 0\n")); }),
+                  {"illum.mtl:2: illum 99999999999: the MTL illumination models are 0 to 10"});
+  if (::geteuid() != 0) {  // root reads any file
+    const std::filesystem::path locked = dir.write("locked.mtl", "newmtl m\n");
+    std::filesystem::permissions(locked, std::filesystem::perms::none);
+    expect_contains(input_error_of([&] { read_mesh(dir.write("locked.obj", "v 0 0 0\nmtllib locked.mtl\n")); }),
+                    {"locked.obj:2: material library 'locked.mtl' cannot be read"});
+  }
 }
 
 // Audit: OBJ refused 1e-50 ("out of float range") where JSON reads 0. Every text reader now
