@@ -89,10 +89,12 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
 // What can be checked before the scene load: output paths (before the work, not after it),
 // memory, and the manylight run's files.
 void check_before_work(const RenderOptions& o) {
+  const ManylightRunOptions& ml = manylight_cli_options();
+  const bool manylight = o.integrator == "manylight";
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
-  check_memory(o.config, o.integrator, manylight_cli_options().config);
-  if (const ManylightRunOptions& ml = manylight_cli_options(); o.integrator == "manylight") {
+  check_memory(o.config, o.integrator, ml.config);
+  if (manylight) {
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
     if (!ml.rmse_log.empty()) {
       if (!rmse_log_format(ml.rmse_log))
@@ -109,8 +111,6 @@ void check_before_work(const RenderOptions& o) {
         throw InputError("--reference " + ml.reference + ": no such file");
     }
   }
-  const ManylightRunOptions& ml = manylight_cli_options();
-  const bool manylight = o.integrator == "manylight";
   const NamedFile outputs[] = {{o.out, "--out " + o.out},
                                {o.stats, "--stats " + o.stats},
                                {manylight ? ml.skip_image : "", "--skip-image " + ml.skip_image},

@@ -20,59 +20,57 @@ struct Entry {
   float dist;  // entry distance of the ref's box
 };
 
+#if defined(__AVX2__)
+// A comparator network that sorts lanes by descending key (Lanes = 4: 3 layers on lanes 0..3;
+// Lanes = 8: Batcher's 19 comparators in 6 layers), one call of layer(partner, low) per layer:
+// partner = each lane's partner lane, low = the lanes (bits) that keep the larger key of their
+// pair. Both ISAs below run it; equal keys are never swapped.
+template <int Lanes, class Layer>
+inline void comparator_network(Layer&& layer) {
+  if constexpr (Lanes == 4) {
+    layer(_mm256_setr_epi32(1, 0, 3, 2, 4, 5, 6, 7), 0x05u);
+    layer(_mm256_setr_epi32(2, 3, 0, 1, 4, 5, 6, 7), 0x03u);
+    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 5, 6, 7), 0x02u);
+  } else {
+    layer(_mm256_setr_epi32(1, 0, 3, 2, 5, 4, 7, 6), 0x55u);
+    layer(_mm256_setr_epi32(2, 3, 0, 1, 6, 7, 4, 5), 0x33u);
+    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7), 0x22u);
+    layer(_mm256_setr_epi32(4, 5, 6, 7, 0, 1, 2, 3), 0x0Fu);
+    layer(_mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7), 0x0Cu);
+    layer(_mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7), 0x2Au);
+  }
+}
+#endif
+
 #if defined(__AVX512F__) && defined(__AVX512VL__)
-// Sorts (key, value) lanes by descending key with a comparator network (Lanes = 4: 3
-// layers on lanes 0..3; Lanes = 8: Batcher's 19 comparators in 6 layers). Unused lanes must
-// hold -inf keys. Equal keys are never swapped.
+// Sorts (key, value) lanes by descending float key. Unused lanes must hold -inf keys.
 template <int Lanes>
 inline void sort_lanes_descending(__m256& keys, __m256i& vals) {
-  auto layer = [&](__m256i partner, __mmask8 low) {
+  comparator_network<Lanes>([&](__m256i partner, unsigned low_bits) {
+    const __mmask8 low = __mmask8(low_bits);
     const __m256 pk = _mm256_permutexvar_ps(partner, keys);
     const __m256i pv = _mm256_permutexvar_epi32(partner, vals);
     const __mmask8 swap = (_mm256_cmp_ps_mask(pk, keys, _CMP_GT_OQ) & low) |
                           (_mm256_cmp_ps_mask(pk, keys, _CMP_LT_OQ) & __mmask8(~low));
     keys = _mm256_mask_mov_ps(keys, swap, pk);
     vals = _mm256_mask_mov_epi32(vals, swap, pv);
-  };
-  if constexpr (Lanes == 4) {
-    layer(_mm256_setr_epi32(1, 0, 3, 2, 4, 5, 6, 7), 0x05);
-    layer(_mm256_setr_epi32(2, 3, 0, 1, 4, 5, 6, 7), 0x03);
-    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 5, 6, 7), 0x02);
-  } else {
-    layer(_mm256_setr_epi32(1, 0, 3, 2, 5, 4, 7, 6), 0x55);
-    layer(_mm256_setr_epi32(2, 3, 0, 1, 6, 7, 4, 5), 0x33);
-    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7), 0x22);
-    layer(_mm256_setr_epi32(4, 5, 6, 7, 0, 1, 2, 3), 0x0F);
-    layer(_mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7), 0x0C);
-    layer(_mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7), 0x2A);
-  }
+  });
 }
 #elif defined(__AVX2__)
-// The same network with AVX2: integer keys (sortable_key), no mask registers. Unused lanes
-// must hold INT32_MIN, below every key. Equal keys are never swapped.
+// The same with AVX2: integer keys (sortable_key), no mask registers. Unused lanes must hold
+// INT32_MIN, below every key.
 template <int Lanes>
 inline void sort_lanes_descending(__m256i& keys, __m256i& vals) {
-  // low: the lanes that keep the larger key of their pair.
-  auto layer = [&](__m256i partner, __m256i low) {
+  comparator_network<Lanes>([&](__m256i partner, unsigned low_bits) {
+    // The bit mask as all-ones lanes (a constant once inlined).
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i low = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(low_bits)), bit), bit);
     const __m256i pk = _mm256_permutevar8x32_epi32(keys, partner);
     const __m256i pv = _mm256_permutevar8x32_epi32(vals, partner);
     const __m256i swap = _mm256_blendv_epi8(_mm256_cmpgt_epi32(keys, pk), _mm256_cmpgt_epi32(pk, keys), low);
     keys = _mm256_blendv_epi8(keys, pk, swap);
     vals = _mm256_blendv_epi8(vals, pv, swap);
-  };
-  constexpr int Y = -1;
-  if constexpr (Lanes == 4) {
-    layer(_mm256_setr_epi32(1, 0, 3, 2, 4, 5, 6, 7), _mm256_setr_epi32(Y, 0, Y, 0, 0, 0, 0, 0));
-    layer(_mm256_setr_epi32(2, 3, 0, 1, 4, 5, 6, 7), _mm256_setr_epi32(Y, Y, 0, 0, 0, 0, 0, 0));
-    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 5, 6, 7), _mm256_setr_epi32(0, Y, 0, 0, 0, 0, 0, 0));
-  } else {
-    layer(_mm256_setr_epi32(1, 0, 3, 2, 5, 4, 7, 6), _mm256_setr_epi32(Y, 0, Y, 0, Y, 0, Y, 0));
-    layer(_mm256_setr_epi32(2, 3, 0, 1, 6, 7, 4, 5), _mm256_setr_epi32(Y, Y, 0, 0, Y, Y, 0, 0));
-    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7), _mm256_setr_epi32(0, Y, 0, 0, 0, Y, 0, 0));
-    layer(_mm256_setr_epi32(4, 5, 6, 7, 0, 1, 2, 3), _mm256_setr_epi32(Y, Y, Y, Y, 0, 0, 0, 0));
-    layer(_mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7), _mm256_setr_epi32(0, 0, Y, Y, 0, 0, 0, 0));
-    layer(_mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7), _mm256_setr_epi32(0, Y, 0, Y, 0, Y, 0, 0));
-  }
+  });
 }
 
 // Float bits as an int32 with the same order (negative floats: flip the magnitude bits); the

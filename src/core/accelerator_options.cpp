@@ -21,22 +21,25 @@ T parse_number(const std::string& key, const std::string& text) {
 
 }  // namespace
 
-void AcceleratorOptions::set(const std::string& key_equals_value) {
-  auto eq = key_equals_value.find('=');
+std::pair<std::string, std::string> AcceleratorOptions::split(const std::string& key_equals_value) {
+  const auto eq = key_equals_value.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("option '" + key_equals_value + "': expected key=value");
-  values_[key_equals_value.substr(0, eq)] = key_equals_value.substr(eq + 1);
+  return {key_equals_value.substr(0, eq), key_equals_value.substr(eq + 1)};
+}
+
+void AcceleratorOptions::set(const std::string& key_equals_value) {
+  auto [key, value] = split(key_equals_value);
+  values_[std::move(key)] = std::move(value);
 }
 
 AcceleratorOptions AcceleratorOptions::from_list(std::span<const std::string> key_equals_values) {
   AcceleratorOptions options;
   for (const std::string& kv : key_equals_values) {
-    AcceleratorOptions one;
-    one.set(kv);
-    const auto& [key, value] = *one.values_.begin();
+    auto [key, value] = split(kv);
     if (const auto it = options.values_.find(key); it != options.values_.end())
       throw InputError("option '" + key + "' given twice ('" + it->second + "' and '" + value + "')");
-    options.values_.insert({key, value});
+    options.values_.emplace(std::move(key), std::move(value));
   }
   return options;
 }

@@ -59,6 +59,9 @@ class AcceleratorOptions {
   void check_all_used(const std::string& accelerator) const;
 
  private:
+  /// "key=value" split at the first '='; throws InputError on a missing '=' or key.
+  static std::pair<std::string, std::string> split(const std::string& key_equals_value);
+
   std::map<std::string, std::string> values_;
   mutable std::set<std::string> used_;
 };
