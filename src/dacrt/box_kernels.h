@@ -263,7 +263,7 @@ struct BoxSoa {
 /// the boxes hit, n_L, n_R the votes by `rule` (see vote()). Padding lanes hold empty boxes;
 /// they count no hits (a literal vote of theirs goes to n_R, unread).
 inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb, bool goes_up, DacrtVotes rule,
-                         uint32_t* hits_l, uint32_t* hits_r, uint32_t* votes_l, uint32_t* votes_r) {
+                         uint32_t* c_l, uint32_t* c_r, uint32_t* votes_l, uint32_t* votes_r) {
 #if defined(__AVX512F__)
   const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
   const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
@@ -296,8 +296,8 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
       __m512i v = _mm512_load_si512(p + i);
       _mm512_store_si512(p + i, _mm512_mask_add_epi32(v, m, v, one));
     };
-    add(hits_l, hl);
-    add(hits_r, hr);
+    add(c_l, hl);
+    add(c_r, hr);
     add(votes_l, left);
     add(votes_r, right);
   }
@@ -340,8 +340,8 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
       __m256i* q = reinterpret_cast<__m256i*>(p + i);
       _mm256_store_si256(q, _mm256_sub_epi32(_mm256_load_si256(q), _mm256_castps_si256(m)));
     };
-    add(hits_l, hl);
-    add(hits_r, hr);
+    add(c_l, hl);
+    add(c_r, hr);
     add(votes_l, left);
     add(votes_r, right);
   }
@@ -351,8 +351,8 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
     const Bounds3 br{{rb.lox[j], rb.loy[j], rb.loz[j]}, {rb.hix[j], rb.hiy[j], rb.hiz[j]}};
     float dl, fl, dr, fr;
     const bool hl = ray_hits_box(r, bl, dl, fl), hr = ray_hits_box(r, br, dr, fr);
-    hits_l[j] += hl;
-    hits_r[j] += hr;
+    c_l[j] += hl;
+    c_r[j] += hr;
     const int v = vote(rule, hl, hr, dl, fl, dr, fr, goes_up);
     if (v == 0) ++votes_l[j]; else if (v == 1) ++votes_r[j];
   }

@@ -96,8 +96,10 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   if (kOccluded) occluded->assign(n, 0); else hits->reset(n);
   if (stats) stats->rays += n;
   const size_t tasks = task_count(config_, n);
-  // The bytes this call takes from the arena and the heap, reported as its memory (a count
-  // of what the code allocates, which tests compare with the formula scratch_bytes).
+  // The bytes of this call's scratch buffers (arena and tracers), reported as its memory and
+  // compared by the tests with the formula scratch_bytes. Left out, all small and none per
+  // node: the per-block and per-task vectors below, a concurrent call's Arena object, TBB's
+  // own allocations and the recursion's stack.
   size_t taken = 0;
   auto take = [&taken]<typename T>(Buffer<T>& buffer, size_t count) {
     taken += count * sizeof(T);

@@ -43,7 +43,8 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
     s.n_left = nt / 2;
     finish_sides(tid, nt, s);
   }
-  if (sample && !s.sampled) sample_two(rid, nr, s);
+  // Sample rays for the order and skipping only when one of them is on (not for a cost-only run).
+  if (sample && !s.sampled && (cfg_.sampled_order || cfg_.skip_partitioning)) sample_two(rid, nr, s);
   return true;
 }
 
@@ -65,8 +66,8 @@ bool DacrtTracer<kStats, kOccluded>::binned_split(const uint32_t* rid, size_t nr
   s.box[1] = right_[jmin].box; s.cb[1] = right_[jmin].cb;
   if (ns > 0) {
     s.sampled = true;
-    s.alpha[0] = double(hits_l_[jmin]) / double(ns);
-    s.alpha[1] = double(hits_r_[jmin]) / double(ns);
+    s.alpha[0] = double(c_l_[jmin]) / double(ns);
+    s.alpha[1] = double(c_r_[jmin]) / double(ns);
     s.votes[0] = votes_l_[jmin];
     s.votes[1] = votes_r_[jmin];
   }
@@ -123,15 +124,16 @@ void DacrtTracer<kStats, kOccluded>::sweep_bins(int k) {
 template <bool kStats, bool kOccluded>
 size_t DacrtTracer<kStats, kOccluded>::sample_candidates(const uint32_t* rid, size_t nr, int axis, int k) {
   // Algorithm 2 for every sample ray and candidate: hit counts c_L, c_R and votes n_L, n_R.
-  for (int j = 0; j < k - 1; ++j) { lb_.set(j, left_[j].box); rb_.set(j, right_[j].box); }
+  // Padded as partitioning pads them, so alpha is the share of rays partitioning would keep.
+  for (int j = 0; j < k - 1; ++j) { lb_.set(j, padded(left_[j].box, ctx_.pad)); rb_.set(j, padded(right_[j].box, ctx_.pad)); }
   lb_.resize(k - 1); rb_.resize(k - 1);
   const size_t ns = cfg_.sample_count(nr);
   const int padded_count = lb_.count;
-  std::fill_n(hits_l_, padded_count, 0u); std::fill_n(hits_r_, padded_count, 0u);
+  std::fill_n(c_l_, padded_count, 0u); std::fill_n(c_r_, padded_count, 0u);
   std::fill_n(votes_l_, padded_count, 0u); std::fill_n(votes_r_, padded_count, 0u);
   for (size_t q = 0; q < ns; ++q) {
     const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
-    sample_pairs(r, lb_, rb_, r.goes_up(axis), cfg_.votes, hits_l_, hits_r_, votes_l_, votes_r_);
+    sample_pairs(r, lb_, rb_, r.goes_up(axis), cfg_.votes, c_l_, c_r_, votes_l_, votes_r_);
   }
   if constexpr (kStats) {
     const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
@@ -153,8 +155,8 @@ int DacrtTracer<kStats, kOccluded>::cheapest_candidate(int k, size_t ns) const {
     if (l.n == 0 || r.n == 0) continue;
     double pl, pr;
     if (ns > 0) {  // eq. (2)
-      pl = double(hits_l_[j]) / double(ns);
-      pr = double(hits_r_[j]) / double(ns);
+      pl = double(c_l_[j]) / double(ns);
+      pr = double(c_r_[j]) / double(ns);
     } else {  // eq. (1), surface-area ratios
       pl = area > 0 ? l.box.surface_area() / area : 1.0;
       pr = area > 0 ? r.box.surface_area() / area : 1.0;
@@ -204,7 +206,8 @@ template <bool kStats, bool kOccluded>
 void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, Split& s) {
   const size_t ns = cfg_.sample_count(nr);
   uint32_t hits[2];
-  sample_children(ctx_.rays, ns, [&](size_t q) { return rid[sample_index(q, ns, nr)]; }, s.box, s.axis, cfg_.votes,
+  const Bounds3 box[2] = {padded(s.box[0], ctx_.pad), padded(s.box[1], ctx_.pad)};
+  sample_children(ctx_.rays, ns, [&](size_t q) { return rid[sample_index(q, ns, nr)]; }, box, s.axis, cfg_.votes,
                   hits, s.votes);
   s.alpha[0] = double(hits[0]) / double(ns);
   s.alpha[1] = double(hits[1]) / double(ns);

@@ -118,10 +118,11 @@ class DacrtTracer {
   // Share of N_s sample rays of rid[0, nr) hitting box with their current hit distance.
   double sample_one(const uint32_t* rid, size_t nr, const Bounds3& box) {
     const size_t ns = cfg_.sample_count(nr);
+    const Bounds3 filter_box = padded(box, ctx_.pad);
     uint32_t hits = 0;
     for (size_t q = 0; q < ns; ++q) {
       float tnear;
-      hits += ray_hits_box(ctx_.rays[rid[sample_index(q, ns, nr)]], box, tnear);
+      hits += ray_hits_box(ctx_.rays[rid[sample_index(q, ns, nr)]], filter_box, tnear);
     }
     if constexpr (kStats) { stats.ray_box_tests += ns; details.sampling_box_tests += ns; }
     return double(hits) / double(ns);
@@ -176,7 +177,8 @@ class DacrtTracer {
   VBin vbins_[2][256];
   uint32_t counts_[2][256];
   BoxSoa lb_, rb_;
-  alignas(64) uint32_t hits_l_[256], hits_r_[256], votes_l_[256], votes_r_[256];
+  // c_L, c_R (sample rays hitting each candidate's boxes) and n_L, n_R (votes) of Algorithm 2.
+  alignas(64) uint32_t c_l_[256], c_r_[256], votes_l_[256], votes_r_[256];
 };
 
 }  // namespace rayscout::dacrt

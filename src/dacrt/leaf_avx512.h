@@ -124,55 +124,55 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       rz = _mm512_mul_ps(sz, k);
     };
     auto triangles = [&](auto rel) {
-    for (size_t j = 0; j < nt && active; ++j) {
-      const uint32_t p = tid[j];
-      const Triangle& tri = tris[p];
-      tests += uint64_t(__builtin_popcount(active));
-      __m512 ax, ay, az, bx, by, bz, cx, cy, cz;
-      rel(tri.v0, ax, ay, az);
-      rel(tri.v1, bx, by, bz);
-      rel(tri.v2, cx, cy, cz);
-      const EdgeTest e = edge_test(active, ax, ay, bx, by, cx, cy);
-      const __mmask16 zero_edge = e.zero_edge;
-      __mmask16 hit = e.candidates;
-      __m512 tt = zero, u = zero, v = zero;
-      if (hit) {
-        tt = e.distance(az, bz, cz);
-        hit &= _mm512_cmp_ps_mask(tt, tmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(tt, best_t, _CMP_LE_OQ);
-        if (!kAny) {
-          // is_closer: nearer, or equally near with a smaller triangle id.
-          const __mmask16 nearer = _mm512_cmp_ps_mask(tt, best_t, _CMP_LT_OQ);
-          const __mmask16 equal = hit & _mm512_cmp_ps_mask(tt, best_t, _CMP_EQ_OQ);
-          need_p(equal);
-          const __mmask16 tie = equal & _mm512_cmplt_epu32_mask(_mm512_set1_epi32(int(p)), best_p);
-          hit &= nearer | tie;
-          u = _mm512_div_ps(e.ev, e.det);
-          v = _mm512_div_ps(e.ew, e.det);
+      for (size_t j = 0; j < nt && active; ++j) {
+        const uint32_t p = tid[j];
+        const Triangle& tri = tris[p];
+        tests += uint64_t(__builtin_popcount(active));
+        __m512 ax, ay, az, bx, by, bz, cx, cy, cz;
+        rel(tri.v0, ax, ay, az);
+        rel(tri.v1, bx, by, bz);
+        rel(tri.v2, cx, cy, cz);
+        const EdgeTest e = edge_test(active, ax, ay, bx, by, cx, cy);
+        const __mmask16 zero_edge = e.zero_edge;
+        __mmask16 hit = e.candidates;
+        __m512 tt = zero, u = zero, v = zero;
+        if (hit) {
+          tt = e.distance(az, bz, cz);
+          hit &= _mm512_cmp_ps_mask(tt, tmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(tt, best_t, _CMP_LE_OQ);
+          if (!kAny) {
+            // is_closer: nearer, or equally near with a smaller triangle id.
+            const __mmask16 nearer = _mm512_cmp_ps_mask(tt, best_t, _CMP_LT_OQ);
+            const __mmask16 equal = hit & _mm512_cmp_ps_mask(tt, best_t, _CMP_EQ_OQ);
+            need_p(equal);
+            const __mmask16 tie = equal & _mm512_cmplt_epu32_mask(_mm512_set1_epi32(int(p)), best_p);
+            hit &= nearer | tie;
+            u = _mm512_div_ps(e.ev, e.det);
+            v = _mm512_div_ps(e.ew, e.det);
+          }
+        }
+        if (zero_edge) {
+          if (!kAny) need_p(zero_edge);
+          LeafLanes<16> lane;
+          _mm512_store_ps(lane.t, tt); _mm512_store_ps(lane.u, u); _mm512_store_ps(lane.v, v);
+          _mm512_store_ps(lane.best_t, best_t); _mm512_store_ps(lane.tmin, tmin);
+          _mm512_store_ps(lane.ox, ox); _mm512_store_ps(lane.oy, oy); _mm512_store_ps(lane.oz, oz);
+          _mm512_store_si512(lane.id, id); _mm512_store_si512(lane.best_p, best_p);
+          hit |= __mmask16(redo_zero_edge_lanes<kAny>(lane, zero_edge, tri, p, pre));
+          tt = _mm512_load_ps(lane.t); u = _mm512_load_ps(lane.u); v = _mm512_load_ps(lane.v);
+        }
+        if (!hit) continue;
+        if (kAny) {
+          active &= ~hit;
+          changed |= hit;
+        } else {
+          best_t = _mm512_mask_blend_ps(hit, best_t, tt);
+          best_u = _mm512_mask_blend_ps(hit, best_u, u);
+          best_v = _mm512_mask_blend_ps(hit, best_v, v);
+          best_p = _mm512_mask_blend_epi32(hit, best_p, _mm512_set1_epi32(int(p)));
+          p_known |= hit;
+          changed |= hit;
         }
       }
-      if (zero_edge) {
-        if (!kAny) need_p(zero_edge);
-        LeafLanes<16> lane;
-        _mm512_store_ps(lane.t, tt); _mm512_store_ps(lane.u, u); _mm512_store_ps(lane.v, v);
-        _mm512_store_ps(lane.best_t, best_t); _mm512_store_ps(lane.tmin, tmin);
-        _mm512_store_ps(lane.ox, ox); _mm512_store_ps(lane.oy, oy); _mm512_store_ps(lane.oz, oz);
-        _mm512_store_si512(lane.id, id); _mm512_store_si512(lane.best_p, best_p);
-        hit |= __mmask16(redo_zero_edge_lanes<kAny>(lane, zero_edge, tri, p, pre));
-        tt = _mm512_load_ps(lane.t); u = _mm512_load_ps(lane.u); v = _mm512_load_ps(lane.v);
-      }
-      if (!hit) continue;
-      if (kAny) {
-        active &= ~hit;
-        changed |= hit;
-      } else {
-        best_t = _mm512_mask_blend_ps(hit, best_t, tt);
-        best_u = _mm512_mask_blend_ps(hit, best_u, u);
-        best_v = _mm512_mask_blend_ps(hit, best_v, v);
-        best_p = _mm512_mask_blend_epi32(hit, best_p, _mm512_set1_epi32(int(p)));
-        p_known |= hit;
-        changed |= hit;
-      }
-    }
     };
     if (uniform) triangles(rel_uniform);
     else triangles(rel_any);

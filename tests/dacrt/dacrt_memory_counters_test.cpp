@@ -269,6 +269,31 @@ TEST(DacrtCounters, SampledCostCutsOffTheGeometryTheRaysMiss) {
   EXPECT_EQ(sampled.ray_tri_tests, sah.ray_tri_tests);
 }
 
+// With the sampled cost alone, only eq. (2) needs sample rays: a node that takes the midpoint
+// split (here every node: midpoint_ratio is huge) has nothing to decide with them, so it must
+// not test any, and the run must count exactly the work of Afra's DACRT with the same splits.
+TEST(DacrtCounters, CostOnlySamplesNothingWhereTheCostIsNotEvaluated) {
+  const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
+  const RayBatch rays = testing::pinhole_rays(testing::kInsideEye, testing::kInsideLook, 60.0f, 256, 256);
+  TraceStats afra, cost_only;
+  HitBatch ha, hc;
+  make_accelerator("dacrt", scene, testing::options_of({"parallel=off", "midpoint_ratio=1e9"}))->intersect(rays, ha, &afra);
+  auto accel = make_accelerator("dacrt", scene, testing::options_of({"parallel=off", "midpoint_ratio=1e9", "cost=sampled"}));
+  accel->intersect(rays, hc, &cost_only);
+  EXPECT_TRUE(compare_hits(ha, hc, 0.0f).ok());
+  const DacrtDetails d = dynamic_cast<const Dacrt&>(*accel).last_details();
+  EXPECT_EQ(d.sampling_box_tests, 0u);
+  EXPECT_EQ(d.sampled_nodes, 0u);
+  EXPECT_EQ(cost_only.ray_box_tests, afra.ray_box_tests);
+  EXPECT_EQ(cost_only.ray_tri_tests, afra.ray_tri_tests);
+  // The same split with skipping on does sample (its alpha decides the skips).
+  TraceStats skip;
+  auto skipping = make_accelerator("dacrt", scene, testing::options_of({"parallel=off", "midpoint_ratio=1e9", "skip=on"}));
+  skipping->intersect(rays, hc, &skip);
+  EXPECT_TRUE(compare_hits(ha, hc, 0.0f).ok());
+  EXPECT_GT(dynamic_cast<const Dacrt&>(*skipping).last_details().sampling_box_tests, 0u);
+}
+
 TEST(DacrtParallel, SameHitsForAnyThreadCount) {
   const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
   const int n = testing::small_scale() ? 192 : 320;  // > 2 tasks' worth of rays
@@ -289,6 +314,32 @@ TEST(DacrtParallel, SameHitsForAnyThreadCount) {
   EXPECT_EQ(s1.rays, s2.rays);
   EXPECT_EQ(mem_one, Dacrt::scratch_bytes(rays.size(), scene.triangles.size(), 1));
   EXPECT_EQ(accel->last_trace_memory_bytes(), Dacrt::scratch_bytes(rays.size(), scene.triangles.size(), 2));
+}
+
+// Any hit in parallel: each task retires its own rays; the answers must not depend on how
+// the batch is cut (two tasks need more than 2 x 16,384 rays).
+TEST(DacrtParallel, SameOcclusionForAnyThreadCount) {
+  const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
+  const RayBatch rays = testing::random_rays(40000, 17);
+  for (const char* name : {"dacrt", "dacrt-rs"}) {
+    auto accel = make_accelerator(name, scene, testing::options_of({"parallel=on"}));
+    std::vector<uint8_t> one, two;
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      accel->occluded(rays, one);
+    }
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+      accel->occluded(rays, two);
+    }
+    EXPECT_EQ(accel->last_trace_memory_bytes(), Dacrt::scratch_bytes(rays.size(), scene.triangles.size(), 2)) << name;
+    EXPECT_EQ(one, two) << name;
+    std::vector<uint8_t> reference;
+    make_accelerator("bvh2", scene)->occluded(rays, reference);  // checked against brute force in tests/accelerators
+    EXPECT_EQ(one, reference) << name;
+    EXPECT_GT(std::count(one.begin(), one.end(), 1), 1000) << name << ": the rays must be partly occluded";
+    EXPECT_GT(std::count(one.begin(), one.end(), 0), 1000) << name;
+  }
 }
 
 }  // namespace

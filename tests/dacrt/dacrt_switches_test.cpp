@@ -48,7 +48,7 @@ TEST(DacrtOptions, BadValuesAreInputErrors) {
     EXPECT_THROW(make_accelerator("dacrt-rs", scene, testing::options_of({bad})), InputError) << bad;
 }
 
-TEST(DacrtOptions, DefaultsAreThePapers) {
+TEST(DacrtOptions, DefaultsAreThePapersWithTheDocumentedDeviations) {
   const DacrtConfig afra = DacrtConfig::afra(), rs = DacrtConfig::ray_sampled();
   EXPECT_FALSE(afra.sampled_cost || afra.sampled_order || afra.skip_partitioning);
   EXPECT_TRUE(rs.sampled_cost && rs.sampled_order && rs.skip_partitioning);

@@ -90,13 +90,17 @@ struct DacrtConfig {
   double c_tri = 2.0;
 
   /// Trace with all cores: the batch is cut into one contiguous ray range per thread
-  /// (tbb::global_control's limit), each solved by its own DACRT as a task. Off = one
-  /// thread, as in the paper. Option parallel=on|off.
+  /// (tbb::global_control's limit), each solved by its own DACRT as a task. Hits do not
+  /// depend on the thread count; work counts do (each range splits on its own rays). Off =
+  /// one thread, as in the paper. Option parallel=on|off.
   bool parallel = true;
 
   /// Afra's DACRT (all three contributions off).
   static DacrtConfig afra() { return {}; }
-  /// The ray-sampled DACRT of Algorithm 1 (all three contributions on).
+  /// `dacrt-rs`: the three contributions of Algorithm 1 on, with rayscout's documented
+  /// deviations (docs/dacrt.md): interval votes weighed by depth instead of Algorithm 2's
+  /// literal rule and line 18's majority, and the sampling budget. The paper's literal
+  /// configuration is afra() with cost=sampled, order=literal-votes, skip=on.
   static DacrtConfig ray_sampled() {
     DacrtConfig c;
     c.sampled_cost = c.sampled_order = c.skip_partitioning = true;
