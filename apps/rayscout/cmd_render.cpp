@@ -220,7 +220,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")->capture_default_str()->transform(in_range(0.0f));
-  cmd->add_option("--ray-epsilon", c.ray_epsilon, "tmin of secondary rays (0 = 1e-5 x scene size)")->capture_default_str()->transform(in_range(0.0f));
+  cmd->add_option("--ray-epsilon", c.ray_epsilon, "offset of rays leaving a surface, along its normal (0 = 1e-5 x the larger of the scene's diagonal and its largest coordinate)")->capture_default_str()->transform(in_range(0.0f));
   cmd->add_option("--max-batch", c.max_batch_rays, "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced in passes of whole samples that stay under this; an image with more pixels is traced in bands of rows, one sample per pass (0 = 2^24)")->capture_default_str()->transform(in_range(0L));
   cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
   cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower); printed, and in --stats");

@@ -22,7 +22,7 @@ class AoIntegrator final : public WavefrontIntegrator {
     for (int k = 0; k < n; ++k) {
       const uint32_t dim = kDimLights + 3 * uint32_t(k);
       const Vec3 wi = sample_cosine_hemisphere(sp.n, sampler.get(dim), sampler.get(dim + 1));
-      out.add_occlusion_ray({sp.p, ctx.epsilon, wi, ctx.ao_radius}, state.pixel, weight);
+      out.add_occlusion_ray(spawn_ray(sp, wi, ctx.epsilon, ctx.ao_radius), state.pixel, weight);
     }
   }
 };

@@ -20,7 +20,7 @@ class DirectIntegrator final : public WavefrontIntegrator {
     if (m.type == Material::Type::Mirror) {
       const Vec3 throughput = state.throughput * m.specular;
       if (ctx.bounce < ctx.config->max_depth && max_component(throughput) > 0)
-        out.continue_path({sp.p, ctx.epsilon, reflect(ray.dir, sp.n), kInfinity},
+        out.continue_path(spawn_ray(sp, reflect(ray.dir, sp.n), ctx.epsilon),
                           {state.pixel, state.sample, throughput, true});
       return;
     }

@@ -12,10 +12,9 @@ namespace rayscout::detail {
 inline void add_point_light_rays(const ShadeContext& ctx, const PathState& state, const Material& m,
                                  const SurfacePoint& sp, const Vec3& wo, ShadeOutput& out) {
   for (const PointLight& light : ctx.scene->point_lights) {
-    Ray ray;
-    float dist;
-    if (!shadow_ray_to(sp.p, light.position, ctx.epsilon, ray, dist)) continue;
-    const Vec3& wi = ray.dir;
+    const auto shadow = shadow_ray_to(sp, light.position, ctx.epsilon);
+    if (!shadow) continue;
+    const auto& [ray, wi, dist] = *shadow;
     const float cos_s = dot(sp.n, wi);
     if (!(cos_s > 0)) continue;
     const Vec3 c = state.throughput * eval_bsdf(m, sp.n, wo, wi) * light.intensity * (cos_s / (dist * dist));
@@ -61,10 +60,9 @@ inline void add_area_light_rays(const ShadeContext& ctx, const PathState& state,
   for (int k = 0; k < n; ++k) {
     const uint32_t dim = kDimLights + 3 * uint32_t(k);
     const LightSample ls = ctx.lights->sample(sampler.bits(dim), sampler.get(dim + 1), sampler.get(dim + 2));
-    Ray ray;
-    float dist;
-    if (!shadow_ray_to(sp.p, ls.p, ctx.epsilon, ray, dist)) continue;
-    const Vec3& wi = ray.dir;
+    const auto shadow = shadow_ray_to(sp, ls.p, ctx.epsilon);
+    if (!shadow) continue;
+    const auto& [ray, wi, dist] = *shadow;
     const float cos_s = dot(sp.n, wi), cos_l = -dot(ls.n, wi);
     if (!(cos_s > 0 && cos_l > 0)) continue;
     float weight = 1.0f;

@@ -47,7 +47,7 @@ class PathIntegrator final : public WavefrontIntegrator {
       if (sampler.get(kDimRoulette) >= p) return;
       throughput = throughput * (1.0f / p);
     }
-    out.continue_path({sp.p, ctx.epsilon, bs.wi, kInfinity}, {state.pixel, state.sample, throughput, bs.specular, bs.pdf});
+    out.continue_path(spawn_ray(sp, bs.wi, ctx.epsilon), {state.pixel, state.sample, throughput, bs.specular, bs.pdf});
   }
 };
 

@@ -39,12 +39,28 @@ float scene_ray_epsilon(const Bounds3& bounds) {
   return std::max(1e-5f * extent, std::numeric_limits<float>::min());
 }
 
-bool shadow_ray_to(const Vec3& p, const Vec3& target, float eps, Ray& ray, float& dist) {
-  const Vec3 d = target - p;
-  dist = length(d);
-  if (!(dist > 2.0f * eps)) return false;
-  ray = {p, eps, d / dist, dist - eps};
-  return true;
+namespace {
+
+Vec3 offset_origin(const SurfacePoint& sp, const Vec3& w, float offset) {
+  const Vec3& n = sp.n_geometric;
+  return sp.p + n * (dot(n, w) >= 0.0f ? offset : -offset);
+}
+
+}  // namespace
+
+Ray spawn_ray(const SurfacePoint& sp, const Vec3& w, float offset, float tmax) {
+  return {offset_origin(sp, w, offset), 0.0f, w, tmax};
+}
+
+std::optional<ShadowRay> shadow_ray_to(const SurfacePoint& sp, const Vec3& target, float offset) {
+  const Vec3 d = target - sp.p;
+  const float dist = length(d);
+  if (!(dist > 2.0f * offset)) return std::nullopt;
+  const Vec3 wi = d / dist;
+  const Vec3 o = offset_origin(sp, wi, offset);
+  const Vec3 to_target = target - o;
+  const float len = length(to_target);
+  return ShadowRay{{o, 0.0f, to_target / len, len - offset}, wi, dist};
 }
 
 float ao_radius_for(float configured, const Bounds3& bounds) {

@@ -27,7 +27,7 @@ struct ShadeContext {
   const Scene* scene = nullptr;
   const RenderConfig* config = nullptr;
   const LightSampler* lights = nullptr;
-  float epsilon = 0;    ///< ray tmin, see scene_ray_epsilon
+  float epsilon = 0;    ///< offset of rays leaving a surface, see spawn_ray
   float ao_radius = 0;  ///< resolved AO radius
   int bounce = 0;
 

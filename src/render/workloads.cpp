@@ -16,9 +16,8 @@ namespace {
 // A workload has a fixed number of shadow rays per hit: a light within 2 eps of the point
 // gets a ray that tests nothing (tmax 0 < tmin).
 Ray shadow_ray_or_nothing(const SurfacePoint& sp, const Vec3& target, float eps) {
-  Ray ray;
-  float dist;
-  return shadow_ray_to(sp.p, target, eps, ray, dist) ? ray : Ray{sp.p, eps, sp.n, 0.0f};
+  const auto shadow = shadow_ray_to(sp, target, eps);
+  return shadow ? shadow->ray : Ray{sp.p, eps, sp.n, 0.0f};
 }
 
 }  // namespace
@@ -78,10 +77,10 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
       switch (workload) {
         case Workload::Primary: break;
         case Workload::Ao:
-          out.set(o, {sp.p, eps, sample_cosine_hemisphere(sp.n, sampler.get(kDimLights), sampler.get(kDimLights + 1)), ao_radius});
+          out.set(o, spawn_ray(sp, sample_cosine_hemisphere(sp.n, sampler.get(kDimLights), sampler.get(kDimLights + 1)), eps, ao_radius));
           break;
         case Workload::Diffuse:
-          out.set(o, {sp.p, eps, sample_cosine_hemisphere(sp.n, sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2)), kInfinity});
+          out.set(o, spawn_ray(sp, sample_cosine_hemisphere(sp.n, sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2)), eps));
           break;
         case Workload::Shadow:
           if (to_points) {

@@ -159,21 +159,37 @@ TEST(SceneScales, RayEpsilonAndAoRadiusFromTheBounds) {
   EXPECT_EQ(ao_radius_for(0.0f, Bounds3{}), 1.0f);
 }
 
-// A shadow ray spans [eps, dist - eps] towards its target; a target within 2 eps, where that
-// interval is empty or a point, gets none.
-TEST(SceneScales, ShadowRayStopsEpsilonShortAndSkipsTargetsWithinTwoEpsilon) {
-  const Vec3 p{1, 2, 3};
-  Ray ray;
-  float dist = 0;
-  ASSERT_TRUE(shadow_ray_to(p, {1, 2, 4.25f}, 0.5f, ray, dist));
-  EXPECT_EQ(dist, 1.25f);
-  EXPECT_EQ(ray.org, p);
-  EXPECT_EQ(ray.dir, Vec3(0, 0, 1));
-  EXPECT_EQ(ray.tmin, 0.5f);
-  EXPECT_EQ(ray.tmax, 0.75f);
-  EXPECT_FALSE(shadow_ray_to(p, {1, 2, 4}, 0.5f, ray, dist));  // dist 1 = 2 eps
-  EXPECT_EQ(dist, 1.0f);
-  EXPECT_FALSE(shadow_ray_to(p, p, 0.5f, ray, dist));
+// A ray leaving a surface starts `offset` off it along the geometric normal, on the side it
+// leaves to, with tmin 0 (so a wall nearer than the offset is still hit). A shadow ray also
+// ends `offset` before its target; a target within 2 offsets gets none.
+TEST(SceneScales, SpawnedRaysStartOffTheSurfaceOnTheSideTheyLeaveTo) {
+  SurfacePoint sp;
+  sp.p = {1, 2, 3};
+  sp.n_geometric = {0, 0, 1};
+  sp.n = {0, 0, -1};  // seen from below: the offset follows the direction, not the viewer
+  const Ray up = spawn_ray(sp, {0, 0.6f, 0.8f}, 0.5f, 7.0f);
+  EXPECT_EQ(up.org, Vec3(1, 2, 3.5f));
+  EXPECT_EQ(up.dir, Vec3(0, 0.6f, 0.8f));
+  EXPECT_EQ(up.tmin, 0.0f);
+  EXPECT_EQ(up.tmax, 7.0f);
+  const Ray down = spawn_ray(sp, {0.6f, 0, -0.8f}, 0.5f);
+  EXPECT_EQ(down.org, Vec3(1, 2, 2.5f));
+  EXPECT_EQ(down.tmax, kInfinity);
+
+  const auto shadow = shadow_ray_to(sp, {1, 2, 5.5f}, 0.5f);
+  ASSERT_TRUE(shadow.has_value());
+  EXPECT_EQ(shadow->dist, 2.5f);  // from the surface point, for shading
+  EXPECT_EQ(shadow->wi, Vec3(0, 0, 1));
+  EXPECT_EQ(shadow->ray.org, Vec3(1, 2, 3.5f));
+  EXPECT_EQ(shadow->ray.dir, Vec3(0, 0, 1));
+  EXPECT_EQ(shadow->ray.tmin, 0.0f);
+  EXPECT_EQ(shadow->ray.tmax, 1.5f);  // 2 from the offset origin, minus the offset
+  const auto below = shadow_ray_to(sp, {1, 2, 0}, 0.5f);
+  ASSERT_TRUE(below.has_value());
+  EXPECT_EQ(below->ray.org, Vec3(1, 2, 2.5f));
+  EXPECT_EQ(below->ray.tmax, 2.0f);
+  EXPECT_FALSE(shadow_ray_to(sp, {1, 2, 4}, 0.5f).has_value());  // dist 1 = 2 offsets
+  EXPECT_FALSE(shadow_ray_to(sp, sp.p, 0.5f).has_value());
 }
 
 // A focus plane far away, a lens far wider than the focus distance, a focus distance of

@@ -47,7 +47,7 @@ struct RenderConfig {
   int light_samples = 1;   ///< area/path: shadow rays to area lights per hit
   int ao_samples = 4;      ///< ao: rays per hit
   float ao_radius = 0;     ///< ao: ray length; 0 = 10% of the scene diagonal
-  float ray_epsilon = 0;   ///< tmin of secondary rays; 0 = scene_ray_epsilon(scene bounds)
+  float ray_epsilon = 0;   ///< offset of rays leaving a surface (spawn_ray); 0 = scene_ray_epsilon(scene bounds)
   bool count = false;      ///< collect TraceStats per batch (slower)
   /// Largest camera batch: above it the samples of each pixel are rendered in passes of whole
   /// samples (each pass a full wavefront), and an image with more pixels than this in bands
