@@ -53,7 +53,8 @@ void draw_progress(const RenderProgress& p) {
 
 // Film and image hold 12 bytes a pixel each, a pass ~200 bytes a camera ray and ~100 bytes for
 // each occlusion ray a camera ray's hit sends in the same batch (ao: --ao-samples; area and
-// path: --light-samples; measured 72-96), and manylight keeps ~130 bytes per shading point of
+// path: --light-samples; direct, area and path: one per point light, known after the scene
+// load, when this is checked again; measured 72-96), and manylight keeps ~130 bytes per shading point of
 // the whole image (--max-batch does not split it). A 32768 x 32768 image asked for ~26 GB on a
 // 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB: the kernel killed the
 // process after the scene load. Refused here, before any work.
@@ -62,10 +63,13 @@ void draw_progress(const RenderProgress& p) {
 // lists; clusters are at most the points and VPLs), and ~110 per VPL sample of a wavefront
 // round (its sample record and shadow ray; a round takes 16 points of every shading cluster).
 // `--vpls 4294967295` asked for ~430 GB.
-void check_memory(const RenderConfig& c, const std::string& integrator, const ManylightConfig& m) {
+void check_memory(const RenderConfig& c, const std::string& integrator, const ManylightConfig& m,
+                  size_t point_lights = 0) {
   const double pixels = double(c.width) * double(c.height);
   const double pass_rays = std::min(pixels * double(c.spp), double(c.camera_batch_limit()));
-  const int fan_out = integrator == "ao" ? c.ao_samples : integrator == "area" || integrator == "path" ? c.light_samples : 0;
+  const bool area_or_path = integrator == "area" || integrator == "path";
+  const double fan_out = (integrator == "ao" ? double(c.ao_samples) : 0.0) + (area_or_path ? double(c.light_samples) : 0.0) +
+                         (area_or_path || integrator == "direct" ? double(point_lights) : 0.0);
   const bool manylight = integrator == "manylight";
   const double points = manylight ? pixels * double(c.spp) : 0.0;
   const double vpls = manylight ? double(m.vpl_count) : 0.0;
@@ -77,7 +81,9 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
                  fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
                              "a pass (--max-batch) at ~200 bytes{}{}) need",
                              c.width, c.height, pixels, pass_rays,
-                             fan_out > 1 ? fmt::format(" with {} occlusion rays each at ~100 bytes", fan_out) : "",
+                             fan_out >= 1 ? fmt::format(" with {:.0f} occlusion rays each at ~100 bytes{}", fan_out,
+                                                       point_lights > 0 ? fmt::format(" ({} to point lights)", point_lights) : "")
+                                          : "",
                              manylight ? fmt::format("; manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs "
                                                      "(--shading-clusters x --vpl-clusters) at ~16 bytes, {:.0f} VPL "
                                                      "samples a round (--vpl-samples) at ~110 bytes, {:.0f} shading "
@@ -163,6 +169,8 @@ void run(RenderOptions& o) {
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
   for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
+  if (!scene.point_lights.empty())  // a shadow ray per point light and hit
+    check_memory(o.config, o.integrator, manylight_cli_options().config, scene.point_lights.size());
   if (o.integrator == "manylight" && scene.camera.lens_radius > 0)
     fmt::print(stderr,
                "rayscout: warning: --integrator manylight renders through a pinhole: the camera's lens_radius {} "
@@ -171,7 +179,8 @@ void run(RenderOptions& o) {
   if (o.integrator == "direct" && scene.point_lights.empty())
     fmt::print(stderr,
                "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "
-               "(its {} emissive triangles light --integrator area, path or manylight): the image will be dark\n",
+               "(its {} emissive triangles light --integrator area, path or manylight): the image will be black "
+               "but for the emitters seen directly or in mirrors\n",
                scene.emissive_triangles.size());
   t = SteadyClock::now();
   const auto accel = make_accelerator(o.accel, scene, accel_options);

@@ -13,7 +13,7 @@ const std::vector<IntegratorEntry>& integrator_table() {
       {"direct", "point lights + mirror reflections (papers' Sibenik (a), (b))", [] { return make_direct_integrator(); }},
       {"area", "direct + --light-samples shadow rays to area lights per hit (Sibenik (c))", [] { return make_area_integrator(); }},
       {"ao", "ambient occlusion: --ao-samples rays of length --ao-radius per hit", [] { return make_ao_integrator(); }},
-      {"path", "path tracing, --max-depth bounces, next-event estimation with MIS for area lights, depth of field", [] { return make_path_integrator(); }},
+      {"path", "path tracing, --max-depth bounces, next-event estimation with MIS for area lights", [] { return make_path_integrator(); }},
       {"manylight", "VPLs + VisibilityCluster + probabilistic visibility (--vpls, --visibility, --time-budget; docs/manylight.md)", [] { return make_manylight_cli_integrator(); }},
       // New integrators: one line each above this comment.
   };
@@ -29,7 +29,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name) {
 std::string integrator_help() {
   std::string help = "Integrators (--integrator):";
   for (const auto& e : integrator_table()) help += fmt::format("\n  {:<11} {}", e.name, e.description);
-  return help;
+  return help + "\nAll but manylight render the camera's thin lens (lens_radius, focus_distance: depth of field).";
 }
 
 std::string integrator_names() {

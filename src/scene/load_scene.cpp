@@ -24,7 +24,8 @@ Scene load_scene(const std::filesystem::path& path) {
   builder.finish(detail::display_name(path));
   const Bounds3 b = scene.bounds();
   scene.camera = framing_camera(b);
-  scene.point_lights.push_back(framing_light(b, scene.camera));
+  // As a JSON scene without lights: a mesh with emitters is lit by them alone.
+  if (scene.emissive_triangles.empty()) scene.point_lights.push_back(framing_light(b, scene.camera));
   return scene;
 }
 

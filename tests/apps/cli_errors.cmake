@@ -90,6 +90,15 @@ expect(2 "--width 32768 x --height 32768 \\(1073741824 pixels at 24 bytes for fi
 # not split into passes (~140 GB): both counted.
 expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes\\) need at least 11[0-9]\\.[0-9] GB"
        render --integrator ao --ao-samples 64 --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
+# So do the shadow rays to point lights, known once the scene is loaded (64 lights here).
+set(lights "")
+foreach(i RANGE 1 64)
+  string(APPEND lights "{\"type\": \"point\", \"position\": [0.5, 3, ${i}], \"intensity\": 1},")
+endforeach()
+string(REGEX REPLACE ",$" "" lights "${lights}")
+file(WRITE ${WORK}/lights64.json "{\"meshes\": [{\"shape\": \"box\", \"min\": [0, 0, 0], \"max\": [1, 1, 1]}], \"lights\": [${lights}]}")
+expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes \\(64 to point lights\\)\\) need at least 11[0-9]\\.[0-9] GB"
+       render --scene ${WORK}/lights64.json --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
 expect(2 "1073741824 shading points at ~130 bytes\\) need at least 14[0-9]\\.[0-9] GB"
        render --integrator manylight --width 8192 --height 8192 --spp 16 --out ${WORK}/x.png)
 # The shafts' camera pre-pass grows with prepass_width^2 (here ~40-64 GB): refused, not killed.

@@ -59,6 +59,19 @@ TEST(ObjReader, ExactCoordinatesAndFanOrder) {
   expect_vec(s.camera.look_at, s.bounds().center());
 }
 
+// A bare mesh with emitters is lit by them alone, as a JSON scene without lights: a point light
+// added beside them made a path-traced Cornell box 2-7 times too bright.
+TEST(ObjReader, BareMeshWithEmittersGetsNoPointLight) {
+  TempDir dir;
+  dir.write("lamp.mtl", "newmtl lamp\nKd 0 0 0\nKe 5 5 5\nnewmtl wall\nKd 0.5 0.5 0.5\n");
+  const Scene s = load_scene(dir.write("lit.obj", "mtllib lamp.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                  "usemtl wall\nf 1 2 3\nusemtl lamp\nf 1 2 4\n"));
+  ASSERT_EQ(s.triangles.size(), 2u);
+  EXPECT_EQ(s.emissive_triangles.size(), 1u);
+  EXPECT_TRUE(s.point_lights.empty());
+  expect_vec(s.camera.look_at, s.bounds().center());
+}
+
 TEST(ObjReader, ClassicMacLineEndsAreLines) {
   // CR alone ends a line in a file without LF; it was read as one line (one vertex, no faces).
   TempDir dir;

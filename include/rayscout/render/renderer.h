@@ -18,7 +18,9 @@ namespace rayscout {
 
 /// What a ray batch is, handed to RenderConfig::on_batch before the batch is traced.
 struct BatchInfo {
-  int bounce = 0;          ///< path vertex the rays leave from (0 = camera / primary hits)
+  /// Wavefront iteration: 0 = the camera rays and the shadow / AO rays of their hits; k = the
+  /// rays continuing from the hits of iteration k - 1 and the shadow rays of their own hits.
+  int bounce = 0;
   std::string kind;        ///< "primary", "shadow", "mirror", "ao" or "path"
   bool occlusion = false;  ///< traced with occluded() (any hit) rather than intersect()
 };
