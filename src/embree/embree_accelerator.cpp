@@ -113,6 +113,13 @@ void for_each_traceable_ray(const RayBatch& rays, const Body& body) {
 EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const EmbreeConfig& config)
     : state_(std::make_unique<State>()), config_(config) {
   State& s = *state_;
+  // Embree turns on flush-to-zero and denormals-are-zero while it works (rtcNewDevice,
+  // rtcCommitScene). Were that this thread's first parallel work, oneTBB would create the
+  // thread's arena then and give its settings to every later task of the process: brute, bvh
+  // and Embree itself would read subnormal values as zero from then on (a ray with tmax =
+  // -1.4e-45 < tmin = 0 was hit at t = 0 after an Embree build, missed without one). Parallel
+  // work first creates the arena with this thread's own settings.
+  tbb::parallel_for(0, 1, [](int) {});
   s.device = rtcNewDevice(nullptr);
   if (!s.device) throw std::runtime_error("embree: rtcNewDevice failed (error " +
                                           std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
