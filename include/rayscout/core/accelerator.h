@@ -31,10 +31,12 @@ class Accelerator {
   virtual std::string name() const = 0;
   /// Closest hit of every ray (ties: smaller triangle id, see is_closer).
   /// hits is reset to rays.size() entries. stats, when non-null, receives exact counts.
-  /// A hit's t is in units of the ray's direction. A direction whose every component is
-  /// subnormal (below FLT_MIN, not zero) has no finite reciprocal, so it is traced scaled up by
-  /// a power of two (exact) with tmin and tmax scaled down, and t is scaled back: it may then
-  /// overflow to inf on a real hit. A zero or NaN direction misses.
+  /// A hit's t is in units of the ray's direction. Subnormal values (below FLT_MIN, not zero)
+  /// have no finite reciprocal and too few bits for the watertight test: a direction with a
+  /// subnormal component whose largest is below 1 is traced scaled up by a power of two
+  /// (exact, the largest into [1, 2)) with tmin and tmax scaled down, and t is scaled back (it
+  /// may then overflow to inf on a real hit); direction components and origin coordinates
+  /// still subnormal are traced as zero, as Embree reads them. A zero or NaN direction misses.
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const;
   /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0. Tiny
   /// directions as in intersect().
@@ -48,8 +50,8 @@ class Accelerator {
   virtual bool counts_work() const { return true; }
 
  protected:
-  /// What intersect() and occluded() run, on rays whose directions have a component of at
-  /// least FLT_MIN (or are zero or NaN).
+  /// What intersect() and occluded() run, on rays without subnormal direction components or
+  /// origin coordinates.
   virtual void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const = 0;
   virtual void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const = 0;
 };
