@@ -13,6 +13,7 @@ R=$build/rayscout
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 read -r lo hi < <($R info --scene "$scene" | awk '/^bounds:/ {gsub(/[(),]/, " "); print $3","$4","$5, $7","$8","$9}')
+[ -n "${lo:-}" ] || { echo "audit: no bounds for $scene (see the error above)" >&2; exit 2; }
 /usr/bin/python3 "$here/adversarial_rays.py" "$out" "$lo" "$hi" "$n" || exit 1
 for w in shadow diffuse; do
   $R rays --scene "$scene" --workload $w --width 256 --height 192 --out "$out/W_$w.rays" >/dev/null || exit 1
