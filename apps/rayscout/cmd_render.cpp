@@ -54,8 +54,8 @@ void draw_progress(const RenderProgress& p) {
 // Film and image hold 12 bytes a pixel each, a pass ~200 bytes a camera ray and ~100 bytes for
 // each occlusion ray a camera ray's hit sends in the same batch (ao: --ao-samples; area and
 // path: --light-samples; direct, area and path: one per point light, known after the scene
-// load, when this is checked again; measured 72-96), and manylight keeps ~130 bytes per shading point of
-// the whole image (--max-batch does not split it). A 32768 x 32768 image asked for ~26 GB on a
+// load, when this is checked again; measured 72-96), and manylight keeps ~130 bytes per
+// shading point of the whole image (--max-batch does not split it). A 32768 x 32768 image asked for ~26 GB on a
 // 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB: the kernel killed the
 // process after the scene load. Refused here, before any work.
 // manylight adds (measured sizes, rounded up) ~100 bytes per VPL (the light, its cluster

@@ -21,6 +21,19 @@ struct SuiteParam {
   friend void PrintTo(const SuiteParam& p, std::ostream* os) { *os << p.accel << " on " << p.mesh.name; }
 };
 
+// Both queries of one batch.
+struct Traced {
+  HitBatch hits;
+  std::vector<uint8_t> occluded;
+};
+
+Traced trace_both(const Accelerator& accel, const RayBatch& rays) {
+  Traced t;
+  accel.intersect(rays, t.hits);
+  accel.occluded(rays, t.occluded);
+  return t;
+}
+
 // Every accelerator on every mesh; with_brute = false leaves out the reference itself.
 std::vector<SuiteParam> all_params(bool with_brute = true) {
   std::vector<SuiteParam> params;
@@ -198,12 +211,8 @@ TEST_P(AcceleratorSuite, SubnormalDirectionsHitWhatTheirScaledRaysHit) {
   }
   ASSERT_GT(tiny.size(), 100u);
   const auto accel = make_accelerator(p.accel, scene);
-  HitBatch got, ref;
-  std::vector<uint8_t> got_occ, ref_occ;
-  accel->intersect(tiny, got);
-  accel->intersect(scaled, ref);
-  accel->occluded(tiny, got_occ);
-  accel->occluded(scaled, ref_occ);
+  const auto [got, got_occ] = trace_both(*accel, tiny);
+  const auto [ref, ref_occ] = trace_both(*accel, scaled);
   size_t finite = 0, overflowed = 0;
   for (size_t i = 0; i < tiny.size(); ++i) {
     ASSERT_EQ(got.prim[i], ref.prim[i]) << "ray " << i;
@@ -246,14 +255,9 @@ TEST_P(AcceleratorSuite, SubnormalComponentsAreTracedAsZero) {
   }
   ASSERT_GT(odd.size(), 100u);
   const auto accel = make_accelerator(p.accel, scene);
-  HitBatch got, ref;
-  std::vector<uint8_t> got_occ, ref_occ;
-  accel->intersect(odd, got);
-  accel->intersect(flushed, ref);
-  accel->occluded(odd, got_occ);
-  accel->occluded(flushed, ref_occ);
-  EXPECT_TRUE(compare_hits(got, ref, 0.0f).ok());
-  EXPECT_EQ(got_occ, ref_occ);
+  const Traced got = trace_both(*accel, odd), ref = trace_both(*accel, flushed);
+  EXPECT_TRUE(compare_hits(got.hits, ref.hits, 0.0f).ok());
+  EXPECT_EQ(got.occluded, ref.occluded);
 
   // In-plane rays from outside a triangle in the plane z = 0.5, the third component subnormal.
   const std::vector<Triangle> tri = {{{0, 0, 0.5f}, {1, 0, 0.5f}, {0, 1, 0.5f}}};

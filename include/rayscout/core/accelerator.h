@@ -38,8 +38,8 @@ class Accelerator {
   /// may then overflow to inf on a real hit); direction components and origin coordinates
   /// still subnormal are traced as zero, as Embree reads them. A zero or NaN direction misses.
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const;
-  /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0. Tiny
-  /// directions as in intersect().
+  /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0.
+  /// Subnormal values as in intersect().
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats = nullptr) const;
   /// Build time and memory.
   virtual BuildInfo build_info() const = 0;
