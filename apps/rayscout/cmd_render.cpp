@@ -100,6 +100,7 @@ void check_before_work(const RenderOptions& o) {
   check_image_path(o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
   check_memory(o.config, o.integrator, ml.config);
+  o.config.validate();
   if (manylight) {
     if (!ml.skip_image.empty()) check_image_path(ml.skip_image);
     if (!ml.rmse_log.empty()) {
@@ -171,6 +172,11 @@ void run(RenderOptions& o) {
   for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
   if (!scene.point_lights.empty())  // a shadow ray per point light and hit
     check_memory(o.config, o.integrator, manylight_cli_options().config, scene.point_lights.size());
+  if (const float size = length(scene.bounds().diagonal()); o.config.ray_epsilon > 0.01f * size && o.integrator != "manylight")
+    fmt::print(stderr,
+               "rayscout: warning: --ray-epsilon {} is {:.0f} % of the scene's diagonal: rays leave surfaces that far off "
+               "them, past nearby walls and contact shadows\n",
+               o.config.ray_epsilon, 100.0 * o.config.ray_epsilon / size);
   if (o.integrator == "manylight" && scene.camera.lens_radius > 0)
     fmt::print(stderr,
                "rayscout: warning: --integrator manylight renders through a pinhole: the camera's lens_radius {} "
@@ -222,7 +228,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--accel-opt", opts->accel_opts, "accelerator tunable key=value (repeatable)");
   cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
   cmd->add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
-  cmd->add_option("--spp", c.spp, "camera samples per pixel")->capture_default_str()->transform(in_range(1, 1 << 16));
+  cmd->add_option("--spp", c.spp, "camera samples per pixel (width x height x spp below 2^32)")->capture_default_str()->transform(in_range(1, 1 << 16));
   cmd->add_option("--seed", c.seed, "random seed (same seed and --max-batch, same image: another batch size can move the last bits of a pixel sum; manylight's skipping modes also need --costs and no --time-budget)")->capture_default_str()->transform(in_range<uint64_t>(0));
   cmd->add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")->capture_default_str()->transform(in_range(0));
   cmd->add_option("--rr-depth", c.rr_depth, "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)")->capture_default_str()->transform(in_range(0));

@@ -13,21 +13,9 @@
 namespace rayscout {
 namespace {
 
-
 // Paths per shading task. Fixed (not derived from the thread count) so that the merge order,
 // and with it every floating-point sum, is the same for any number of threads.
 constexpr size_t kShadeChunk = 4096;
-
-void check_config(const RenderConfig& c) {
-  if (c.width <= 0 || c.height <= 0 || c.width > 1 << 15 || c.height > 1 << 15)
-    throw InputError("render: width and height must be in 1..32768");
-  if (c.spp <= 0 || c.spp > 1 << 16) throw InputError("render: spp must be in 1..65536");
-  if (uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.spp) > (uint64_t(1) << 32) - 1)
-    throw InputError("render: width * height * spp must stay below 2^32");
-  if (c.max_depth < 0) throw InputError("render: max_depth must be >= 0");
-  if (c.rr_depth < 0) throw InputError("render: rr_depth must be >= 0");
-  if (c.light_samples < 1 || c.ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");
-}
 
 // Adds contributions (those not occluded) to the film. Each pixel's contributions are added
 // in array order by one task, so the sums do not depend on the thread count. Contributions
@@ -53,6 +41,17 @@ void accumulate(std::vector<Vec3>& film, const std::vector<Contribution>& list, 
 }
 
 }  // namespace
+
+void RenderConfig::validate() const {
+  if (width <= 0 || height <= 0 || width > 1 << 15 || height > 1 << 15)
+    throw InputError("render: width and height must be in 1..32768");
+  if (spp <= 0 || spp > 1 << 16) throw InputError("render: spp must be in 1..65536");
+  if (uint64_t(width) * uint64_t(height) * uint64_t(spp) > (uint64_t(1) << 32) - 1)
+    throw InputError("render: width * height * spp must stay below 2^32");
+  if (max_depth < 0) throw InputError("render: max_depth must be >= 0");
+  if (rr_depth < 0) throw InputError("render: rr_depth must be >= 0");
+  if (light_samples < 1 || ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");
+}
 
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
                           RayBatch& rays, std::vector<PathState>* paths, int sample_begin, int sample_end,
@@ -142,7 +141,7 @@ void WavefrontIntegrator::merge_bounce(Bounce& b, std::vector<Vec3>& film) {
 
 Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, const RenderConfig& config,
                                   RenderStats* stats_out) const {
-  check_config(config);
+  config.validate();
   const auto start = SteadyClock::now();
   RenderStats stats;
   const LightSampler lights(scene);

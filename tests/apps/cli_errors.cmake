@@ -90,6 +90,12 @@ expect(2 "--width 32768 x --height 32768 \\(1073741824 pixels at 24 bytes for fi
 # not split into passes (~140 GB): both counted.
 expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes\\) need at least 11[0-9]\\.[0-9] GB"
        render --integrator ao --ao-samples 64 --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
+# Sizes whose sample count passes 2^32 are refused before the scene is read (it is missing here).
+expect(2 "width \\* height \\* spp must stay below 2\\^32"
+       render --scene ${WORK}/missing.obj --width 1024 --height 1024 --spp 4096 --max-batch 1000 --out ${WORK}/x.png)
+# A ray offset of a sizeable part of the scene is warned about (rays would start past walls).
+expect(0 "--ray-epsilon 0.5 is 14 % of the scene's diagonal"
+       render --ray-epsilon 0.5 --width 8 --height 8 --out ${WORK}/x.png)
 # So do the shadow rays to point lights, known once the scene is loaded (64 lights here).
 set(lights "")
 foreach(i RANGE 1 64)
