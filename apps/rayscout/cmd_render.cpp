@@ -55,9 +55,9 @@ void draw_progress(const RenderProgress& p) {
 // each occlusion ray a camera ray's hit sends in the same batch (ao: --ao-samples; area and
 // path: --light-samples; direct, area and path: one per point light, known after the scene
 // load, when this is checked again; measured 72-96), and manylight keeps ~130 bytes per
-// shading point of the whole image (--max-batch does not split it). A 32768 x 32768 image asked for ~26 GB on a
-// 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB: the kernel killed the
-// process after the scene load. Refused here, before any work.
+// shading point of the whole image (--max-batch does not split it). A 32768 x 32768 image
+// asked for ~26 GB on a 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB:
+// the kernel killed the process after the scene load. Refused here, before any work.
 // manylight adds (measured sizes, rounded up) ~100 bytes per VPL (the light, its cluster
 // records), ~16 per pair of shading and VPL clusters (the visibility estimate and its sampling
 // lists; clusters are at most the points and VPLs), and ~110 per VPL sample of a wavefront
@@ -127,6 +127,33 @@ void check_before_work(const RenderOptions& o) {
   check_distinct_files(outputs, inputs);
 }
 
+// What needs the scene: the memory of the shadow rays to its point lights, and settings that
+// would give a silently wrong image (warnings).
+void check_after_load(const RenderOptions& o, const Scene& scene) {
+  for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
+  if (!scene.point_lights.empty())  // a shadow ray per point light and hit
+    check_memory(o.config, o.integrator, manylight_cli_options().config, scene.point_lights.size());
+  if (o.config.ray_epsilon > 0 && o.integrator != "manylight") {
+    const float size = length(scene.bounds().diagonal());
+    if (o.config.ray_epsilon > 0.01f * size)
+      fmt::print(stderr,
+                 "rayscout: warning: --ray-epsilon {} is {:.0f} % of the scene's diagonal: rays leave surfaces that far "
+                 "off them, past nearby walls and contact shadows\n",
+                 o.config.ray_epsilon, 100.0 * o.config.ray_epsilon / size);
+  }
+  if (o.integrator == "manylight" && scene.camera.lens_radius > 0)
+    fmt::print(stderr,
+               "rayscout: warning: --integrator manylight renders through a pinhole: the camera's lens_radius {} "
+               "(depth of field) is ignored\n",
+               scene.camera.lens_radius);
+  if (o.integrator == "direct" && scene.point_lights.empty())
+    fmt::print(stderr,
+               "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "
+               "(its {} emissive triangles light --integrator area, path or manylight): the image will be black "
+               "but for the emitters seen directly or in mirrors\n",
+               scene.emissive_triangles.size());
+}
+
 // Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
 void warn_if_not_finite(const Image& image) {
   size_t nonfinite = 0;
@@ -169,25 +196,7 @@ void run(RenderOptions& o) {
   auto t = SteadyClock::now();
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
-  for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
-  if (!scene.point_lights.empty())  // a shadow ray per point light and hit
-    check_memory(o.config, o.integrator, manylight_cli_options().config, scene.point_lights.size());
-  if (const float size = length(scene.bounds().diagonal()); o.config.ray_epsilon > 0.01f * size && o.integrator != "manylight")
-    fmt::print(stderr,
-               "rayscout: warning: --ray-epsilon {} is {:.0f} % of the scene's diagonal: rays leave surfaces that far off "
-               "them, past nearby walls and contact shadows\n",
-               o.config.ray_epsilon, 100.0 * o.config.ray_epsilon / size);
-  if (o.integrator == "manylight" && scene.camera.lens_radius > 0)
-    fmt::print(stderr,
-               "rayscout: warning: --integrator manylight renders through a pinhole: the camera's lens_radius {} "
-               "(depth of field) is ignored\n",
-               scene.camera.lens_radius);
-  if (o.integrator == "direct" && scene.point_lights.empty())
-    fmt::print(stderr,
-               "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "
-               "(its {} emissive triangles light --integrator area, path or manylight): the image will be black "
-               "but for the emitters seen directly or in mirrors\n",
-               scene.emissive_triangles.size());
+  check_after_load(o, scene);
   t = SteadyClock::now();
   const auto accel = make_accelerator(o.accel, scene, accel_options);
   const double build_ms = ms_since(t);
