@@ -3,7 +3,7 @@
 
 An experiment on batch order, not a part of the accelerators: are the shaft lists' gains
 separable from the coherence a classification-sorted batch would give any traversal?
-(docs/shafts.md, session 20). The grid is near-cubical over the bounds of the ray origins,
+(docs/history/shafts.md, session 20). The grid is near-cubical over the bounds of the ray origins,
 VOXELS along its longest axis; directions fall into DIR_RES x DIR_RES cells on each cube face,
 as in ShaftGrid. The sort is stable, so rays of one key keep their order.
 

@@ -101,7 +101,7 @@ inline void check_names(const std::string& option, const std::vector<std::string
 }
 
 /// One line naming the machine a table was measured on, for the drivers' headers: absolute
-/// times and even side-by-side ratios move between CPUs (docs/performance.md, session 22).
+/// times and even side-by-side ratios move between CPUs (docs/history/performance.md, session 22).
 /// "AMD EPYC (family 26, model 2), 2 logical CPUs, AVX-512, g++ 12.2.0"; on a system
 /// without /proc/cpuinfo, "unknown CPU, ...".
 inline std::string machine_description() {

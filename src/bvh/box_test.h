@@ -122,7 +122,7 @@ inline constexpr int kNodeGroup = 8;
 /// result is identical to n scalar tests. For the start entries of a seeded traversal: a
 /// candidate list holds nodes from anywhere in the tree, of which a ray meets few (about 2 of
 /// 12 on Sibenik), and one scalar test per entry, each with its own branch, took a fifth of a
-/// seeded ray's time (Sibenik AO rays: 71 ms scalar, 57 ms grouped; docs/shafts.md, session 24).
+/// seeded ray's time (Sibenik AO rays: 71 ms scalar, 57 ms grouped; docs/history/shafts.md, session 24).
 inline uint32_t intersect_nodes(const Bvh2Node* nodes, const uint32_t* ids, int n, const Vec3& org,
                                 const Vec3& inv_dir, float tmin, float tmax, float* dist) {
   // A node's record: lo.xyz, hi.xyz, first, count; missing lanes repeat ids[0].

@@ -40,7 +40,7 @@ inline int sample_enters(const Bounds3& b, float ox, float oy, float oz, float i
 inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 
 /// Distance, in voxel diagonals, of the first clamp of the overflow policy. Starting at 8
-/// gives the same steps saved on the bench scenes (docs/shafts.md, History, session 29).
+/// gives the same steps saved on the bench scenes (docs/history/shafts.md, session 29).
 inline constexpr float kFirstReach = 4.0f;
 
 /// What a list build does on overflow, for one shaft (budget pilots) and for a group (the

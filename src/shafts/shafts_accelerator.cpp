@@ -41,7 +41,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   // Sample rays only need their hit distance: trace them with the SIMD wide BVH, also when
   // the lists index the binary one (a temporary collapse of it; same hits). Greedy collapse:
   // the SAH collapse traces them ~10 % faster, but its 26-33 ms collapse cancels that
-  // (Conference collection: 692-724 ms with it, 712-722 ms greedy; docs/shafts.md, History).
+  // (Conference collection: 692-724 ms with it, 712-722 ms greedy; docs/history/shafts.md).
   WideBvh sampling_bvh;
   if (base_ == Base::Binary && config.wide_sampling) sampling_bvh = WideBvh::from_bvh2(bvh2_, scene.triangles);
   const WideBvh* sampler = base_ == Base::Wide ? &wide_ : (config.wide_sampling ? &sampling_bvh : nullptr);
@@ -53,7 +53,7 @@ ShaftsAccelerator::ShaftsAccelerator(const Scene& scene, Base base, const ShaftC
   if (config.select != ShaftSelect::Occupied) prepass = camera_prepass_rays(scene, hit, config.prepass_width, config.seed);
   // The budget is relative to the tree: for the Bvh2 its nodes and ids, without the
   // triangle copy (which would double the budget, and the build, for -1 to +2.5 points of
-  // steps saved on Sibenik; docs/shafts.md, History, session 25).
+  // steps saved on Sibenik; docs/history/shafts.md, session 25).
   const size_t budget_base = base_ == Base::Binary ? bvh2_.tree_bytes() : wide_.memory_bytes();
   collection_ = ShaftCollection::build(tree, box, budget_base, scene.triangles,
                                        [&](const Ray& r) { return hit(r).t; }, prepass, config);
@@ -112,8 +112,8 @@ void trace_boxed(const detail::EntryBoxCodec& codec, const Seeded& bvh, const Ra
   // Box-test the entries on the BVH's own widened interval (box distances and watertight t
   // round differently) and keep the hit ones: sorted near first for a closest hit; in list
   // order (Algorithm 1's near first along the shaft) for an any hit, which has no use for
-  // the exact order (measured: fewer steps and 1-10 % less time than sorting; docs/shafts.md,
-  // History, "any hit without the per-ray sort"). rp is made once here and handed to the
+  // the exact order (measured: fewer steps and 1-10 % less time than sorting; docs/history/shafts.md,
+  // "any hit without the per-ray sort"). rp is made once here and handed to the
   // traversal.
   const RayPrecomp rp(ray.dir);
   const CullInterval cull = bvh.cull_interval(ray);

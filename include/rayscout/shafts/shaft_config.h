@@ -39,8 +39,8 @@ struct ShaftConfig {
   /// Random sample rays per shaft for hitProbability (paper sec. 4.3: 20). Unset (default) =
   /// 4 for shafts, 3 for shafts-wide: stratified, they save as many or more steps than 8
   /// independent ones on Sibenik, Sponza and Conference, and build faster (docs/shafts.md,
-  /// Options and History). With the wide threshold 7/8 both 3 and 4 mean "all sample rays
-  /// enter the box".
+  /// Options; docs/history/shafts.md). With the wide threshold 7/8 both 3 and 4 mean "all
+  /// sample rays enter the box".
   std::optional<int> samples;
   /// Latin-hypercube sample rays: each of the 5 dimensions (origin x, y, z; direction u, v)
   /// is split into `samples` strata, one sample per stratum (random pairing); off = independent
