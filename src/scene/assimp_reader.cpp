@@ -1,5 +1,7 @@
 // glTF 2.0 (.gltf, .glb) through the Debian assimp package.
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -9,6 +11,7 @@
 #include <cfloat>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -81,22 +84,84 @@ std::string container_defect(const std::string& data, bool binary) {
   return "";
 }
 
+// nlohmann's message for text that does not parse (the caller knows it does not).
+std::string json_error(std::string_view text) {
+  try {
+    [[maybe_unused]] const nlohmann::json doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    return detail::invalid_json(e.what());
+  }
+  return "invalid JSON";
+}
+
+// glTF nodes form a forest: a node has at most one parent (glTF 2.0 sec. 3.5.2). assimp does
+// not check, and copies a node once per path to it, so 40 nodes each listing the next one
+// twice took minutes and gigabytes. Said before assimp sees the file.
+void check_node_tree(const nlohmann::json& doc, const std::string& file) {
+  if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return;
+  const nlohmann::json& nodes = doc["nodes"];
+  std::vector<size_t> parent(nodes.size(), SIZE_MAX);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (!nodes[i].is_object() || !nodes[i].contains("children") || !nodes[i]["children"].is_array()) continue;
+    for (const nlohmann::json& c : nodes[i]["children"]) {
+      if (!c.is_number_unsigned() || c.get<uint64_t>() >= nodes.size()) continue;  // assimp's to report
+      const size_t child = c.get<size_t>();
+      const std::string node = "nodes[" + std::to_string(child) + "]";
+      if (parent[child] == i)
+        throw InputError(file + ": nodes[" + std::to_string(i) + "] lists " + node + " twice as a child");
+      if (parent[child] != SIZE_MAX)
+        throw InputError(file + ": " + node + " is a child of nodes[" + std::to_string(parent[child]) + "] and of nodes[" +
+                         std::to_string(i) + "]: glTF nodes form a tree, one parent each");
+      parent[child] = i;
+    }
+  }
+}
+
+// assimp 5.2 says that it dropped faces with out-of-range indices only to its logger; this
+// collects its warnings and errors while it reads one file, through the process's logger if
+// there is one, else through one of its own.
+class AssimpMessages {
+ public:
+  AssimpMessages() : own_logger_(Assimp::DefaultLogger::isNullLogger()) {
+    if (own_logger_) Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(stream_, kSeverity);
+  }
+  ~AssimpMessages() {
+    Assimp::DefaultLogger::get()->detachStream(stream_, kSeverity);  // ownership comes back
+    delete stream_;
+    if (own_logger_) Assimp::DefaultLogger::kill();
+  }
+  AssimpMessages(const AssimpMessages&) = delete;
+  AssimpMessages& operator=(const AssimpMessages&) = delete;
+  bool contains(std::string_view text) const {
+    for (const std::string& m : stream_->messages)
+      if (m.find(text) != std::string::npos) return true;
+    return false;
+  }
+
+ private:
+  struct Stream : Assimp::LogStream {
+    std::vector<std::string> messages;
+    void write(const char* message) override { messages.emplace_back(message); }
+  };
+  static constexpr unsigned kSeverity = Assimp::Logger::Warn | Assimp::Logger::Err;
+  bool own_logger_;
+  Stream* stream_ = new Stream;
+};
+
 // KHR_materials_emissive_strength (emission = emissiveFactor * emissiveStrength) of the
 // file's materials, by name: assimp 5.2 ignores the extension and imports materials in the
 // order meshes first use them, not in file order, so the name is the only link. A strength
 // that cannot be placed (no name, a name two materials share, a name assimp cuts or cannot
 // hold) is ignored with a warning; so are all of them when the JSON is not strict UTF-8 JSON
 // (assimp reads some files nlohmann rejects, e.g. Latin-1 names).
-std::map<std::string, float> emissive_strengths(std::string_view text, const std::string& file,
-                                                std::vector<std::string>& warnings) {
+std::map<std::string, float> emissive_strengths(std::string_view text, const nlohmann::json& doc,
+                                                const std::string& file, std::vector<std::string>& warnings) {
   constexpr std::string_view kExtension = "KHR_materials_emissive_strength";
   std::map<std::string, float> strength;
   if (text.find(kExtension) == std::string_view::npos) return strength;
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    warnings.push_back(file + ": " + std::string(kExtension) + " ignored: " + detail::invalid_json(e.what()));
+  if (doc.is_discarded()) {
+    warnings.push_back(file + ": " + std::string(kExtension) + " ignored: " + json_error(text));
     return strength;
   }
   if (!doc.is_object() || !doc.contains("materials") || !doc["materials"].is_array()) return strength;
@@ -150,15 +215,21 @@ Mesh read_gltf(const std::filesystem::path& path) {
   detail::check_json_nesting(json, file);
   if (binary)
     if (const std::string overrun = overrunning_json_chunk(data); !overrun.empty()) throw InputError(file + ": " + overrun);
+  // Discarded when it does not parse: assimp reads some files nlohmann rejects (Latin-1 names).
+  const nlohmann::json doc = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
+  check_node_tree(doc, file);
   Assimp::Importer importer;
+  const AssimpMessages messages;
   // From the path, not from `data`: buffers and images may be files beside it.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
+  if (messages.contains("out-of-range indices"))  // also when every face was dropped
+    throw InputError(file + ": a primitive's indices reach past its vertex count (assimp dropped those faces)");
   if (!scene) {
     const std::string defect = container_defect(data, binary);
     throw InputError(file + ": " + (defect.empty() ? "assimp cannot read it: " + std::string(importer.GetErrorString()) : defect));
   }
   Mesh mesh;
-  const std::map<std::string, float> strengths = emissive_strengths(json, file, mesh.warnings);
+  const std::map<std::string, float> strengths = emissive_strengths(json, doc, file, mesh.warnings);
   for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
     const aiMaterial* m = scene->mMaterials[i];
     aiString name;

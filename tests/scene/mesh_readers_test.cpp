@@ -462,6 +462,34 @@ TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
   expect_contains(input_error_of([&] { load_scene(dir.write("d.gltf", no_faces)); }), {"d.gltf: assimp cannot read it: "});
 }
 
+// Found by fuzzing: nodes reached by two paths (40 nodes each listing the next twice took
+// minutes and gigabytes inside assimp), and faces assimp drops for out-of-range indices.
+TEST(GltfReader, NodesOutsideATreeAndOutOfRangeIndicesAreErrors) {
+  TempDir dir;
+  const std::string twice = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [1, 1]}, {"mesh": 0}])");
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("twice.gltf", twice)); }),
+                           {"twice.gltf: nodes[0] lists nodes[1] twice as a child"});
+  const std::string two_parents = triangle_gltf(
+      R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [1, 2]}, {"children": [3]}, {"children": [3]}, {"mesh": 0}])");
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("dag.gltf", two_parents)); }),
+                           {"dag.gltf: nodes[3] is a child of nodes[1] and of nodes[2]: glTF nodes form a tree"});
+  // Four vertices, faces (0 1 2) and (1 3 last): last = 9 reaches past the vertex count.
+  const auto two_faces = [](uint16_t last) {
+    std::string buf;
+    for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 1.f, 1.f, 0.f}) put<float>(buf, f, false);
+    for (uint16_t i : {uint16_t(0), uint16_t(1), uint16_t(2), uint16_t(1), uint16_t(3), last}) put<uint16_t>(buf, i, false);
+    return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+      "buffers": [{"byteLength": 60, "uri": "data:application/octet-stream;base64,)" + base64(buf) + R"("}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+                    {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
+  };
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("oob.gltf", two_faces(9))); }),
+                           {"oob.gltf: a primitive's indices reach past its vertex count"});
+  EXPECT_EQ(load_scene(dir.write("ok.gltf", two_faces(2))).triangles.size(), 2u);
+}
+
 // Found by fuzzing: a 52-byte .glb whose JSON chunk declares 4 GB. assimp allocated the
 // declared length before reading (4 GB and half a minute); now refused before assimp sees it.
 TEST(GltfReader, JsonChunkLongerThanTheFileIsRefusedBeforeAssimpReadsIt) {
