@@ -108,6 +108,13 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
 
 void SceneBuilder::finish(const std::string& source_name) {
   if (scene_.triangles.empty()) throw InputError(source_name + ": no triangles (empty scene)");
+  if (const float diagonal = length(scene_.bounds().diagonal()); diagonal < kMinDiagonal) {
+    char size[32];
+    std::snprintf(size, sizeof size, "%g", double(diagonal));
+    throw InputError(source_name + ": the scene is only " + size +
+                     " across (its bounds' diagonal); below 1e-9 the ray-triangle test's products of three "
+                     "coordinates underflow float: scale the scene up");
+  }
   scene_.emissive_triangles.clear();
   for (uint32_t i = 0; i < scene_.triangles.size(); ++i)
     if (scene_.material_of(i).emissive()) scene_.emissive_triangles.push_back(i);

@@ -18,6 +18,11 @@ namespace rayscout::detail {
 /// float's 3.4e38, and so do squared distances.
 inline constexpr float kMaxCoordinate = 1e11f;
 
+/// The smallest scene, by the diagonal of its bounds: the ray-triangle test multiplies three
+/// coordinate differences, which leave float's normal range (1.2e-38) below ~2e-13; at 1e-14
+/// hits came out at t = 0 and BVHs parted from brute force. 1e-9 keeps a margin of 1e-27.
+inline constexpr float kMinDiagonal = 1e-9f;
+
 /// A face's corners after a transform: a mirroring one (negative determinant) turns the face
 /// inside out, so two corners swap to keep its front (one-sided area lights emit from it)
 /// where the author put it, as glTF 2.0 (sec. 3.7.4) asks of nodes with a negative determinant.

@@ -412,6 +412,18 @@ TEST(SceneBadInput, JsonShapeAndCameraOverflow) {
                   {"scene.json: lights[0].position: is beyond +-1e11"});
 }
 
+// Found by review: a scene 1e-14 across gave hits at t = 0 (the triangle test's products of
+// three coordinates underflow) and a bare mesh 1e-20 across a NaN image. 1e-9 is the floor.
+TEST(SceneBadInput, ScenesTooSmallForFloatAreRefused) {
+  TempDir dir;
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "transform": {"scale": 1e-12}}]})"),
+                  {"scene.json: the scene is only 1.73205e-12 across (its bounds' diagonal); below 1e-9", "scale the scene up"});
+  const auto tiny = dir.write("tiny.obj", "v 0 0 0\nv 1e-11 0 0\nv 0 1e-11 0\nf 1 2 3\n");
+  expect_contains(input_error_of([&] { load_scene(tiny); }), {"tiny.obj: the scene is only 1.41421e-11 across"});
+  // Just above the floor, it loads.
+  EXPECT_EQ(load_scene(dir.write("small.obj", "v 0 0 0\nv 1e-9 0 0\nv 0 1e-9 0\nf 1 2 3\n")).triangles.size(), 1u);
+}
+
 // The parallel-up check is about directions: lengths far from 1 neither hide nor fake it.
 TEST(SceneBadInput, JsonCameraUpOfAnyLength) {
   TempDir dir;
