@@ -1,9 +1,10 @@
-// Accelerator: the batch entry points every ray tracer shares (subnormal values, then the
-// tracer's own batch loop).
+// Accelerator: the batch entry points every ray tracer shares (subnormal and non-finite
+// values, then the tracer's own batch loop).
 #include "rayscout/core/accelerator.h"
 
 #include <cfloat>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -12,32 +13,42 @@ namespace {
 
 /// Below FLT_MIN and not zero (NaN: false).
 bool subnormal(float x) { return x != 0.0f && std::fabs(x) < FLT_MIN; }
+/// Subnormal, infinite or NaN.
+bool irregular(float x) { return subnormal(x) | !(std::fabs(x) <= FLT_MAX); }
 
-bool has_subnormal(const RayBatch& rays, size_t i) {
-  return subnormal(rays.dx[i]) | subnormal(rays.dy[i]) | subnormal(rays.dz[i]) | subnormal(rays.ox[i]) |
-         subnormal(rays.oy[i]) | subnormal(rays.oz[i]);
+bool has_irregular(const RayBatch& rays, size_t i) {
+  return irregular(rays.dx[i]) | irregular(rays.dy[i]) | irregular(rays.dz[i]) | irregular(rays.ox[i]) |
+         irregular(rays.oy[i]) | irregular(rays.oz[i]);
 }
 
-/// A ray with a subnormal direction component or origin coordinate, and the k of its scaling.
-struct Subnormal {
+/// A ray with an irregular direction component or origin coordinate, and how it is traced:
+/// scaled by 2^k, or not at all (a miss).
+struct Irregular {
   size_t i;
   int k;
+  bool miss;
 };
 
-/// The rays with subnormal values (none almost always: one branch-free pass finds out first).
+/// The rays with irregular values (none almost always: one branch-free pass finds out first).
 /// k: when a direction component is subnormal and the largest one is below 1, 2^k brings the
 /// largest into [1, 2) (exact), so that the small ones become normal if they can; else 0.
-std::vector<Subnormal> subnormal_rays(const RayBatch& rays) {
+/// miss: an infinite or NaN component. A kernel would otherwise answer an infinite one with
+/// hits behind the origin (1 / inf turns the shear into 0, and t with it).
+std::vector<Irregular> irregular_rays(const RayBatch& rays) {
   bool any = false;
-  for (size_t i = 0; i < rays.size(); ++i) any |= has_subnormal(rays, i);
-  std::vector<Subnormal> found;
+  for (size_t i = 0; i < rays.size(); ++i) any |= has_irregular(rays, i);
+  std::vector<Irregular> found;
   if (!any) return found;
   for (size_t i = 0; i < rays.size(); ++i) {
-    if (!has_subnormal(rays, i)) continue;
-    const Vec3 d(rays.dx[i], rays.dy[i], rays.dz[i]);
+    if (!has_irregular(rays, i)) continue;
+    const Vec3 d(rays.dx[i], rays.dy[i], rays.dz[i]), o(rays.ox[i], rays.oy[i], rays.oz[i]);
+    if (!is_finite(d) || !is_finite(o)) {
+      found.push_back({i, 0, true});
+      continue;
+    }
     const float m = max_component(abs(d));
-    const bool scale = (subnormal(d.x) || subnormal(d.y) || subnormal(d.z)) && m < 1.0f && !std::isnan(m);
-    found.push_back({i, scale ? -std::ilogb(m) : 0});
+    const bool scale = (subnormal(d.x) || subnormal(d.y) || subnormal(d.z)) && m < 1.0f;
+    found.push_back({i, scale ? -std::ilogb(m) : 0, false});
   }
   return found;
 }
@@ -47,11 +58,16 @@ std::vector<Subnormal> subnormal_rays(const RayBatch& rays) {
 /// d / d_kz or coordinate keeps too few bits for the signs of the watertight test (an in-plane
 /// ray whose third component was 1.4e-45 hit a triangle 0.05 away), while the slab test's
 /// reciprocal of it is infinite, as of zero: as zero, both tests and Embree (which reads
-/// subnormals as zero) trace the same ray.
-RayBatch adjusted(const RayBatch& rays, const std::vector<Subnormal>& found) {
+/// subnormals as zero) trace the same ray. A ray to miss gets a NaN direction, which every
+/// tracer misses.
+RayBatch adjusted(const RayBatch& rays, const std::vector<Irregular>& found) {
   RayBatch out = rays;
   auto flush = [](float x) { return subnormal(x) ? std::copysign(0.0f, x) : x; };
-  for (const auto& [i, k] : found) {
+  for (const auto& [i, k, miss] : found) {
+    if (miss) {
+      out.dx[i] = out.dy[i] = out.dz[i] = std::numeric_limits<float>::quiet_NaN();
+      continue;
+    }
     out.dx[i] = flush(std::ldexp(rays.dx[i], k));
     out.dy[i] = flush(std::ldexp(rays.dy[i], k));
     out.dz[i] = flush(std::ldexp(rays.dz[i], k));
@@ -67,15 +83,15 @@ RayBatch adjusted(const RayBatch& rays, const std::vector<Subnormal>& found) {
 }  // namespace
 
 void Accelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
-  const auto found = subnormal_rays(rays);
+  const auto found = irregular_rays(rays);
   if (found.empty()) return intersect_batch(rays, hits, stats);
   intersect_batch(adjusted(rays, found), hits, stats);
-  for (const auto& [i, k] : found)
+  for (const auto& [i, k, miss] : found)
     if (k != 0 && hits.prim[i] != kInvalidId) hits.t[i] = std::ldexp(hits.t[i], k);
 }
 
 void Accelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
-  const auto found = subnormal_rays(rays);
+  const auto found = irregular_rays(rays);
   if (found.empty()) return occluded_batch(rays, occluded, stats);
   occluded_batch(adjusted(rays, found), occluded, stats);
 }

@@ -145,6 +145,8 @@ TEST_P(AgainstBruteForce, OddRaysMatchBruteForce) {
       // Infinite direction components: 0 * inf against a wide node's empty slots.
       {o, 0.0f, {-inf, inf, nan}, inf},            {c, 0.0f, {inf, 0.0f, 0.0f}, inf},
       {o, 0.0f, {-inf, 1.0f, 1.0f}, inf},
+      // The review's case: a triangle behind the origin, one component infinite.
+      {aim + Vec3(5.0f, 0.0f, 0.0f), 0.0f, {inf, 0.5f, 0.25f}, inf},
   };
   RayBatch rays;
   for (const Ray& r : odd) rays.push_back(r);
@@ -185,6 +187,13 @@ TEST_P(AgainstBruteForce, OddRaysMatchBruteForce) {
   size_t hits = 0;
   for (uint32_t prim : ref.prim) hits += prim != kInvalidId;
   EXPECT_GE(hits, 3u) << "the rays aimed at triangle 0 (tmin -1, scaled, plain) should hit it";
+  // Infinite or NaN in the origin or the direction: a miss (an infinite direction component was
+  // hit at t = -0, behind the origin, by brute force and the BVHs).
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (is_finite(odd[i].org) && is_finite(odd[i].dir)) continue;
+    EXPECT_EQ(got.prim[i], kInvalidId) << "ray " << i;
+    EXPECT_EQ(got_occ[i], 0) << "ray " << i;
+  }
 }
 
 // Directions whose every component is subnormal (unit directions times 2^-129) have no finite

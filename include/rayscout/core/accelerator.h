@@ -36,7 +36,8 @@ class Accelerator {
   /// subnormal component whose largest is below 1 is traced scaled up by a power of two
   /// (exact, the largest into [1, 2)) with tmin and tmax scaled down, and t is scaled back (it
   /// may then overflow to inf on a real hit); direction components and origin coordinates
-  /// still subnormal are traced as zero, as Embree reads them. A zero or NaN direction misses.
+  /// still subnormal are traced as zero, as Embree reads them. A zero direction misses, and so
+  /// does a ray with an infinite or NaN direction component or origin coordinate.
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const;
   /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0.
   /// Subnormal values as in intersect().
@@ -50,8 +51,8 @@ class Accelerator {
   virtual bool counts_work() const { return true; }
 
  protected:
-  /// What intersect() and occluded() run, on rays without subnormal direction components or
-  /// origin coordinates.
+  /// What intersect() and occluded() run, on rays whose direction components and origin
+  /// coordinates are finite and not subnormal (or whose direction is NaN, to miss).
   virtual void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const = 0;
   virtual void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const = 0;
 };
