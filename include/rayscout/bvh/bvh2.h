@@ -30,7 +30,7 @@ static_assert(sizeof(Bvh2Node) == 32);
 /// Binary BVH built with binned SAH (Wald 2007), parallel with oneTBB. The builder sees only
 /// triangle boxes and centroids. Traversal uses a robust slab test (Ize 2013; it keeps every
 /// box core's intersect_box keeps, see src/bvh/box_test.h) and core's watertight triangle
-/// test, so hits are bit-identical to BruteForce.
+/// test, so hits are bit-identical to BruteForce (but for two kinds of grazing rays: docs/bvh.md).
 class Bvh2 {
  public:
   std::vector<Bvh2Node> nodes;     ///< nodes[0] = root; empty for an empty triangle set

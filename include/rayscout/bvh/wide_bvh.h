@@ -83,7 +83,8 @@ static_assert(sizeof(WideNode) == 256);
 /// reads leaves contiguously and tests four triangles at once (closest hit with AVX2: eight,
 /// when a leaf spans two blocks); hits report the original triangle ids and are bit-identical
 /// to BruteForce (core's watertight triangle test with the same float operations in every
-/// SIMD lane, and a robust box test that keeps every box core's keeps: src/bvh/box_test.h).
+/// SIMD lane, and a robust box test that keeps every box core's keeps: src/bvh/box_test.h; two
+/// kinds of grazing rays excepted, docs/bvh.md).
 class WideBvh {
  public:
   std::vector<WideNode> nodes;     ///< nodes[0] = root (empty when there are no triangles)
