@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <array>
+#include <limits>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -106,7 +107,7 @@ class Builder {
       partition(r, split, left, right);
       node.axis = uint8_t(split.axis);
     } else {
-      // Every centre is equal (or binning found no split): split the list in half.
+      // Every centre is equal, or no split has a finite non-zero cost: split the list in half.
       node.axis = uint8_t(r.box.bounds().largest_axis());
       median_split(r, left, right);
     }
@@ -243,6 +244,10 @@ class Builder {
         }
       }
     }
+    // Boxes without area (collinear input) or with an infinite one cost every split the same,
+    // 0 or inf: the first bin would win at every level, peeling one bin off a chain of nodes
+    // (depth 2257 for 1M collinear triangles). The median split halves them instead.
+    if (!(best.cost > 0.0f && best.cost < std::numeric_limits<float>::infinity())) best.axis = -1;
     if (best.axis >= 0)
       for (int k = 0; k < nb; ++k) (k <= best.bin ? best.left : best.right).extend(bins[best.axis][k].box.lo, bins[best.axis][k].box.hi);
     best.bins = nb;
@@ -326,7 +331,7 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
   if (config.leaf_block < 1)
     throw InputError("BvhBuildConfig.leaf_block = " + std::to_string(config.leaf_block) + ": must be >= 1");
   if (boxes.size() >= (1u << 27))
-    throw InputError("BVH: " + std::to_string(boxes.size()) + " triangles, at most 2^27 supported");
+    throw InputError("BVH: " + std::to_string(boxes.size()) + " primitives (triangles, or their pieces with presplit), at most 2^27 supported");
   const uint32_t n = uint32_t(boxes.size());
   nodes.clear();
   prim_ids.resize(n);

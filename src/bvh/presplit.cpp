@@ -3,10 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+
+#include "rayscout/core/input_error.h"
 
 namespace rayscout::detail {
 namespace {
@@ -91,6 +95,22 @@ void split_into(const Triangle& tri, const Bounds3& box, uint32_t n, const Bound
 
 PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces) {
   const size_t n = tris.size();
+  // NaN would make the bounds depend on the reduction order (SSE min and max are not
+  // symmetric in NaN), and infinity every enclosing node's SAH cost. The scene loader refuses
+  // both; this is for callers of the library.
+  const bool finite = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 16384), true,
+      [&](const auto& r, bool ok) {
+        for (size_t i = r.begin(); i != r.end(); ++i) ok &= is_finite(tris[i].v0) & is_finite(tris[i].v1) & is_finite(tris[i].v2);
+        return ok;
+      },
+      std::logical_and<>());
+  if (!finite) {
+    const auto bad = std::find_if(tris.begin(), tris.end(), [](const Triangle& t) {
+      return !is_finite(t.v0) || !is_finite(t.v1) || !is_finite(t.v2);
+    });
+    throw InputError("BVH: triangle " + std::to_string(bad - tris.begin()) + " has an infinite or NaN vertex");
+  }
   PrimReferences refs;
   if (!(budget > 0.0f) || n == 0) {
     refs.boxes.resize(n);

@@ -93,7 +93,9 @@ class WideBvh {
   Bounds3 bounds;                  ///< box of every triangle (the root node's box)
   bool split_references = false;   ///< as Bvh2::split_references
 
-  /// Builds a Bvh2 with config, then collapses it.
+  /// Builds a Bvh2 with config, then collapses it. The default config is the Bvh2's (greedy
+  /// collapse, leaves of 4); the `bvh` accelerator builds with wide_bvh_default_config()
+  /// (bvh_accelerators.h), which is what the benchmarks measure.
   static WideBvh build(std::span<const Triangle> tris, const BvhBuildConfig& config = {});
   /// Collapses bvh (built over tris) into 8-wide nodes with config.collapse (and its
   /// collapse_* costs); the other fields of config are not used here. When source_node is
