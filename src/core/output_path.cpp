@@ -43,7 +43,8 @@ void check_output_path(const std::filesystem::path& path, const std::string& lab
   }
   const std::filesystem::path parent = path.parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(label + ": folder " + parent.string() + " does not exist");
+    throw InputError(label + (std::filesystem::exists(parent, ec) ? ": " + parent.string() + " is a file, not a folder"
+                                                                    : ": folder " + parent.string() + " does not exist"));
   // Open it for writing as the writer will, without truncating a file that exists; a file the
   // probe creates is removed again. Only regular files and new paths are probed: opening a
   // FIFO for writing would wait for a reader (devices are left to the writer too).
@@ -81,9 +82,12 @@ void check_distinct_files(std::span<const NamedFile> outputs, std::span<const Na
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw InputError(label + ": cannot open " + path.string() + " for writing: " + std::strerror(errno));
+  errno = 0;
   out.write(bytes.data(), std::streamsize(bytes.size()));
   out.close();
-  if (!out) throw InputError(label + ": cannot write " + path.string() + " (" + std::to_string(bytes.size()) + " bytes)");
+  if (!out)
+    throw InputError(label + ": cannot write " + path.string() + " (" + std::to_string(bytes.size()) + " bytes)" +
+                     (errno ? std::string(": ") + std::strerror(errno) : ""));
 }
 
 }  // namespace rayscout

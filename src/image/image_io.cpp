@@ -1,6 +1,8 @@
 // Image files: PNG through stb, EXR through OpenEXR, PFM by hand.
 #include <algorithm>
+#include <array>
 #include <bit>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -37,6 +39,9 @@
 namespace rayscout {
 namespace {
 
+/// The largest image side rayscout renders (--width, --height) and reads.
+constexpr int kMaxImageSide = 32768;
+
 void check_size(const Image& image, const std::filesystem::path& path) {
   if (image.width <= 0 || image.height <= 0 || image.pixels.size() != size_t(image.width) * size_t(image.height))
     throw InputError(path.string() + ": image has no pixels or a wrong pixel count");
@@ -63,14 +68,22 @@ Image read_png(const std::filesystem::path& path) {
   // without one: clear it (stb's own static in this file, no API) so that an earlier file's
   // error is never reported for this one.
   stbi__g_failure_reason = nullptr;
-  std::unique_ptr<uint8_t, void (*)(void*)> data(stbi_load(path.string().c_str(), &w, &h, &n, 3), stbi_image_free);
-  if (!data) {
+  auto fail = [&] {
     const char* why = stbi_failure_reason();  // null for some corrupt data: stb returns without a reason
-    throw InputError(path.string() + ": cannot read PNG (" + (why ? why : "corrupt data") + ")");
-  }
+    return InputError(path.string() + ": cannot read PNG (" + (why ? why : "corrupt data") + ")");
+  };
+  // The header first, as for EXR: a 389 KB PNG of 20000 x 20000 pixels decoded to 6 GB.
+  if (!stbi_info(path.string().c_str(), &w, &h, &n)) throw fail();
+  if (w > kMaxImageSide || h > kMaxImageSide)
+    throw InputError(path.string() + ": PNG of " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels: not an image rayscout reads (1 to 32768 pixels a side)");
+  std::unique_ptr<uint8_t, void (*)(void*)> data(stbi_load(path.string().c_str(), &w, &h, &n, 3), stbi_image_free);
+  if (!data) throw fail();
+  std::array<float, 256> linear;
+  for (int v = 0; v < 256; ++v) linear[v] = srgb_to_linear(float(v) / 255.0f);
   Image image(w, h);
   for (size_t i = 0; i < image.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) image.pixels[i][c] = srgb_to_linear(data.get()[3 * i + c] / 255.0f);
+    for (int c = 0; c < 3; ++c) image.pixels[i][c] = linear[data.get()[3 * i + c]];
   return image;
 }
 
@@ -101,9 +114,9 @@ Image read_exr(const std::filesystem::path& path) {
     Imf::InputFile file(path.string().c_str());
     const auto dw = file.header().dataWindow();
     // The header is checked before the pixels are allocated: a corrupt or hostile data window
-    // of a small file could ask for gigabytes. 32768 is the largest image rayscout renders.
+    // of a small file could ask for gigabytes.
     const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
-    if (w < 1 || h < 1 || w > 32768 || h > 32768)
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
       throw InputError(path.string() + ": EXR data window of " + std::to_string(w) + "x" + std::to_string(h) +
                        " pixels: not an image rayscout reads (1 to 32768 pixels a side)");
     // And a header that claims more scan lines than the file holds is caught here too.
@@ -205,12 +218,17 @@ float srgb_to_linear(float e) {
   return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
 }
 
-void check_image_path(const std::filesystem::path& path) {
+void check_image_path(const std::filesystem::path& path, int width, int height) {
   std::error_code ec;
+  if (path.empty()) throw InputError("no image file named (an empty path)");
   if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a directory, not an image file");
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
     throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+  // stb's PNG writer sizes its filtered rows, (3 width + 1) height bytes, in an int.
+  if (ext == ".png" && (3 * int64_t(width) + 1) * int64_t(height) > INT_MAX)
+    throw InputError(path.string() + ": a PNG of " + std::to_string(width) + "x" + std::to_string(height) +
+                     " pixels is beyond stb's PNG writer (at most 2^31 bytes of rows, 32768x21845); write .exr or .pfm");
   check_output_path(path, path.string());
 }
 
@@ -218,7 +236,7 @@ bool writes_srgb(const std::filesystem::path& path) { return lower_extension(pat
 
 void write_image(const Image& image, const std::filesystem::path& path) {
   check_size(image, path);
-  check_image_path(path);
+  check_image_path(path, image.width, image.height);
   const std::string ext = lower_extension(path);
   if (ext == ".png") return write_png(image, path);
   if (ext == ".exr") return write_exr(image, path);

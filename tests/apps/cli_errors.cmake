@@ -85,7 +85,7 @@ expect(2 "--width 2147483647 x --height 1 x --spp 1 = 2147483647 rays \\(64 byte
 expect(2 "= 1600000000 rays \\(112 bytes a ray\\) need at least 179.2 GB" rays --scene cornell --workload ao --width 40000 --height 40000 --out ${WORK}/x.rays)
 # A render bigger than memory (here ~200,000 GB in one pass) is refused before the scene loads.
 expect(2 "--width 32768 x --height 32768 \\(1073741824 pixels at 24 bytes for film and image, 1000000000000 camera rays a pass \\(--max-batch\\) at ~200 bytes\\) need at least"
-       render --width 32768 --height 32768 --spp 1000 --max-batch 1000000000000 --out ${WORK}/x.png)
+       render --width 32768 --height 32768 --spp 1000 --max-batch 1000000000000 --out ${WORK}/x.exr)
 # The occlusion rays of a hit share its batch (~110 GB here), and manylight's shading points are
 # not split into passes (~140 GB): both counted.
 expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes\\) need at least 11[0-9]\\.[0-9] GB"
@@ -151,6 +151,8 @@ expect(0 "wrote" diff ${WORK}/nan1.pfm ${WORK}/ref1.pfm --out ${WORK}/nan-diff.p
 expect(2 "--scale: 'nan' is not a number" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --scale nan)
 # Output paths are checked before any work: a missing folder, a directory, an unknown format.
 expect(2 "folder .*no-such-dir does not exist" render --width 8 --height 8 --out ${WORK}/no-such-dir/x.png)
+expect(2 "a8.pfm/x.png: .*a8.pfm is a file, not a folder" render --width 8 --height 8 --out ${WORK}/a8.pfm/x.png)
+expect(2 "big.png: a PNG of 32768x21846 pixels is beyond stb's PNG writer" render --width 32768 --height 21846 --out ${WORK}/big.png)
 expect(2 "is a directory" render --width 8 --height 8 --out ${WORK})
 expect(2 "unknown image format '.bmp'" render --width 8 --height 8 --out ${WORK}/x.bmp)
 expect(2 "--stats .*no-such-dir/s.json: folder" render --width 8 --height 8 --out ${WORK}/x.png --stats ${WORK}/no-such-dir/s.json)

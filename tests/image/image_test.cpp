@@ -320,6 +320,25 @@ TEST(ImageIo, ExrDataWindowIsCheckedBeforeAllocating) {
   EXPECT_EQ(msg.find("cannot read EXR"), std::string::npos) << "said once, not wrapped: " << msg;
 }
 
+// Found by review: a 389 KB PNG of 20000x20000 pixels decoded to 6 GB; the header is checked
+// first, as for EXR. And stb's PNG writer sizes its rows in an int: a render of 32768x21846
+// would have ended in "cannot encode PNG" (and signed overflow), so the path check says so.
+TEST(ImageIo, PngSizesAreCheckedBeforeTheWork) {
+  const fs::path p = temp_file("wide.png");
+  write_image(Image(40000, 1), p);
+  EXPECT_NE(read_error(p).find("wide.png: PNG of 40000x1 pixels: not an image rayscout reads"), std::string::npos);
+  fs::remove(p);
+  try {
+    check_image_path(temp_file("big.png"), 32768, 21846);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.png: a PNG of 32768x21846 pixels is beyond stb's PNG writer"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(check_image_path(temp_file("big.png"), 32768, 21845));
+  EXPECT_NO_THROW(check_image_path(temp_file("big.exr"), 32768, 32768));
+}
+
 // A corrupt 8x8 file whose header claims 10000x10000 pixels (padded with zeros, where the
 // missing line offsets would be) is refused before 1.2 GB of pixels are allocated.
 TEST(ImageIo, ExrClaimingMorePixelsThanItHoldsIsIncomplete) {

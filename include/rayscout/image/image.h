@@ -31,9 +31,10 @@ void write_image(const Image& image, const std::filesystem::path& path);
 bool writes_srgb(const std::filesystem::path& path);
 
 /// Throws InputError (naming the path) when write_image could not write `path`: another
-/// extension than .png, .exr or .pfm, a directory, or a parent folder that does not exist.
+/// extension than .png, .exr or .pfm, a directory, a parent folder that does not exist, or
+/// (when width and height are given) an image too large for the format.
 /// Commands call it before their work, so a mistyped --out never costs a finished render.
-void check_image_path(const std::filesystem::path& path);
+void check_image_path(const std::filesystem::path& path, int width = 0, int height = 0);
 
 /// Reads .exr, .pfm or .png (8-bit sRGB decoded to linear). Throws InputError naming the file.
 Image read_image(const std::filesystem::path& path);
