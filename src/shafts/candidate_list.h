@@ -120,8 +120,8 @@ class CandidateListBuilder {
   /// cullNodeSubtree (see detail::cull_subtree).
   uint32_t cull_subtree(uint32_t node) const { return detail::cull_subtree(tree_, shaft_, node); }
 
-  /// Algorithm 1 with threshold min_prob. Appends node indices to out, near first. Returns false
-  /// (out then incomplete) as soon as the list exceeds max_len.
+  /// Algorithm 1 with threshold min_prob. Fills out (cleared first) with node indices, near
+  /// first. Returns false (out then incomplete) as soon as the list exceeds max_len.
   bool build(double min_prob, int max_len, std::vector<uint32_t>& out) {
     out.clear();
     stack_.clear();

@@ -21,7 +21,8 @@ inline constexpr float kEntryFarWiden = 4.0e-7f;
 /// Writes the entries whose (widened) box the ray meets within [near, far] to refs/dist,
 /// sorted by entry distance (Sorted) or in list order; returns their count. NaN slab
 /// distances (0 * inf for a ray in a box plane) leave that axis unconstrained: conservative.
-/// The AVX2 and the scalar path compute the same numbers.
+/// The AVX2 and the scalar path compute the same numbers but for NaN far limits, where both
+/// are conservative (_mm256_min_ps and std::fmin treat NaN differently).
 template <bool Sorted>
 inline int filter_entries(const EntryBoxCodec& codec, const Candidates& c, const Vec3& org, const Vec3& inv_dir,
                           float near, float far, uint32_t* refs, float* dist) {

@@ -2,6 +2,7 @@
 #include "rayscout/shafts/shaft_grid.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 namespace rayscout {
@@ -63,7 +64,7 @@ Vec3 ShaftGrid::face_direction(const CellRange& c, double u, double v) {
 }
 
 bool ShaftGrid::classify_outside(const Ray& ray, ShaftCoord& out) const {
-  if (!is_finite(ray.org) || !is_finite(ray.dir) || !(max_component(abs(ray.dir)) > 0.0f)) return false;
+  if (!is_finite(ray.org) || !is_finite(ray.dir) || !(max_component(abs(ray.dir)) >= FLT_MIN)) return false;
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity(), dist2 = 0.0;
   for (int a = 0; a < 3; ++a) {
     const double o = ray.org[a], d = ray.dir[a], lo = box_.lo[a], hi = box_.hi[a];

@@ -1,6 +1,7 @@
 // ShaftGrid: resolution from a voxel count, classification inside, outside and on borders.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "rayscout/shafts/shaft_grid.h"
@@ -43,6 +44,10 @@ TEST(ShaftGrid, RejectsRaysItCannotClassifySafely) {
   EXPECT_FALSE(g.classify(Ray{{2.0f, 0.5f, 0.5f}, 0.0f, {1, 0, 0}, kInfinity}, c));    // away
   EXPECT_FALSE(g.classify(Ray{{2.0f, 2.0f, 0.5f}, 0.0f, {0, 1, 0}, kInfinity}, c));    // parallel, outside slab
   EXPECT_FALSE(g.classify(Ray{{-100.0f, 0.5f, 0.5f}, 0.0f, {1, 0, 0}, kInfinity}, c)); // too far
+  // Largest component subnormal: 1 / it is infinite, and the cell index was int(NaN).
+  const float tiny = std::numeric_limits<float>::denorm_min();
+  EXPECT_FALSE(g.classify(Ray{{0.5f, 0.5f, 0.5f}, 0.0f, {tiny, 0, tiny}, kInfinity}, c));
+  EXPECT_FALSE(g.classify(Ray{{-1.0f, 0.5f, 0.5f}, 0.0f, {tiny, 0, 0}, kInfinity}, c));
 }
 
 TEST(ShaftGrid, OutsideOriginsAreClassifiedAtTheirEntryPoint) {

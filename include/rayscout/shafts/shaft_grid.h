@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -23,7 +24,8 @@ struct ShaftCoord {
 /// map of 6 d x d direction cells. Classification of a ray (Hendrich et al. 2019, sec. 4.1):
 /// - the origin voxel when the origin lies in the box; else the ray is clipped to the box
 ///   (in double) and classified at its entry point, since no geometry lies before it;
-/// - no shaft (the caller starts at the root) for non-finite input, a zero direction,
+/// - no shaft (the caller starts at the root) for non-finite input, a zero direction or one
+///   whose largest component is subnormal (its reciprocal is infinite),
 ///   tmin < 0, a ray missing the box, or an origin farther than kFarFactor box diagonals
 ///   from the box (there the triangle test's rounding could exceed the shafts' padding).
 class ShaftGrid {
@@ -85,7 +87,7 @@ class ShaftGrid {
     if (!(ray.org.x >= box_.lo.x && ray.org.y >= box_.lo.y && ray.org.z >= box_.lo.z &&
           ray.org.x <= box_.hi.x && ray.org.y <= box_.hi.y && ray.org.z <= box_.hi.z))
       return classify_outside(ray, out);
-    if (!(max_component(abs(ray.dir)) > 0.0f) || !is_finite(ray.dir)) return false;
+    if (!(max_component(abs(ray.dir)) >= FLT_MIN) || !is_finite(ray.dir)) return false;
     out.voxel = voxel_id(axis_index(ray.org.x, 0), axis_index(ray.org.y, 1), axis_index(ray.org.z, 2));
     out.cell = dir_cell(ray.dir);
     return true;

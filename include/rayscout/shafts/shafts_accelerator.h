@@ -17,7 +17,8 @@ namespace rayscout {
 /// EGSR 2019): builds a BVH, then a ShaftCollection over it; a ray is classified into its
 /// shaft, the shaft's candidate list seeds the BVH's normal traversal (sec. 4.5). Rays
 /// without a shaft or in a shaft without a list start at the root; rays of a shaft that
-/// provably reaches no geometry miss without traversal. Hits are bit-identical to brute.
+/// provably reaches no geometry miss without traversal. Hits are those of the BVH traversed
+/// from the root, so bit-identical to brute but for the grazing rays of docs/bvh.md.
 class ShaftsAccelerator final : public Accelerator {
  public:
   enum class Base { Binary, Wide };
