@@ -154,9 +154,14 @@ class JsonSceneLoader {
     return p.lexically_normal();
   }
 
-  // The same file listed several times is read once per load.
+  // The same file listed several times is read once per load. Every "file" (meshes and area
+  // lights) comes through here.
   std::shared_ptr<const Mesh> mesh_file(const Json& j, const std::string& field, std::string& source) {
-    const std::filesystem::path p = resolve_path(f_.string(j, field));
+    const std::string name = f_.string(j, field);
+    // The OS reads a path up to its first NUL: "ok.obj\u0000junk.obj" loaded ok.obj.
+    if (name.find('\0') != std::string::npos)
+      f_.fail(field, "file name \"" + name + "\" holds a NUL character (\\u0000), which no file name can contain");
+    const std::filesystem::path p = resolve_path(name);
     source = display_name(p);
     std::error_code ec;
     std::string key = std::filesystem::weakly_canonical(p, ec).string();
@@ -166,7 +171,7 @@ class JsonSceneLoader {
     try {
       mesh = std::make_shared<const Mesh>(read_mesh(p));
     } catch (const InputError& e) {
-      throw InputError(f_.file() + ": " + field + ": " + e.what());
+      throw InputError(printable(f_.file() + ": " + field + ": " + e.what()));
     }
     cache_.emplace(key, mesh);
     return mesh;

@@ -270,6 +270,9 @@ class ObjReader {
   void material_libraries(size_t line, const char* q, const char* end) {
     const std::string_view names = detail::rest_trimmed(q, end);
     if (names.empty()) fail_at(path_, line, "mtllib without a file name");
+    // The OS reads a path up to its first NUL: "mtllib red.mtl<NUL>junk" read red.mtl.
+    if (names.find('\0') != std::string_view::npos)
+      fail_at(path_, line, "mtllib '" + std::string(names) + "': a NUL byte in the file name, which no file name can contain");
     std::vector<std::string> files{std::string(names)};
     std::error_code ec;
     if (!std::filesystem::exists(path_.parent_path() / files[0], ec)) {

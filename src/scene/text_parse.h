@@ -17,7 +17,7 @@
 
 namespace rayscout::detail {
 
-/// The whole file; throws InputError "path: cannot open ..." when it cannot be read.
+/// The whole file; throws InputError "path: cannot open ..." (made printable) when it cannot be read.
 std::string read_file(const std::filesystem::path& path);
 
 /// Start of the text after a UTF-8 byte order mark, if any.

@@ -246,6 +246,28 @@ TEST(SceneBadInput, ControlBytesInQuotedInputAreEscaped) {
                   {"nul.json: meshes[0].a\\x00b: unknown key"});
 }
 
+// Review: the OS reads a path up to its first NUL, so "ok.obj\u0000junk.obj" loaded ok.obj (and
+// "mtllib red.mtl<NUL>junk" read red.mtl); messages quoting a path were cut at a NUL, and
+// printed other control bytes raw.
+TEST(SceneBadInput, NulInAFileNameIsAnErrorAndPathsInMessagesAreEscaped) {
+  TempDir dir;
+  dir.write("ok.obj", kTriangle + "f 1 2 3\n");
+  dir.write("red.mtl", "newmtl red\nKd 1 0 0\n");
+  expect_contains(error_loading(dir, "nul.json", R"({"meshes": [{"file": "ok.obj\u0000junk.obj"}]})"),
+                  {"nul.json: meshes[0].file: file name \"ok.obj\\x00junk.obj\" holds a NUL character (\\u0000), "
+                   "which no file name can contain"});
+  expect_contains(error_loading(dir, "light.json", R"({"meshes": [{"file": "ok.obj"}], )"
+                                                   R"("lights": [{"type": "area", "emission": 1, "file": "nope\u0000.obj"}]})"),
+                  {"light.json: lights[0].file: file name \"nope\\x00.obj\" holds a NUL character"});
+  expect_contains(error_loading(dir, "nul.obj", std::string("mtllib red.mtl\0junk\n", 20) + kTriangle + "f 1 2 3\n"),
+                  {"nul.obj:1: mtllib 'red.mtl\\x00junk': a NUL byte in the file name, which no file name can contain"});
+  expect_contains(input_error_of([&] { load_scene(dir.path() / "no\x1bpe.obj"); }), {"no\\x1bpe.obj: cannot open: "});
+  expect_contains(input_error_of([&] { load_scene(dir.path() / "mesh\x1b.stl"); }),
+                  {"mesh\\x1b.stl: unknown mesh format '.stl'"});
+  expect_contains(error_loading(dir, "esc.json", R"({"meshes": [{"file": "no\u001bpe.obj"}]})"),
+                  {"esc.json: meshes[0].file: ", "no\\x1bpe.obj: cannot open: "});
+}
+
 // Found by fuzzing.
 TEST(SceneBadInput, ObjSmallestIndexAndDirectoryMtllib) {
   TempDir dir;
