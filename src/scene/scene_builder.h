@@ -56,11 +56,13 @@ class SceneBuilder {
   void add(const Mesh& mesh, const Transform& xf, const std::vector<uint32_t>& material_map,
            const std::string& source);
 
-  /// Fills emissive_triangles; throws InputError(source_name + ": no triangles") when empty.
+  /// Fills emissive_triangles; throws InputError(source_name + ": no triangles") when empty, or
+  /// one saying that all triangles had zero area when add() dropped them all.
   void finish(const std::string& source_name);
 
  private:
   Scene& scene_;
+  size_t dropped_ = 0;  // zero-area triangles dropped by add(), over all meshes
   std::unordered_map<std::string, uint32_t> by_name_;
 };
 

@@ -80,8 +80,18 @@ TEST(SceneBadInput, EmptyMeshes) {
   TempDir dir;
   expect_contains(error_loading(dir, "empty.obj", ""), {"empty.obj", "no faces"});
   expect_contains(error_loading(dir, "verts.obj", kTriangle), {"verts.obj", "no faces"});
-  // Only zero-area faces: nothing is left after dropping them.
-  expect_contains(error_loading(dir, "flat.obj", kTriangle + "f 1 1 2\n"), {"flat.obj", "no triangles"});
+  // Only zero-area faces: nothing is left after dropping them. That is said in the error (review:
+  // it said "no triangles (empty scene)", and the warning counting them was never printed).
+  const std::string why = " zero area (repeated indices, collinear vertices, or a transform that flattens them)";
+  expect_contains(error_loading(dir, "flat.obj", kTriangle + "f 1 1 2\n"), {"flat.obj: its only triangle has" + why});
+  expect_contains(error_loading(dir, "line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3 4\nf 4 3 1\n"),
+                  {"line.obj: all 3 triangles have" + why});
+  dir.write("tri.obj", kTriangle + "f 1 2 3\n");
+  expect_contains(error_loading(dir, "tiny.json", R"({"meshes": [{"file": "tri.obj", "transform": {"scale": 1e-30}},
+                                                                 {"file": "tri.obj", "transform": {"scale": 1e-25}}]})"),
+                  {"tiny.json: all 2 triangles have" + why});
+  // No faces at all keeps the plain message.
+  expect_contains(error_loading(dir, "none.json", R"({"meshes": []})"), {"none.json: no triangles (empty scene)"});
   expect_contains(error_loading(dir, "empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
                                                   "property float y\nproperty float z\nend_header\n"),
                   {"empty.ply", "no faces"});
