@@ -5,10 +5,12 @@
 // parses "v 1 abc 2" and "v nan 0 0" silently (unparsable numbers become 0); and it
 // builds per-vertex attribute arrays we do not need. Here every error names its line.
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -45,6 +47,36 @@ Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& fil
   if (n < 3)
     fail_at(file, line, std::string(what) + ": expected 3 numbers, found " + std::to_string(n));
   return {c[0], c[1], c[2]};
+}
+
+// Refuses a token left on the line after a statement's values ("Kd 1 0 0 abc", "v 1 0 0 v 0 1 0"):
+// ignored, it would hide a typo or two statements run together.
+void expect_line_end(const char* p, const char* end, const std::filesystem::path& file, size_t line,
+                     std::string_view what, std::string_view after) {
+  if (const std::string_view tok = next_token(p, end); !tok.empty())
+    fail_at(file, line, std::string(what) + ": unexpected '" + std::string(tok) + "' after " + std::string(after));
+}
+
+// MTL statements rayscout reads past on purpose (ambient, transparency, refraction, bump and
+// displacement, the PBR extension), besides every texture "map_*": an unknown key is warned about
+// instead, as it is most likely a misspelt one that rayscout reads ("kd": the material stays grey).
+constexpr std::string_view kIgnoredMtlStatements[] = {
+    "Ka", "Tf", "Ni", "d", "Tr",                               // ambient, transparency, refraction
+    "bump", "Km", "disp", "decal", "refl", "sharpness",        // textures named without map_
+    "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "norm"};  // the PBR extension
+
+bool ignored_mtl_statement(std::string_view key) {
+  return key.starts_with("map_") ||
+         std::find(std::begin(kIgnoredMtlStatements), std::end(kIgnoredMtlStatements), key) !=
+             std::end(kIgnoredMtlStatements);
+}
+
+// The MTL key rayscout reads that `key` spells in other case ("kd": "Kd"), else empty.
+std::string_view read_key_but_for_case(std::string_view key) {
+  const auto same = [](char a, char b) { return std::tolower((unsigned char)a) == std::tolower((unsigned char)b); };
+  for (std::string_view k : {"Kd", "Ks", "Ke", "Ns", "illum"})
+    if (k.size() == key.size() && std::equal(k.begin(), k.end(), key.begin(), same)) return k;
+  return {};
 }
 
 std::string plural(std::string_view what) { return what == "vertex" ? "vertices" : std::string(what) + "s"; }
@@ -116,6 +148,7 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
     size_t line = 0;
   };
   std::vector<Pending> defs;
+  std::unordered_set<std::string> unknown_keys;  // warned about once each
   detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* line_end) {
     if (key == "newmtl") {
       std::string_view name = detail::rest_trimmed(q, line_end);
@@ -126,13 +159,21 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
       return;
     }
     const bool known = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ns" || key == "illum";
-    if (!known) return;  // Ka, Ni, d, Tr, Tf, map_*, bump...: not used by rayscout
+    if (!known) {
+      if (ignored_mtl_statement(key) || !unknown_keys.emplace(key).second || !warnings) return;
+      const std::string_view meant = read_key_but_for_case(key);
+      warnings->push_back(detail::printable(
+          detail::display_name(path) + ":" + std::to_string(line) + ": unknown MTL statement '" + std::string(key) +
+          "' ignored" + (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?")));
+      return;
+    }
     if (defs.empty()) fail_at(path, line, std::string(key) + " before any newmtl");
     Pending& d = defs.back();
     // Colours: one number (grey) or three, each >= 0, as in JSON scenes (a negative
     // reflectance or emission would make negative radiance).
     auto colour = [&](std::string_view what) {
       const Vec3 c = read_vec3(q, line_end, path, line, what, "component", true);
+      expect_line_end(q, line_end, path, line, what, "the colour");
       if (c.x < 0 || c.y < 0 || c.z < 0) fail_at(path, line, std::string(what) + ": colour components must be >= 0");
       return c;
     };
@@ -143,11 +184,13 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
       std::string_view tok = next_token(q, line_end);
       if (!detail::parse_float(tok, d.ns) || !std::isfinite(d.ns) || d.ns < 0)
         fail_at(path, line, "Ns: expected a non-negative number, found '" + std::string(tok) + "'");
+      expect_line_end(q, line_end, path, line, "Ns", "the exponent");
     } else {
       std::string_view tok = next_token(q, line_end);
       long long v;
       if (!detail::parse_int(tok, v)) fail_at(path, line, "illum: expected an integer, found '" + std::string(tok) + "'");
       if (v < 0 || v > 10) fail_at(path, line, "illum " + std::string(tok) + ": the MTL illumination models are 0 to 10");
+      expect_line_end(q, line_end, path, line, "illum", "the model number");
       d.illum = int(v);
     }
   });
@@ -205,11 +248,9 @@ class ObjReader {
   void vertex(size_t line, const char* q, const char* end) {
     mesh_.positions.push_back(read_vec3(q, end, path_, line, "vertex", "coordinate"));
     int extra = 0;
-    for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end), ++extra) {
-      double value;
-      if (!detail::parse_double(tok, value))
-        fail_at(path_, line, "vertex: unexpected '" + std::string(tok) + "' after the 3 coordinates");
-    }
+    double value;
+    for (const char* r = q; detail::parse_double(next_token(r, end), value); q = r) ++extra;
+    expect_line_end(q, end, path_, line, "vertex", "the 3 coordinates");
     if (extra > 4)
       fail_at(path_, line, "vertex: " + std::to_string(3 + extra) + " numbers (expected x y z, then w, r g b or r g b a)");
   }

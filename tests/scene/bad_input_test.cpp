@@ -108,6 +108,18 @@ TEST(SceneBadInput, MtlMalformedLine) {
   dir.write("n.mtl", "Kd 1 1 1\n");
   expect_contains(error_loading(dir, "n.obj", "mtllib n.mtl\n" + kTriangle + "f 1 2 3\n"),
                   {"n.mtl:1: ", "before any newmtl"});
+  // Review: words after the values were ignored, as they are refused after a vertex's.
+  const std::pair<const char*, const char*> trailing[] = {
+      {"Kd 1 0 0 abc", "Kd: unexpected 'abc' after the colour"},
+      {"Ke 0.5 0.5 0.5 v", "Ke: unexpected 'v' after the colour"},
+      {"Ks 1 0 0 0.5", "Ks: unexpected '0.5' after the colour"},
+      {"Ns 10 junk", "Ns: unexpected 'junk' after the exponent"},
+      {"illum 2 xyz", "illum: unexpected 'xyz' after the model number"}};
+  for (const auto& [statement, message] : trailing) {
+    dir.write("t.mtl", "newmtl a\nKd 0.5\n" + std::string(statement) + " # a comment is fine\n");
+    expect_contains(error_loading(dir, "t.obj", "mtllib t.mtl\n" + kTriangle + "usemtl a\nf 1 2 3\n"),
+                    {"t.mtl:3: " + std::string(message)});
+  }
 }
 
 const std::string kPlyHeader =

@@ -222,6 +222,23 @@ TEST(ObjReader, MaterialLibraryNamedAgainIsReadOnce) {
   EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.5f));
 }
 
+// Review: "kd 1 0 0" (lower case) was ignored without a word, and the material stayed grey. An
+// unknown MTL key is warned about once per file; the statements rayscout ignores on purpose are not.
+TEST(ObjReader, UnknownMtlStatementIsWarnedAboutOnce) {
+  TempDir dir;
+  dir.write("u.mtl", "newmtl red\nkd 1 0 0\nKa 0 0 0\nNi 1.5\nd 1\nTr 0\nTf 1 1 1\nmap_Kd a.png\nmap_bump b.png\n"
+                     "bump b.png\ndisp c.png\ndecal d.png\nrefl -type sphere e.png\nsharpness 60\nKm 1\n"
+                     "Pr 0.5\nPm 0\nPs 0\nPc 0\nPcr 0\naniso 0\nanisor 0\nnorm n.png\nkd 0 1 0\nTs 0.5\nNS 10\n");
+  const Scene s = load_scene(dir.write("u.obj", "mtllib u.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n"));
+  ASSERT_EQ(s.warnings.size(), 3u);
+  EXPECT_EQ(s.warnings[0], (dir.path() / "u.mtl").string() +
+                               ":2: unknown MTL statement 'kd' ignored; keys are case-sensitive: did you mean 'Kd'?");
+  expect_contains(s.warnings[1], {"u.mtl:25: unknown MTL statement 'Ts' ignored"});
+  EXPECT_EQ(s.warnings[1].find("did you mean"), std::string::npos) << s.warnings[1];
+  expect_contains(s.warnings[2], {"u.mtl:26: unknown MTL statement 'NS' ignored; keys are case-sensitive: did you mean 'Ns'?"});
+  EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.8f));  // the default grey, as said
+}
+
 // Audit: OBJ refused 1e-50 ("out of float range") where JSON reads 0. Every text reader now
 // gives what JSON gives: the nearest float (a denormal, or 0 with the sign); overflow stays an error.
 TEST(ObjReader, UnderflowGivesTheNearestFloatAsInJson) {
