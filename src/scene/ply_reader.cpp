@@ -244,8 +244,7 @@ class InstanceReader {
     k_ = k;
     byte_ = size_t(p_ - data_.data());
     if (binary()) return;
-    if (p_ >= end()) fail_at(path_, line_ + 1, "unexpected end of file in " + el.name + " " + std::to_string(k) +
-                                                  " of " + std::to_string(el.count));
+    if (p_ >= end()) fail_at(path_, line_ + 1, "unexpected end of file in " + instance());
     const std::string_view text = detail::next_line(p_, end(), header_.eol);
     q_ = text.data();
     e_ = q_ + text.size();
@@ -263,7 +262,7 @@ class InstanceReader {
       return x;
     }
     const std::string_view t = next_token(q_, e_);
-    if (t.empty()) fail("too few values for " + el_->name + " (property " + property + ")");
+    if (t.empty()) fail("too few values for " + instance() + " (property " + property + ")");
     if (type == Scalar::Float32) {
       float f;
       if (!detail::parse_float(t, f)) {
@@ -285,11 +284,13 @@ class InstanceReader {
     return double(i);
   }
 
-  // Ends the instance: an ascii line must hold no more values than the header declares.
+  // Ends the instance: an ascii line must hold no more values than the header declares. The
+  // instance is named with the count: a count larger than the data reads the next element's
+  // first line as one more of these ("vertex 3 of 10" on the line of the first face).
   void finish() {
     if (binary()) return;
     if (const std::string_view t = next_token(q_, e_); !t.empty())
-      fail("more values than the header declares for " + el_->name + " ('" + std::string(t) + "')");
+      fail("more values than the header declares for " + instance() + " ('" + std::string(t) + "')");
   }
 
   // After the last element. Ascii: only white space may follow. Binary: bytes after it are
@@ -313,6 +314,8 @@ class InstanceReader {
   }
 
  private:
+  // "vertex 3 of 10": the instance being read (0-based) and its element's count.
+  std::string instance() const { return el_->name + " " + std::to_string(k_) + " of " + std::to_string(el_->count); }
   const char* end() const { return data_.data() + data_.size(); }
   bool swap() const { return (header_.format == Format::BinaryBig) != (std::endian::native == std::endian::big); }
 
