@@ -262,7 +262,7 @@ class ObjReader {
       poly_.push_back(face_vertex(line, tok));
     if (poly_.size() < 3)
       fail_at(path_, line, detail::face_too_small(poly_.size()));
-    if (current_ == UINT32_MAX) current_ = material_index("default");
+    if (current_ == UINT32_MAX) current_ = material_index("default", line);
     for (size_t k = 1; k + 1 < poly_.size(); ++k) {
       mesh_.faces.push_back({poly_[0], poly_[k], poly_[k + 1]});
       mesh_.face_materials.push_back(current_);
@@ -304,7 +304,7 @@ class ObjReader {
   void use_material(size_t line, const char* q, const char* end) {
     const std::string_view name = detail::rest_trimmed(q, end);
     if (name.empty()) fail_at(path_, line, "usemtl without a material name");
-    current_ = material_index(std::string(name));
+    current_ = material_index(std::string(name), line);
   }
 
   // mtllib: one name that may contain spaces, else several space-separated names. A missing
@@ -356,7 +356,8 @@ class ObjReader {
   void resolve_materials() {
     std::unordered_map<std::string_view, const Material*> library;  // names are unique (read_mtl)
     for (const Material& m : library_) library.emplace(m.name, &m);
-    for (const auto& name : used_names_) {
+    for (size_t i = 0; i < used_names_.size(); ++i) {
+      const std::string& name = used_names_[i];
       if (auto it = library.find(name); it != library.end()) {
         mesh_.materials.push_back(*it->second);
         continue;
@@ -364,15 +365,18 @@ class ObjReader {
       Material m;
       m.name = name;
       if (name != "default")
-        mesh_.warnings.push_back(detail::display_name(path_) + ": material '" + name +
-                                 "' is not defined in any material library; using a grey diffuse");
+        mesh_.warnings.push_back(detail::display_name(path_) + ":" + std::to_string(used_lines_[i]) + ": material '" +
+                                 name + "' is not defined in any material library; using a grey diffuse");
       mesh_.materials.push_back(m);
     }
   }
 
-  uint32_t material_index(const std::string& name) {
+  uint32_t material_index(const std::string& name, size_t line) {
     auto [it, added] = used_index_.emplace(name, uint32_t(used_names_.size()));
-    if (added) used_names_.push_back(name);
+    if (added) {
+      used_names_.push_back(name);
+      used_lines_.push_back(line);
+    }
     return it->second;
   }
 
@@ -381,6 +385,7 @@ class ObjReader {
   std::vector<Material> library_;                        // from mtllib statements
   std::unordered_set<std::string> libraries_seen_;       // canonical paths of the mtllib files
   std::vector<std::string> used_names_;                  // usemtl names in order of first use
+  std::vector<size_t> used_lines_;                       // the line of each name's first use
   std::unordered_map<std::string, uint32_t> used_index_;
   uint32_t current_ = UINT32_MAX;                        // faces before any usemtl: "default"
   size_t num_vt_ = 0, num_vn_ = 0;

@@ -569,7 +569,7 @@ TEST(SceneBadInput, JsonSceneOfAMeshWithManyWarningsIsReadInLinearTime) {
       seconds_to_load(dir.write("s.json", R"({"meshes": [{"file": "undef.obj"}, {"file": "undef.obj"}]})"), s);
   EXPECT_LT(t, 3.0) << "50000 warnings (12 s before)";
   ASSERT_EQ(s.warnings.size(), 50001u);  // once each, although the mesh is placed twice; and "no lights"
-  expect_contains(s.warnings[0], {"undef.obj: material 'undefined0' is not defined in any material library"});
+  expect_contains(s.warnings[0], {"undef.obj:4: material 'undefined0' is not defined in any material library"});
 }
 
 }  // namespace
