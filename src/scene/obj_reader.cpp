@@ -333,8 +333,12 @@ class ObjReader {
                                  "' not found; its materials get defaults");
         continue;
       }
-      if (std::filesystem::is_directory(mtl, ec))
-        fail_at(path_, line, "material library '" + f + "' is a directory, not a file");
+      // As read_file refuses them, but said at the mtllib line that names them.
+      using std::filesystem::file_type;
+      const file_type type = std::filesystem::status(mtl, ec).type();
+      if (type == file_type::directory) fail_at(path_, line, "material library '" + f + "' is a directory, not a file");
+      if (type == file_type::character || type == file_type::block)
+        fail_at(path_, line, "material library '" + f + "' is a device, not a file");
       if (std::ifstream probe(mtl); !probe)
         fail_at(path_, line, "material library '" + f + "' cannot be read: " + std::strerror(errno));
       read_mtl(mtl, library_, &mesh_.warnings);

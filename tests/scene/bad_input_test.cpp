@@ -306,6 +306,9 @@ TEST(SceneBadInput, ObjSmallestIndexAndDirectoryMtllib) {
   std::filesystem::create_directory(dir.path() / "lib");
   expect_contains(error_loading(dir, "dir.obj", "mtllib lib\n" + kTriangle + "f 1 2 3\n"),
                   {"dir.obj:1: ", "material library 'lib' is a directory, not a file"});
+  // Review: "/dev/zero: is a device, not a file" did not name the OBJ that referenced it.
+  expect_contains(error_loading(dir, "dev.obj", kTriangle + "mtllib /dev/zero\nf 1 2 3\n"),
+                  {"dev.obj:4: material library '/dev/zero' is a device, not a file"});
 }
 
 // A JSON scene next to a valid mesh, so errors come from the JSON itself.
