@@ -79,6 +79,16 @@ std::string_view read_key_but_for_case(std::string_view key) {
   return {};
 }
 
+// Random or binary data read as OBJ or MTL text is a few lines of unknown statements, all ignored
+// ("no faces (empty mesh)" for 4 KB of random bytes). A line the reader would ignore that holds a
+// byte no text has (NUL, ESC, ...) is refused instead. `text` is the line from its key on.
+void refuse_binary_line(std::string_view text, bool after_statements, const std::filesystem::path& file,
+                        size_t line, std::string_view format) {
+  if (!detail::has_binary_byte(text)) return;
+  if (!after_statements) fail_at(file, line, "not an " + std::string(format) + " text file (binary data)");
+  fail_at(file, line, "binary data where an " + std::string(format) + " statement belongs (a damaged file?)");
+}
+
 std::string plural(std::string_view what) { return what == "vertex" ? "vertices" : std::string(what) + "s"; }
 
 // Resolves a 1-based or negative OBJ index. Positive indices may point forward (checked
@@ -149,7 +159,19 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
   };
   std::vector<Pending> defs;
   std::unordered_set<std::string> unknown_keys;  // warned about once each
+  bool any_statement = false;                    // a known one: for the message about binary data
   detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* line_end) {
+    const bool known = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ns" || key == "illum";
+    if (!known && key != "newmtl" && !ignored_mtl_statement(key)) {
+      refuse_binary_line({key.data(), size_t(line_end - key.data())}, any_statement, path, line, "MTL");
+      if (!unknown_keys.emplace(key).second || !warnings) return;
+      const std::string_view meant = read_key_but_for_case(key);
+      warnings->push_back(detail::printable(
+          detail::display_name(path) + ":" + std::to_string(line) + ": unknown MTL statement '" + std::string(key) +
+          "' ignored" + (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?")));
+      return;
+    }
+    any_statement = true;
     if (key == "newmtl") {
       std::string_view name = detail::rest_trimmed(q, line_end);
       if (name.empty()) fail_at(path, line, "newmtl without a name");
@@ -158,15 +180,7 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
       defs.back().line = line;
       return;
     }
-    const bool known = key == "Kd" || key == "Ks" || key == "Ke" || key == "Ns" || key == "illum";
-    if (!known) {
-      if (ignored_mtl_statement(key) || !unknown_keys.emplace(key).second || !warnings) return;
-      const std::string_view meant = read_key_but_for_case(key);
-      warnings->push_back(detail::printable(
-          detail::display_name(path) + ":" + std::to_string(line) + ": unknown MTL statement '" + std::string(key) +
-          "' ignored" + (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?")));
-      return;
-    }
+    if (!known) return;  // kIgnoredMtlStatements
     if (defs.empty()) fail_at(path, line, std::string(key) + " before any newmtl");
     Pending& d = defs.back();
     // Colours: one number (grey) or three, each >= 0, as in JSON scenes (a negative
@@ -226,6 +240,7 @@ class ObjReader {
     const std::string data = detail::read_file(path_);
     mesh_.positions.reserve(data.size() / 64);
     mesh_.faces.reserve(data.size() / 64);
+    bool any_statement = false;  // one parsed: for the message about binary data
     detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* end) {
       if (key == "v") vertex(line, q, end);
       else if (key == "vt") ++num_vt_;
@@ -233,7 +248,9 @@ class ObjReader {
       else if (key == "f") face(line, q, end);
       else if (key == "usemtl") use_material(line, q, end);
       else if (key == "mtllib") material_libraries(line, q, end);
-      // g, o, s, l, p, vp, ...: not needed for triangles.
+      else  // g, o, s, l, p, vp, ...: not needed for triangles
+        return refuse_binary_line({key.data(), size_t(end - key.data())}, any_statement, path_, line, "OBJ");
+      any_statement = true;
     });
     check_forward_indices();
     if (mesh_.faces.empty()) throw InputError(detail::display_name(path_) + ": no faces (empty mesh)");

@@ -55,6 +55,14 @@ inline std::string invalid_json(std::string what) {
 
 inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
+/// True when `text` holds a control byte that no text has (NUL, ESC, DEL, ...; tab, CR, LF, FF and
+/// VT are white space). Nearly every line of random or binary data holds one.
+inline bool has_binary_byte(std::string_view text) {
+  for (const char c : text)
+    if ((static_cast<unsigned char>(c) < 0x20 && !is_space(c) && c != '\n') || c == 0x7f) return true;
+  return false;
+}
+
 /// Next whitespace-separated token of [p, end), advancing p; empty at the end.
 inline std::string_view next_token(const char*& p, const char* end) {
   while (p < end && is_space(*p)) ++p;

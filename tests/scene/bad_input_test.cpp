@@ -311,6 +311,30 @@ TEST(SceneBadInput, ObjSmallestIndexAndDirectoryMtllib) {
                   {"dev.obj:4: material library '/dev/zero' is a device, not a file"});
 }
 
+// Review: random bytes given as an OBJ were read as a few unknown statements and gave "no faces
+// (empty mesh)". A line the reader would ignore that holds a byte no text has is an error.
+TEST(SceneBadInput, BinaryDataIsNotReadAsObjOrMtl) {
+  TempDir dir;
+  const char png[] = "\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\0\x10";  // a PNG's first bytes
+  expect_contains(error_loading(dir, "png.obj", std::string(png, sizeof png - 1)),
+                  {"png.obj:2: not an OBJ text file (binary data)"});
+  std::string noise;
+  for (uint32_t x = 12345; noise.size() < 4096;) noise += char((x = x * 1664525u + 1013904223u) >> 24);
+  expect_contains(error_loading(dir, "noise.obj", noise), {"noise.obj:1: not an OBJ text file (binary data)"});
+  // A damaged file: a block of NULs after valid lines.
+  expect_contains(error_loading(dir, "nuls.obj", kTriangle + "f 1 2 3\n" + std::string(512, '\0') + "\nf 1 2 3\n"),
+                  {"nuls.obj:5: binary data where an OBJ statement belongs (a damaged file?)"});
+  dir.write("bin.mtl", noise);
+  expect_contains(error_loading(dir, "bin.obj", "mtllib bin.mtl\n" + kTriangle + "f 1 2 3\n"),
+                  {"bin.mtl:1: not an MTL text file (binary data)"});
+  // Text is fine: UTF-8 names, tabs, CR LF, form feeds, and statements rayscout ignores.
+  dir.write("ok.mtl", "newmtl caf\xc3\xa9\r\n\tKd 0.5\r\nmap_Kd t\xc3\xa9.png\r\n");
+  const Scene s = load_scene(dir.write("text.obj", "mtllib ok.mtl\r\ng \xe6\x9c\xba\xe6\xa2\xb0\r\no part\f\r\ns 1\r\n" + kTriangle +
+                                                   "usemtl caf\xc3\xa9\r\nf 1 2 3\r\nl 1 2\r\n"));
+  ASSERT_EQ(s.triangles.size(), 1u);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
+}
+
 // A JSON scene next to a valid mesh, so errors come from the JSON itself.
 std::string json_error(const TempDir& dir, const std::string& json) {
   dir.write("tri.obj", kTriangle + "f 1 2 3\n");
