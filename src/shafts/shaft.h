@@ -23,14 +23,12 @@ namespace rayscout {
 /// that is decided by the separating-axis test over the culling planes: the 4 planes of the
 /// direction interval (pushed out to the voxel by the Minkowski sum), the voxel's back and
 /// outer faces (box axes on which the whole cone is one-signed) and the bevel planes (cone
-/// edge x box axis). In exact arithmetic the test is exact. overlaps() runs it in float on a
-/// voxel padded by kPadSpace and a cell padded by kPadDir, with a tolerance of 64 ulps of the
-/// largest coordinate plus two diagonals (tol_); overlaps_exact() in double. The padding
-/// covers rounding in the triangle test; the tolerance covers the float test's own rounding
-/// and the entry-point clip, whose point can lie half an ulp of its coordinates outside the
-/// float voxel planes (0.027 at y = 1e6, beyond the padding, in a review's test). So culling
-/// weakens with the distance from the world origin: a 10-unit random soup at 1e5 saved 21 % of
-/// the steps where the same soup at the origin saved 42 % (shafts, 4096 voxels).
+/// edge x box axis). In exact arithmetic the test is exact. overlaps() runs it in float,
+/// overlaps_exact() in double, on a voxel padded by kPadSpace of the diagonal or 4 ulps of
+/// the coordinates, whichever is more, and a cell padded by kPadDir. The padding covers
+/// rounding in the triangle test and in classification against float voxel planes (an
+/// outside ray's entry point, clipped in double, lay 0.027 outside its voxel at y = 1e6 in a
+/// review's test); the float test's tolerance tol_ covers only its own rounding (shaft.cpp).
 class Shaft {
  public:
   /// Relative padding of the voxel (times the grid box diagonal) and of the cell (in face
