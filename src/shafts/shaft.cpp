@@ -52,7 +52,7 @@ Shaft::Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& 
   set_voxel(grid, voxel);
   cell_ = cell;
   // Cone edges: the four corner directions of the padded cell.
-  const int ua = cell_.axis == 2 ? 0 : cell_.axis + 1, va = ua == 2 ? 0 : ua + 1;
+  const auto [ua, va] = ShaftGrid::face_axes(cell_.axis);
   const double us[2] = {cell_.u0 - kPadDir, cell_.u1 + kPadDir};
   const double vs[2] = {cell_.v0 - kPadDir, cell_.v1 + kPadDir};
   std::array<D3, 4> edges;

@@ -25,10 +25,11 @@
 namespace rayscout {
 
 namespace detail {
-/// The lists of one listed voxel before packing: per cell a status (0 = no list, 1 = list,
-/// 2 = reaches nothing) and the cell's list, concatenated in data.
+/// The lists of one listed voxel before packing: per cell a status and the cell's list,
+/// concatenated in data.
 struct VoxelLists {
-  std::vector<uint8_t> status;
+  enum Status : uint8_t { kNoList, kList, kReachesNothing };
+  std::vector<Status> status;
   std::vector<uint8_t> len;
   std::vector<uint32_t> begin;  ///< start of the cell's list in data (groups fill data out of cell order)
   std::vector<uint32_t> data;
@@ -53,7 +54,7 @@ std::vector<CellGroup> cell_groups(const ShaftGrid& grid, bool split_by_sign) {
   std::vector<CellGroup> groups;
   for (int face = 0; face < 6; ++face) {
     const ShaftGrid::CellRange f = grid.cell_range(uint32_t(face * d * d));
-    const int ua = f.axis == 2 ? 0 : f.axis + 1, va = ua == 2 ? 0 : ua + 1;
+    const auto [ua, va] = ShaftGrid::face_axes(f.axis);
     // Runs of cells along u (and v) whose centre component has the same sign, cut to <= 8.
     auto runs = [&](int comp, bool along_u) {
       std::vector<std::pair<int, int>> out;
@@ -105,7 +106,7 @@ class VoxelListMaker {
     const TreeView& tree = c_.tree;
     const uint32_t cells = c_.grid.cells_per_voxel();
     const size_t per = size_t(c_.config.samples.value());
-    vl.status.assign(cells, 0);
+    vl.status.assign(cells, detail::VoxelLists::kNoList);
     vl.len.assign(cells, 0);
     vl.begin.assign(cells, 0);
     for (size_t gi = 0; gi < c_.groups.size(); ++gi) {
@@ -156,10 +157,10 @@ class VoxelListMaker {
         if (tree.size() == 0) list.clear();
         const uint32_t cell = member_cells_[m];
         if (list.empty()) {
-          vl.status[cell] = 2;
+          vl.status[cell] = detail::VoxelLists::kReachesNothing;
           continue;
         }
-        vl.status[cell] = 1;
+        vl.status[cell] = detail::VoxelLists::kList;
         vl.len[cell] = uint8_t(list.size());
         vl.begin[cell] = uint32_t(vl.data.size());
         vl.data.insert(vl.data.end(), list.begin(), list.end());
@@ -263,7 +264,7 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
     total_entries += vl.data.size();
     if (!dedup) continue;
     for (uint32_t cell = 0; cell < cells; ++cell)
-      if (vl.status[cell] == 1) hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
+      if (vl.status[cell] == detail::VoxelLists::kList) hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
   }
   constexpr size_t kAhead = 8;
   size_t next_hash = 0;
@@ -280,9 +281,9 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
     st.overflow_retries += vl.retries;
     st.overflow_fallbacks += vl.fallbacks;
     for (uint32_t cell = 0; cell < cells; ++cell) {
-      if (vl.status[cell] == 0) continue;
+      if (vl.status[cell] == detail::VoxelLists::kNoList) continue;
       ++st.listed_shafts;
-      if (vl.status[cell] == 2) {
+      if (vl.status[cell] == detail::VoxelLists::kReachesNothing) {
         ++st.empty_lists;
         entries_[base + cell] = kEmptyList;
         continue;

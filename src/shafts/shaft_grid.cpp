@@ -36,8 +36,7 @@ std::array<int, 3> ShaftGrid::cubical_resolution(const Bounds3& box, double voxe
 }
 
 Bounds3 ShaftGrid::voxel_box(uint32_t voxel) const {
-  const int idx[3] = {int(voxel % res_[0]), int((voxel / res_[0]) % res_[1]),
-                      int(voxel / (uint32_t(res_[0]) * res_[1]))};
+  const std::array<int, 3> idx = voxel_coords(voxel);
   Bounds3 b;
   for (int a = 0; a < 3; ++a) {
     b.lo[a] = box_.lo[a] + float(idx[a]) * size_[a];
@@ -56,7 +55,7 @@ ShaftGrid::CellRange ShaftGrid::cell_range(uint32_t cell) const {
 
 Vec3 ShaftGrid::face_direction(const CellRange& c, double u, double v) {
   Vec3 dir;
-  const int ua = c.axis == 2 ? 0 : c.axis + 1, va = ua == 2 ? 0 : ua + 1;
+  const auto [ua, va] = face_axes(c.axis);
   dir[c.axis] = float(c.sign);
   dir[ua] = float(u);
   dir[va] = float(v);

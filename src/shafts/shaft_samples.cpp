@@ -28,7 +28,7 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
     std::vector<std::pair<int, uint32_t>> keyed(listed.size());
     for (uint32_t li = 0; li < listed.size(); ++li) {
       const uint32_t v = listed[li];
-      const int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
+      const std::array<int, 3> idx = grid.voxel_coords(v);
       keyed[li] = {positive ? idx[axis] : res[axis] - 1 - idx[axis], li};
     }
     std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -64,7 +64,7 @@ size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed
           ++task_traced;
           deposit(li, ray.org, ray.dir, hit_t);
           // 3D-DDA through the grid up to the hit.
-          int idx[3] = {int(v % res[0]), int((v / res[0]) % res[1]), int(v / (uint32_t(res[0]) * res[1]))};
+          std::array<int, 3> idx = grid.voxel_coords(v);
           float t_next[3], t_delta[3];
           int step[3];
           for (int a = 0; a < 3; ++a) {

@@ -56,6 +56,16 @@ class ShaftGrid {
   }
   /// Voxel of integer coordinates.
   uint32_t voxel_id(int x, int y, int z) const { return uint32_t(x + res_[0] * (y + res_[1] * z)); }
+  /// The x, y, z of a voxel id (voxel_id's inverse).
+  std::array<int, 3> voxel_coords(uint32_t voxel) const {
+    return {int(voxel % uint32_t(res_[0])), int((voxel / uint32_t(res_[0])) % uint32_t(res_[1])),
+            int(voxel / (uint32_t(res_[0]) * uint32_t(res_[1])))};
+  }
+  /// A cube face's u and v axes: the two after its axis, in cyclic order.
+  static std::array<int, 2> face_axes(int axis) {
+    const int u = axis == 2 ? 0 : axis + 1;
+    return {u, u == 2 ? 0 : u + 1};
+  }
   /// The block of voxels a box meets: its lo and hi layers on each axis.
   struct VoxelBlock {
     std::array<int, 3> lo, hi;
@@ -76,7 +86,7 @@ class ShaftGrid {
   uint32_t dir_cell(const Vec3& dir) const {
     const Vec3 a = abs(dir);
     const int axis = max_axis(a);
-    const int ua = axis == 2 ? 0 : axis + 1, va = ua == 2 ? 0 : ua + 1;
+    const auto [ua, va] = face_axes(axis);
     const float inv = 1.0f / a[axis];
     const int face = 2 * axis + (dir[axis] < 0.0f ? 1 : 0);
     return uint32_t((face * dir_res_ + cell_index(dir[va] * inv)) * dir_res_ + cell_index(dir[ua] * inv));
