@@ -331,7 +331,8 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
   if (config.leaf_block < 1)
     throw InputError("BvhBuildConfig.leaf_block = " + std::to_string(config.leaf_block) + ": must be >= 1");
   if (boxes.size() >= (1u << 27))
-    throw InputError("BVH: " + std::to_string(boxes.size()) + " primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+    throw InputError("BVH: " + std::to_string(boxes.size()) +
+                     " primitives (triangles, or their pieces with presplit), at most 2^27 supported");
   const uint32_t n = uint32_t(boxes.size());
   nodes.clear();
   prim_ids.resize(n);

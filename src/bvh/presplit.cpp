@@ -101,7 +101,8 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, 
   const bool finite = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, n, 16384), true,
       [&](const auto& r, bool ok) {
-        for (size_t i = r.begin(); i != r.end(); ++i) ok &= is_finite(tris[i].v0) & is_finite(tris[i].v1) & is_finite(tris[i].v2);
+        for (size_t i = r.begin(); i != r.end(); ++i)
+          ok &= is_finite(tris[i].v0) & is_finite(tris[i].v1) & is_finite(tris[i].v2);
         return ok;
       },
       std::logical_and<>());

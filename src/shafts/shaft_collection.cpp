@@ -264,7 +264,8 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
     total_entries += vl.data.size();
     if (!dedup) continue;
     for (uint32_t cell = 0; cell < cells; ++cell)
-      if (vl.status[cell] == detail::VoxelLists::kList) hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
+      if (vl.status[cell] == detail::VoxelLists::kList)
+        hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
   }
   constexpr size_t kAhead = 8;
   size_t next_hash = 0;
