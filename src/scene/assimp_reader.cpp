@@ -58,10 +58,21 @@ std::string overrunning_json_chunk(const std::string& data) {
          std::to_string(data.size() - 20) + " after the chunk header";
 }
 
+// nlohmann's message for text that does not parse (the caller knows it does not).
+std::string json_error(std::string_view text) {
+  try {
+    [[maybe_unused]] const nlohmann::json doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    return detail::invalid_json(e.what());
+  }
+  return "invalid JSON";
+}
+
 // What is wrong with a glTF file assimp could not read, where assimp only says "No suitable
 // reader found for the file format": the container, the JSON, or its top level. Empty when
-// none of these is wrong (then assimp's own message is the best there is).
-std::string container_defect(const std::string& data, bool binary) {
+// none of these is wrong (then assimp's own message is the best there is). doc: the JSON,
+// parsed once by the caller (discarded when it does not parse).
+std::string container_defect(const std::string& data, bool binary, const nlohmann::json& doc) {
   if (binary) {
     if (data.size() < 4 || data.compare(0, 4, "glTF") != 0) return "not a binary glTF file (it does not start with \"glTF\")";
     if (data.size() < 12) return "truncated: " + std::to_string(data.size()) + " bytes, shorter than the 12-byte header";
@@ -73,25 +84,10 @@ std::string container_defect(const std::string& data, bool binary) {
   } else if (detail::skip_bom(data) != data.data()) {
     return "starts with a byte order mark, which glTF JSON must not have";
   }
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(json_text(data, binary));
-  } catch (const nlohmann::json::exception& e) {
-    return detail::invalid_json(e.what());
-  }
+  if (doc.is_discarded()) return json_error(json_text(data, binary));
   if (!doc.is_object()) return std::string("the JSON is ") + doc.type_name() + ", not an object";
   if (!doc.contains("asset")) return "no \"asset\" (glTF requires asset.version)";
   return "";
-}
-
-// nlohmann's message for text that does not parse (the caller knows it does not).
-std::string json_error(std::string_view text) {
-  try {
-    [[maybe_unused]] const nlohmann::json doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    return detail::invalid_json(e.what());
-  }
-  return "invalid JSON";
 }
 
 // glTF nodes form a forest: a node has at most one parent (glTF 2.0 sec. 3.5.2). assimp does
@@ -225,7 +221,7 @@ Mesh read_gltf(const std::filesystem::path& path) {
   if (messages.contains("out-of-range indices"))  // also when every face was dropped
     throw InputError(file + ": a primitive's indices reach past its vertex count (assimp dropped those faces)");
   if (!scene) {
-    const std::string defect = container_defect(data, binary);
+    const std::string defect = container_defect(data, binary, doc);
     throw InputError(file + ": " + (defect.empty() ? "assimp cannot read it: " + std::string(importer.GetErrorString()) : defect));
   }
   Mesh mesh;

@@ -12,7 +12,7 @@ namespace rayscout {
 Scene load_scene(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
-    throw InputError(detail::printable(detail::display_name(path) + ": is a directory, not a scene or mesh file"));
+    throw InputError(detail::display_name(path) + ": is a directory, not a scene or mesh file");
   const std::string ext = lower_extension(path);
   if (ext == ".json") return detail::load_json_scene(path);
 

@@ -14,11 +14,11 @@ std::string read_file(const std::filesystem::path& path) {
   using std::filesystem::file_type;
   std::error_code ec;
   const file_type type = std::filesystem::status(path, ec).type();
-  if (type == file_type::directory) throw InputError(printable(display_name(path) + ": is a directory, not a file"));
+  if (type == file_type::directory) throw InputError(display_name(path) + ": is a directory, not a file");
   if (type == file_type::character || type == file_type::block)
-    throw InputError(printable(display_name(path) + ": is a device, not a file"));
+    throw InputError(display_name(path) + ": is a device, not a file");
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw InputError(printable(display_name(path) + ": cannot open: " + std::strerror(errno)));
+  if (!f) throw InputError(display_name(path) + ": cannot open: " + std::strerror(errno));
   std::string data;
   if (std::fseek(f.get(), 0, SEEK_END) == 0) {
     long size = std::ftell(f.get());
@@ -32,9 +32,9 @@ std::string read_file(const std::filesystem::path& path) {
   while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
     data.append(buf, n);
     if (!regular && data.size() > kPipeLimit)
-      throw InputError(printable(display_name(path) + ": not a regular file, and no end after 4 GiB"));
+      throw InputError(display_name(path) + ": not a regular file, and no end after 4 GiB");
   }
-  if (std::ferror(f.get())) throw InputError(printable(display_name(path) + ": read error: " + std::strerror(errno)));
+  if (std::ferror(f.get())) throw InputError(display_name(path) + ": read error: " + std::strerror(errno));
   return data;
 }
 

@@ -17,7 +17,7 @@
 
 namespace rayscout::detail {
 
-/// The whole file; throws InputError "path: cannot open ..." (made printable) when it cannot be read.
+/// The whole file; throws InputError "path: cannot open ..." when it cannot be read.
 std::string read_file(const std::filesystem::path& path);
 
 /// Start of the text after a UTF-8 byte order mark, if any.
@@ -132,8 +132,8 @@ void for_each_statement(const std::string& data, F&& f) {
   }
 }
 
-/// The file name as shown in messages.
-inline std::string display_name(const std::filesystem::path& p) { return p.string(); }
+/// The file name as shown in messages, control bytes escaped (a NUL cut messages short).
+inline std::string display_name(const std::filesystem::path& p) { return printable(p.string()); }
 
 /// A number for messages: %g, 6 significant digits ("1.563", "2", "1e+20").
 inline std::string format_number(double v) {
