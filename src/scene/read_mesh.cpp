@@ -13,7 +13,8 @@ Mesh read_mesh(const std::filesystem::path& path) {
   if (ext == ".ply") return read_ply(path);
   if (ext == ".gltf" || ext == ".glb") return read_gltf(path);
   if (ext == ".json")
-    throw InputError(detail::display_name(path) + ": a .json scene cannot be used as a mesh (meshes are .obj, .ply, .gltf or .glb)");
+    throw InputError(detail::display_name(path) +
+                     ": a .json scene cannot be used as a mesh (meshes are .obj, .ply, .gltf or .glb)");
   throw InputError(detail::printable(detail::display_name(path) + ": unknown mesh format '" + ext +
                                      "' (expected .obj, .ply, .gltf, .glb or a .json scene)"));
 }
