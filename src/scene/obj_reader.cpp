@@ -342,7 +342,9 @@ class ObjReader {
     }
     for (const auto& f : files) {
       const std::filesystem::path mtl = path_.parent_path() / f;
-      std::string key = std::filesystem::weakly_canonical(mtl, ec).string();
+      // absolute() first: weakly_canonical keeps "gone.mtl" relative but makes "./gone.mtl"
+      // absolute when the OBJ was named without a folder, so the two keys differed.
+      std::string key = std::filesystem::weakly_canonical(std::filesystem::absolute(mtl, ec), ec).string();
       if (ec) key = mtl.lexically_normal().string();
       if (!libraries_seen_.insert(std::move(key)).second) continue;
       if (!std::filesystem::exists(mtl, ec)) {

@@ -222,6 +222,15 @@ TEST(ObjReader, MaterialLibraryNamedAgainIsReadOnce) {
   expect_contains(s.warnings[0], {"again.obj:4: material library 'gone.mtl' not found"});
   EXPECT_EQ(s.material_of(0).name, "m7");
   EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.5f));
+  // Review: an OBJ named without a folder ("again.obj", not "./again.obj") said a missing
+  // library twice, once as "gone.mtl" and once as "./gone.mtl".
+  const std::filesystem::path cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir.path());
+  dir.write("bare.obj", "mtllib gone.mtl\nmtllib ./gone.mtl\nmtllib sub/../gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene bare = load_scene("bare.obj");
+  std::filesystem::current_path(cwd);
+  ASSERT_EQ(bare.warnings.size(), 1u);
+  expect_contains(bare.warnings[0], {"bare.obj:1: material library 'gone.mtl' not found"});
 }
 
 // Review: "kd 1 0 0" (lower case) was ignored without a word, and the material stayed grey. An
