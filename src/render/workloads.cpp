@@ -58,6 +58,8 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   const LightSampler lights(scene);
   const bool to_points = !scene.point_lights.empty();
   const size_t per_hit = workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));
+  // No lights, no shadow rays (the loop below would sample the empty light sampler).
+  if (per_hit == 0) return RayBatch{};
 
   // Output slot of each hit: an exclusive prefix count, so rays keep the primary order.
   const size_t n = primary.size();

@@ -75,6 +75,18 @@ TEST(Workloads, ShadowRaysEndBeforeThePointLight) {
   }
 }
 
+// A scene without point or area lights has no shadow rays (it once sampled the empty light
+// sampler and wrote past the end of the empty batch: a segmentation fault).
+TEST(Workloads, NoLightsNoShadowRays) {
+  Scene scene = testing::scene_from_triangles(testing::grid(4));
+  scene.point_lights.clear();
+  ASSERT_TRUE(scene.emissive_triangles.empty());
+  const auto accel = make_accelerator("brute", scene);
+  const WorkloadConfig cfg{.width = 8, .height = 8};
+  ASSERT_GT(make_workload(scene, *accel, Workload::Ao, cfg).size(), 0u);  // the camera sees the grid
+  EXPECT_EQ(make_workload(scene, *accel, Workload::Shadow, cfg).size(), 0u);
+}
+
 TEST(Workloads, ParseNames) {
   for (Workload w : {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse})
     EXPECT_EQ(parse_workload(workload_name(w)), w);
