@@ -67,8 +67,9 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   for (size_t i = 0; i < n; ++i) offset[i + 1] = offset[i] + (hits.prim[i] != kInvalidId ? per_hit : 0);
   RayBatch out;
   out.resize(offset[n]);
-  // A ray that cannot exist (light behind the point, too close) stays in the set as a
-  // zero-length ray (tmax < tmin): the layout stays fixed and no accelerator reports a hit.
+  // Every hit gets per_hit rays, so the layout stays fixed: a light behind the surface still
+  // gets its full shadow ray (the renderer would skip it; the papers' sets trace it), and a
+  // light too close to test gets a zero-length one (shadow_ray_or_nothing).
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       if (hits.prim[i] == kInvalidId) continue;
