@@ -2,6 +2,7 @@
 #include "wavefront.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -51,6 +52,10 @@ void RenderConfig::validate() const {
   if (max_depth < 0) throw InputError("render: max_depth must be >= 0");
   if (rr_depth < 0) throw InputError("render: rr_depth must be >= 0");
   if (light_samples < 1 || ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");
+  // 0 picks the default; a NaN or negative value would pick it silently too, and an infinite
+  // offset sends every secondary ray from infinity (an AO image of open sky).
+  if (!(ray_epsilon >= 0 && std::isfinite(ray_epsilon))) throw InputError("render: ray_epsilon must be finite and >= 0");
+  if (!(ao_radius >= 0 && std::isfinite(ao_radius))) throw InputError("render: ao_radius must be finite and >= 0");
 }
 
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,

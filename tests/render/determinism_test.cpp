@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include "rayscout/accelerators.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/scene/load_scene.h"
 #include "test_scenes.h"
@@ -160,6 +161,29 @@ TEST(Determinism, ImagesDoNotDependOnTheSceneScale) {
       EXPECT_GT(a, 0.01);
       EXPECT_NEAR(b, a, 0.005 * a) << integrator->name() << " at scale " << scale;
     }
+  }
+}
+
+// Settings a render cannot use are refused before any work, not replaced silently.
+TEST(RenderConfig, ValidateRefusesSettingsOutOfRange) {
+  const Scene scene = test_scene();
+  const auto accel = make_accelerator("brute", scene);
+  const auto ao = make_ao_integrator();
+  auto refused = [&](auto change) {
+    RenderConfig cfg = small_config();
+    change(cfg);
+    EXPECT_THROW(cfg.validate(), InputError);
+    EXPECT_THROW(ao->render(scene, *accel, cfg), InputError);
+  };
+  EXPECT_NO_THROW(small_config().validate());
+  refused([](RenderConfig& c) { c.width = 0; });
+  refused([](RenderConfig& c) { c.spp = 1 << 17; });
+  refused([](RenderConfig& c) { c.width = c.height = 1 << 15; c.spp = 4; });  // 2^32 rays
+  refused([](RenderConfig& c) { c.ao_samples = 0; });
+  // An infinite offset once rendered an AO image of open sky (every ray left from infinity).
+  for (const float bad : {-1.0f, kInfinity, std::numeric_limits<float>::quiet_NaN()}) {
+    refused([&](RenderConfig& c) { c.ray_epsilon = bad; });
+    refused([&](RenderConfig& c) { c.ao_radius = bad; });
   }
 }
 

@@ -59,7 +59,8 @@ struct RenderConfig {
   /// max_batch_rays with its default applied.
   size_t camera_batch_limit() const { return max_batch_rays > 0 ? size_t(max_batch_rays) : size_t(1) << 24; }
   /// Throws InputError for sizes and counts out of range (width, height 1..32768, spp
-  /// 1..65536, width x height x spp below 2^32, depths >= 0, samples >= 1).
+  /// 1..65536, width x height x spp below 2^32, depths >= 0, samples >= 1, ray_epsilon and
+  /// ao_radius finite and >= 0).
   void validate() const;
   /// Called with every ray batch before it is traced (benchmarks record the per-bounce ray
   /// sets of the papers' workloads with it).
