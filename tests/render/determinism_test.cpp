@@ -187,6 +187,26 @@ TEST(RenderConfig, ValidateRefusesSettingsOutOfRange) {
   }
 }
 
+// Every pixel of every integrator is a finite, non-negative radiance: mirrors, a glossy lobe,
+// point and area lights, a thin lens, several bounces and Russian roulette, a non-square spp.
+TEST(Determinism, EveryPixelIsFiniteAndNonNegative) {
+  Scene scene = test_scene();
+  scene.camera.lens_radius = 0.05f;
+  scene.camera.focus_distance = length(scene.camera.look_at - scene.camera.eye);
+  RenderConfig cfg = small_config();
+  cfg.spp = 5;
+  cfg.max_depth = 6;
+  cfg.rr_depth = 1;
+  const auto accel = make_accelerator("brute", scene);
+  for (const auto& integrator : all_integrators()) {
+    const Image img = integrator->render(scene, *accel, cfg);
+    for (size_t i = 0; i < img.pixels.size(); ++i) {
+      const Vec3& p = img.pixels[i];
+      ASSERT_TRUE(is_finite(p) && p.x >= 0 && p.y >= 0 && p.z >= 0) << integrator->name() << " pixel " << i;
+    }
+  }
+}
+
 // Renders cfg's path-traced image whole, then with max_batch_rays = max_batch: expects the same
 // image up to float summation order and returns the sizes of the second render's camera batches.
 std::vector<size_t> camera_batches_of_split_render(RenderConfig cfg, long max_batch) {
