@@ -26,12 +26,16 @@ struct RaysArgs {
 // ray, 112 measured for the secondary workloads (primary rays, hits and the new rays). Asked
 // for more than the machine's memory and swap, the kernel killed the process mid-run (--width
 // 2147483647 --height 1: 24 GB used, then SIGKILL) instead of an error; refused here, before
-// the scene is loaded.
-void check_memory(const WorkloadConfig& c, Workload workload) {
+// the scene is loaded. The shadow workload has a ray per point light and hit: checked again
+// once the scene is loaded (64 lights at 4096 x 4096 x 2 asked for ~140 GB).
+void check_memory(const WorkloadConfig& c, Workload workload, size_t rays_per_hit = 1) {
   const double rays = double(c.width) * double(c.height) * double(c.spp);
-  const double per_ray = workload == Workload::Primary ? 64.0 : 112.0;
-  require_memory(per_ray * rays, fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays ({:.0f} bytes a ray) need",
-                                             c.width, c.height, c.spp, rays, per_ray));
+  // Primary: the batch and the file, 32 bytes each. Secondary: ~48 for the primary ray, hit
+  // and path state of each pixel sample, and 64 for each new ray (batch and file).
+  const double per_ray = workload == Workload::Primary ? 64.0 : 48.0 + 64.0 * double(rays_per_hit);
+  require_memory(per_ray * rays, fmt::format("--width {} x --height {} x --spp {} = {:.0f} rays ({:.0f} bytes a ray{}) need",
+                                             c.width, c.height, c.spp, rays, per_ray,
+                                             rays_per_hit > 1 ? fmt::format(", {} shadow rays each", rays_per_hit) : ""));
 }
 
 void run_rays(const RaysArgs& a) {
@@ -43,6 +47,8 @@ void run_rays(const RaysArgs& a) {
   check_accelerator(a.accel);
   const auto start = SteadyClock::now();
   const Scene scene = resolve_scene(a.scene);
+  if (workload == Workload::Shadow && scene.point_lights.size() > 1)
+    check_memory(a.config, workload, scene.point_lights.size());
   // Secondary workloads start at the primary hits, found with this accelerator.
   const auto accel = make_accelerator(a.accel, scene);
   const RayBatch rays = make_workload(scene, *accel, workload, a.config);

@@ -105,6 +105,9 @@ string(REGEX REPLACE ",$" "" lights "${lights}")
 file(WRITE ${WORK}/lights64.json "{\"meshes\": [{\"shape\": \"box\", \"min\": [0, 0, 0], \"max\": [1, 1, 1]}], \"lights\": [${lights}]}")
 expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes \\(64 to point lights\\)\\) need at least 11[0-9]\\.[0-9] GB"
        render --scene ${WORK}/lights64.json --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
+# The shadow workload's ray per point light and hit too (~140 GB here; it was not counted).
+expect(2 "--width 4096 x --height 4096 x --spp 2 = 33554432 rays \\(4144 bytes a ray, 64 shadow rays each\\) need at least 13[0-9]\\.[0-9] GB"
+       rays --scene ${WORK}/lights64.json --workload shadow --width 4096 --height 4096 --spp 2 --out ${WORK}/x.rays)
 expect(2 "1073741824 shading points at ~130 bytes\\) need at least 14[0-9]\\.[0-9] GB"
        render --integrator manylight --width 8192 --height 8192 --spp 16 --out ${WORK}/x.png)
 # The shafts' camera pre-pass grows with prepass_width^2 (here ~40-64 GB): refused, not killed.
