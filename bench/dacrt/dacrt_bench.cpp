@@ -297,7 +297,8 @@ class DacrtBench {
         {"all three, sign votes", {"cost=sampled", "order=sign-votes", "skip=on"}},
         {"all three, interval votes", {"cost=sampled", "order=interval-votes", "skip=on"}},
         {"all three, entry votes + sampling budget", {"cost=sampled", "order=sampled", "skip=on", "sample_budget=1"}},
-        {"dacrt-rs (interval votes + budget)", {"cost=sampled", "order=interval-votes", "skip=on", "sample_budget=1"}}};
+        {"dacrt-rs (interval votes + budget)",
+         {"cost=sampled", "order=interval-votes", "vote_weight=depth", "skip=on", "sample_budget=1"}}};
     auto counted = [&](const Accelerator& a) {
       TraceStats stats;
       for (const auto& s : st.sets) trace(a, s, &stats);
