@@ -218,7 +218,9 @@ class DacrtBench {
     std::vector<Config> configs = {{"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
     if (o_.variants_only) configs.clear();
     for (const auto& v : o_.variants) configs.push_back(parse_variant(v));
-    fmt::print("## Variants (ms, ratio = dacrt / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n");
+    // With --variants-only the ratios are against the first variant, not dacrt.
+    fmt::print("## Variants (ms, ratio = {} / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n",
+               configs.front().first);
     fmt::print("| view | res | batch | rays |");
     for (const auto& c : configs) fmt::print(" {} |", c.first);
     fmt::print("\n|---|---|---|---|");
@@ -227,7 +229,10 @@ class DacrtBench {
     for (const auto& v : paper_views()) {
       if (!contains(o_.views, v.name)) continue;
       auto scene = scene_of(v);
-      if (!scene) continue;
+      if (!scene) {
+        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} | | |\n", v.name, v.file);
+        continue;
+      }
       std::vector<std::unique_ptr<Accelerator>> accs;
       for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, c.second));
       for (int res : o_.res) {
@@ -461,6 +466,8 @@ int main(int argc, char** argv) {
     check_names("--views", o.views, view_names);
     check_names("--study-views", o.study_views, view_names);
     check_names("--experiments", o.experiments, kExperiments);
+    // Without a variant the table would have no column to take the ratios against.
+    if (o.variants_only && o.variants.empty()) throw InputError("--variants-only: give at least one --variants");
     if (!o.json.empty()) check_output_path(o.json, "--json");
     if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
