@@ -134,6 +134,17 @@ class DacrtBench {
     return median(t);
   }
 
+  /// Median times of a and b on s (ms), their repetitions interleaved so that a change of
+  /// load on the shared machine hits both sides of the ratio alike.
+  std::pair<double, double> time_pair(const Accelerator& a, const Accelerator& b, const RaySet& s) const {
+    std::vector<double> ta, tb;
+    for (int r = 0; r < o_.reps; ++r) {
+      ta.push_back(trace_ms(clock_, a, s));
+      tb.push_back(trace_ms(clock_, b, s));
+    }
+    return {median(ta), median(tb)};
+  }
+
   double frame_ms(const Accelerator& a, const Study& st) const {
     double t = 0;
     for (const auto& s : st.sets) t += time_trace(a, s);
@@ -191,7 +202,7 @@ class DacrtBench {
       for (int res : o_.res) {
         double fa = 0, fr = 0;
         for (const auto& s : ray_sets(v, *scene, res)) {
-          const double ta = time_trace(*afra, s), tr = time_trace(*rs, s);
+          const auto [ta, tr] = time_pair(*afra, *rs, s);
           fa += ta;
           fr += tr;
           fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, s.label(), s.rays.size(), ta, tr, ta / tr);
@@ -382,7 +393,7 @@ class DacrtBench {
     auto a = make("dacrt", st.scene), r = make("dacrt-rs", st.scene);
     const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
     for (const auto& s : st.sets) {
-      const double ta = time_trace(*a, s), tr = time_trace(*r, s);
+      const auto [ta, tr] = time_pair(*a, *r, s);
       const auto [bvh_build, bvh_trace] = build_and_trace("bvh", st.scene, s);
       const auto [embree_build, embree_trace] = have_embree ? build_and_trace("embree", st.scene, s) : std::pair{0.0, 0.0};
       fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", s.label(), s.rays.size(), ta, tr,
