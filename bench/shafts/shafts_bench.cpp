@@ -316,7 +316,13 @@ int main(int argc, char** argv) {
         fmt::print("skip {}: not found under {}\n", s, scenes_dir().string());
         continue;
       }
-      const Scene scene = load_scene(*path);
+      Scene scene;
+      try {
+        scene = load_scene(*path);
+      } catch (const InputError& e) {  // a bench view whose meshes are not in $RAYSCOUT_SCENES
+        fmt::print("skip {}\n", e.what());
+        continue;
+      }
       const std::string sname = path->extension() == ".json" ? path->stem().string() : path->parent_path().filename().string();
       fmt::print("\n## {} ({} triangles)\n", sname, scene.triangles.size());
       run_scene(scene, sname, o, csv);
