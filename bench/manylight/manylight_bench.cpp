@@ -201,15 +201,16 @@ int main(int argc, char** argv) {
     std::vector<std::string> scene_names;
     for (const BenchScene& s : kScenes) scene_names.push_back(s.name);
     bench::check_names("--scenes", o.scenes, scene_names);
+    std::vector<std::string> accel_names;
+    for (const AcceleratorInfo& a : accelerators()) accel_names.push_back(a.name);
+    bench::check_names("--accel", {o.accel}, accel_names);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
     std::filesystem::create_directories(o.out_dir);
     check_output_path(o.json, "--json");
 
     nlohmann::json results = nlohmann::json::array();
     fmt::print("# machine: {}\n", bench::machine_description());
-    std::ofstream csv(o.out_dir + "/rmse_over_time.csv");
-    if (!csv) throw InputError(o.out_dir + "/rmse_over_time.csv: cannot open for writing");
-    csv << "scene,mode,rep,seconds,passes,rmse_raw,rmse,skip_rate\n";
+    std::ofstream csv;  // opened once a scene has loaded: a run that skips every scene writes nothing
     for (const std::string& name : o.scenes) {
       auto it = std::find_if(kScenes.begin(), kScenes.end(), [&](const BenchScene& s) { return s.name == name; });
       Scene scene;
@@ -218,6 +219,11 @@ int main(int argc, char** argv) {
       } catch (const std::exception& e) {
         fmt::print("skipping {}: {}\n", name, e.what());
         continue;
+      }
+      if (!csv.is_open()) {
+        csv.open(o.out_dir + "/rmse_over_time.csv");
+        if (!csv) throw InputError(o.out_dir + "/rmse_over_time.csv: cannot open for writing");
+        csv << "scene,mode,rep,seconds,passes,rmse_raw,rmse,skip_rate\n";
       }
       auto accel = make_accelerator(o.accel, scene);
       ManylightConfig config;
@@ -266,7 +272,8 @@ int main(int argc, char** argv) {
       results.push_back(js);
       write_file(o.json, results.dump(2) + "\n", "--json");
     }
-    fmt::print("\nwrote {} and {}/rmse_over_time.csv\n", o.json, o.out_dir);
+    if (results.empty()) fmt::print("\nno scene rendered: nothing written\n");
+    else fmt::print("\nwrote {} and {}/rmse_over_time.csv\n", o.json, o.out_dir);
     return 0;
   });
 }
