@@ -60,7 +60,11 @@ def results(main, out):
 
 
 def sweep(path, out):
-    data = rows(path)
+    # The plot is of shafts over Bvh2: a sweep run with the default --base binary,wide also
+    # holds shafts-wide rows, which would join the same lines.
+    data = [r for r in rows(path) if r["base"] == "binary"]
+    if not data:
+        sys.exit(f"{path}: no rows with base 'binary' (shafts_bench --sweep --base binary --csv FILE writes them)")
     fig, axes = plt.subplots(1, 3, figsize=(14, 4))
     groups = defaultdict(list)
     for r in data:
@@ -90,5 +94,7 @@ def sweep(path, out):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__.strip().splitlines()[-1])
     results(sys.argv[1], sys.argv[3])
     sweep(sys.argv[2], sys.argv[3])
