@@ -57,7 +57,7 @@ def table2(results, per_rep=False):
     print("mean skip rates: " + "; ".join(
         f"{s['scene']}: " + ", ".join(f"{k} {100 * s['modes'][k]['skip_rate']:.1f} %" for k in ("veach", "conservative", "proposed"))
         for s in results))
-    print("RMSE at equal passes: " + "; ".join(
+    print(("RMSE at equal passes: " if per_rep else "RMSE at equal time: ") + "; ".join(
         f"{s['scene']}: " + ", ".join(f"{k} {s['modes'][k]['rmse']:.3f}" for k in ("exact", "veach", "conservative", "proposed"))
         for s in results))
     print("MSE*t per run: " + "; ".join(
@@ -88,9 +88,18 @@ def table1(results):
     print()
 
 
+def load(path):
+    results = json.load(open(path))
+    if not isinstance(results, list) or not all(isinstance(s, dict) and "modes" in s for s in results):
+        sys.exit(f"{path}: not a manylight_bench --json file (a list of scenes with their modes)")
+    return results
+
+
 def main():
-    paired = json.load(open(sys.argv[1]))
-    equal = json.load(open(sys.argv[2]))
+    if len(sys.argv) != 3:
+        sys.exit(__doc__.strip().splitlines()[-1])
+    paired = load(sys.argv[1])
+    equal = load(sys.argv[2])
     print("### paired (equal passes)\n")
     table2(paired, per_rep=True)
     print("### equal time\n")

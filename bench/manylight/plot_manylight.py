@@ -18,11 +18,15 @@ COLORS = {"exact": "black", "veach": "tab:orange", "conservative": "tab:blue", "
 
 
 def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: plot_manylight.py RESULT_DIR OUT_PREFIX")
     src, out = sys.argv[1], sys.argv[2]
     curves = defaultdict(list)
     with open(os.path.join(src, "rmse_over_time.csv")) as f:
         for row in csv.DictReader(f):
             curves[(row["scene"], row["mode"], row["rep"])].append((float(row["seconds"]), float(row["rmse"])))
+    if not curves:
+        sys.exit(f"{os.path.join(src, 'rmse_over_time.csv')}: no rows")
     scenes = sorted({k[0] for k in curves}, key=lambda s: ["sponza", "sibenik_glossy", "conference_large"].index(s)
                     if s in ["sponza", "sibenik_glossy", "conference_large"] else 9)
     fig, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4), squeeze=False)
