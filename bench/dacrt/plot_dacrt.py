@@ -14,6 +14,8 @@ import matplotlib.pyplot as plt
 
 def main(path, out):
     r = json.load(open(path))
+    if not isinstance(r, dict):
+        sys.exit(f"{path}: not a dacrt_bench --json file (an object with threads, reps and the experiments' rows)")
     note = f"threads={r.get('threads')}, median of {r.get('reps')}, {r.get('clock', '')}"
     if "frames" in r:
         fig, ax = plt.subplots(figsize=(8, 5))
