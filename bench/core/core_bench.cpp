@@ -118,7 +118,7 @@ class CoreBench {
     fmt::print("# machine: {}\n\n", bench::machine_description());
     fmt::print("### Trace throughput (median of {} interleaved repetitions after a warm-up, {}x{}, {})\n\n{}\n", opt_.repeat,
                opt_.width, opt_.height, bench::clock_name(g_clock), trace_table_);
-    fmt::print("### Build time (median of {} builds) and memory\n\n{}\n", opt_.build_repeat, build_table_);
+    fmt::print("### Build time (median of {} builds, wall clock) and memory\n\n{}\n", opt_.build_repeat, build_table_);
     fmt::print("### Work counters (exact, separate untimed run; Embree has none)\n\n{}", counter_table_);
     return 0;
   }
