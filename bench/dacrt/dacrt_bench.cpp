@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,21 @@ using namespace rayscout::bench;
 namespace {
 
 const std::vector<std::string> kExperiments = {"resolution", "ablation", "sampling", "counts", "peers", "variants", "memory"};
+// Batch kinds the ray sets can have (bench ray sets and the renderer's BatchInfo::kind).
+const std::vector<std::string> kBatchKinds = {"primary", "shadow", "ao", "mirror", "path"};
+
+// --batches names are a kind or kind@bounce (bounce >= 1): a misspelt one used to give empty
+// tables and a frame ratio of -nan with exit 0.
+void check_batch_names(const std::vector<std::string>& given) {
+  for (const std::string& g : given) {
+    const size_t at = g.find('@');
+    check_names("--batches", {g.substr(0, at)}, kBatchKinds);
+    const std::string bounce = at == std::string::npos ? "1" : g.substr(at + 1);
+    if (bounce.empty() || bounce.size() > 3 || bounce.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoi(bounce) < 1)
+      throw InputError("--batches: '" + g + "': the bounce after '@' must be a number from 1 to 999");
+  }
+}
 
 struct Options {
   std::vector<std::string> views;
@@ -99,6 +115,8 @@ class DacrtBench {
     if (wants("variants")) variants();
     for (const auto& v : paper_views())
       if (contains(o_.study_views, v.name)) study(v);
+    for (const std::string& b : o_.batches)
+      if (!matched_batches_.contains(b)) fmt::print("note: --batches {}: no view run has such a batch\n", b);
     if (!o_.json.empty()) {
       write_file(o_.json, out_.dump(1) + "\n", "results file");
       fmt::print("results: {}\n", o_.json);
@@ -168,6 +186,7 @@ class DacrtBench {
     auto bvh = make_accelerator("bvh", scene);
     auto sets = rendered() ? render_ray_sets(scene, v, res, res, *bvh) : make_ray_sets(scene, v, res, res, *bvh);
     if (!o_.batches.empty()) std::erase_if(sets, [&](const RaySet& s) { return !contains(o_.batches, s.label()); });
+    for (const RaySet& s : sets) matched_batches_.insert(s.label());
     return sets;
   }
 
@@ -442,6 +461,7 @@ class DacrtBench {
   const Clock clock_;
   nlohmann::json out_;
   std::map<std::string, std::shared_ptr<Scene>> scenes_;
+  mutable std::set<std::string> matched_batches_;  ///< labels of the sets ray_sets() kept
 };
 
 }  // namespace
@@ -477,6 +497,7 @@ int main(int argc, char** argv) {
     check_names("--views", o.views, view_names);
     check_names("--study-views", o.study_views, view_names);
     check_names("--experiments", o.experiments, kExperiments);
+    check_batch_names(o.batches);
     // Without a variant the table would have no column to take the ratios against.
     if (o.variants_only && o.variants.empty()) throw InputError("--variants-only: give at least one --variants");
     if (!o.json.empty()) check_output_path(o.json, "--json");
