@@ -202,7 +202,18 @@ void EmbreeAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t
       alignas(64) int valid[16];
       load_ray16(rays, p, r, valid);
       rtcOccluded16(valid, scene, &ctx, &r);
-      for (int k = 0; k < 16 && p * 16 + k < n; ++k) occluded[p * 16 + k] = r.tfar[k] == -kInfinity;
+      for (int k = 0; k < 16 && p * 16 + k < n; ++k) {
+        const size_t i = p * 16 + k;
+        occluded[i] = r.tfar[k] == -kInfinity;
+        // rtcOccluded16 never reports a one-point segment (tmin == tmax) occluded, where
+        // rtcOccluded1, rtcIntersect16 and our accelerators find its hit: ask rtcOccluded1.
+        if (valid[k] && rays.tmin[i] == rays.tmax[i]) {
+          RTCRay single;
+          load_ray(rays, i, single);
+          rtcOccluded1(scene, &ctx, &single);
+          occluded[i] = single.tfar == -kInfinity;
+        }
+      }
     });
   } else {
     for_each_traceable_ray(rays, [&](RTCIntersectContext& ctx, size_t i) {

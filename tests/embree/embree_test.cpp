@@ -149,6 +149,26 @@ TEST(Embree, PacketsOf16GiveTheSameResultAsSingleRays) {
   EXPECT_GT(std::count(oa.begin(), oa.end(), 1), 100);
 }
 
+// A one-point segment (tmin == tmax) at a hit is blocked, as brute force and single rays say;
+// Embree's packet occlusion reported every such ray clear.
+TEST(Embree, PacketOcclusionOfAOnePointSegment) {
+  const std::vector<Triangle> tri = {{{-1, -1, 1}, {1, -1, 1}, {0, 1, 1}}};
+  RayBatch rays;
+  rays.push_back({{0.0f, 0.0f, 0.0f}, 1.0f, {0, 0, 1}, 1.0f});  // ends and starts on the triangle
+  rays.push_back({{0.0f, 0.0f, 1.0f}, 0.0f, {0, 0, 1}, 0.0f});  // a point on the triangle
+  rays.push_back({{0.0f, 0.0f, 0.0f}, 0.5f, {0, 0, 1}, 0.5f});  // a point in front of it
+  std::vector<uint8_t> ref;
+  BruteForce(tri).occluded(rays, ref);
+  ASSERT_EQ(ref, (std::vector<uint8_t>{1, 1, 0}));
+  for (const int packet : {1, 16}) {
+    EmbreeConfig config;
+    config.packet = packet;
+    std::vector<uint8_t> occ;
+    EmbreeAccelerator(tri, config).occluded(rays, occ);
+    EXPECT_EQ(occ, ref) << "packet " << packet;
+  }
+}
+
 TEST(Embree, NoCountersOnlyRays) {
   const Scene scene = testing::scene_from_triangles(testing::grid(8));
   const RayBatch rays = testing::random_rays(50, 2);
