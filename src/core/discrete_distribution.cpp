@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 namespace rayscout {
@@ -11,25 +12,52 @@ DiscreteDistribution::DiscreteDistribution(std::span<const double> weights, int 
   if (bits < 2 || bits > 53) throw std::invalid_argument("DiscreteDistribution: bits must be in [2, 53]");
   const uint64_t units = uint64_t(1) << bits;
   if (weights.size() > (units >> 2)) throw std::invalid_argument("DiscreteDistribution: too many items");
-  double total = 0;
+  double total = 0, heaviest = 0;
   for (double w : weights) {
     if (!(w >= 0) || !std::isfinite(w)) throw std::invalid_argument("DiscreteDistribution: weight < 0 or not finite");
     total += w;
+    heaviest = std::max(heaviest, w);
   }
-  if (!(total > 0) || !std::isfinite(total)) throw std::invalid_argument("DiscreteDistribution: no positive weight");
+  if (!(heaviest > 0)) throw std::invalid_argument("DiscreteDistribution: no positive weight");
+  // Finite weights whose sum overflows (two of 1e308) are shares of a sum scaled by a power of
+  // two, which leaves every share as it was.
+  const int shift = std::isfinite(total) ? 0 : std::ilogb(heaviest) + 1;
+  if (shift) {
+    total = 0;
+    for (double w : weights) total += std::ldexp(w, -shift);
+  }
   // Round each share to whole units, at least one for a positive weight; the largest item
-  // absorbs the rounding so the units add up to 2^bits (it has >= 2^bits / n >= 4 units, and
-  // the rounding moves at most n / 2 + n, so it keeps at least one).
+  // absorbs the rounding so the units add up to 2^bits. When the one-unit floors of many small
+  // items outweigh it (256 items, half of them tiny, on 2^10 units), the next largest give up
+  // units too, each keeping one: the units beyond one per item, sum - n, cover the excess
+  // sum - 2^bits, since n <= 2^bits / 4.
   std::vector<uint64_t> count(weights.size(), 0);
   uint64_t sum = 0;
   size_t largest = 0;
   for (size_t k = 0; k < weights.size(); ++k) {
-    if (weights[k] > 0) count[k] = std::max<uint64_t>(1, uint64_t(std::llround(weights[k] / total * double(units))));
+    if (weights[k] > 0)
+      count[k] = std::max<uint64_t>(1, uint64_t(std::llround(std::ldexp(weights[k], -shift) / total * double(units))));
     sum += count[k];
     if (weights[k] > weights[largest]) largest = k;
   }
-  if (sum > units) count[largest] -= std::min(count[largest] - 1, sum - units);
-  else count[largest] += units - sum;
+  if (sum > units) {
+    uint64_t excess = sum - units;
+    auto give_up = [&](size_t k) {
+      const uint64_t take = std::min(count[k] > 0 ? count[k] - 1 : 0, excess);
+      count[k] -= take;
+      excess -= take;
+    };
+    give_up(largest);
+    if (excess) {
+      std::vector<size_t> order(count.size());
+      std::iota(order.begin(), order.end(), size_t(0));
+      std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return count[a] > count[b]; });
+      for (size_t k : order)
+        if (excess) give_up(k);
+    }
+  } else {
+    count[largest] += units - sum;
+  }
   cdf_.resize(count.size());
   uint64_t running = 0;
   for (size_t k = 0; k < count.size(); ++k) cdf_[k] = running += count[k];

@@ -35,6 +35,24 @@ TEST(DiscreteDistribution, RangesAreTheProbabilities) {
   }
 }
 
+// Many items whose one-unit floors outweigh the largest item's units (half of 256 items tiny on
+// 2^10 units: 128 floors against 8 units), and finite weights whose sum overflows double: both
+// are valid weights, which threw "too uneven to quantise" and "no positive weight".
+TEST(DiscreteDistribution, ManyTinyItemsAndHugeWeights) {
+  std::vector<double> w(128, 1.0);
+  w.resize(256, 1e-9);
+  const DiscreteDistribution many(w, 10);
+  EXPECT_EQ(many.cdf(w.size() - 1), uint64_t(1) << 10);
+  for (size_t k = 0; k < w.size(); ++k) EXPECT_GE(many.probability(k), std::ldexp(1.0, -10)) << k;
+
+  const std::vector<double> huge{1e308, 1e308, 0.0, 1e-300};
+  const DiscreteDistribution d(huge, 53);
+  EXPECT_EQ(d.probability(0), 0.5 - std::ldexp(1.0, -53));  // the largest gives the floor's unit
+  EXPECT_EQ(d.probability(1), 0.5);
+  EXPECT_EQ(d.probability(2), 0.0);
+  EXPECT_EQ(d.probability(3), std::ldexp(1.0, -53));
+}
+
 TEST(DiscreteDistribution, RejectsBadWeights) {
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{0.0, 0.0}, 24), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, -1.0}, 24), std::invalid_argument);

@@ -17,7 +17,8 @@ namespace rayscout {
 /// chosen 1.19 times as often as its weight said with u on a 2^-24 grid).
 /// Every item of positive weight gets at least one unit (so it can be chosen, and the
 /// estimator stays unbiased); the quantised probability differs from weight / total by at most
-/// one unit (2^-bits) plus that floor. Items of weight 0 are never chosen.
+/// one unit (2^-bits) plus that floor, except for the largest items, which absorb the others'
+/// rounding so that the units add up to 2^bits. Items of weight 0 are never chosen.
 class DiscreteDistribution {
  public:
   DiscreteDistribution() = default;
