@@ -65,9 +65,10 @@ DiscreteDistribution::DiscreteDistribution(std::span<const double> weights, int 
 }
 
 size_t DiscreteDistribution::sample(uint64_t m) const {
-  // The last item has a positive count, so m < 2^bits always finds one; clamp for m beyond.
-  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), m);
-  return std::min(size_t(it - cdf_.begin()), cdf_.size() - 1);
+  // cdf(size() - 1) = 2^bits, so m < 2^bits finds the item whose (non-empty) range holds it;
+  // m beyond is clamped to 2^bits - 1, never to a last item of weight 0 (an empty range).
+  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), std::min(m, cdf_.back() - 1));
+  return size_t(it - cdf_.begin());
 }
 
 double DiscreteDistribution::probability(size_t k) const {

@@ -53,6 +53,15 @@ TEST(DiscreteDistribution, ManyTinyItemsAndHugeWeights) {
   EXPECT_EQ(d.probability(3), std::ldexp(1.0, -53));
 }
 
+// m beyond 2^bits is clamped to the last unit, which an item of weight 0 never owns (the last
+// item was returned whatever its weight).
+TEST(DiscreteDistribution, ClampedSampleNeverChoosesWeightZero) {
+  const DiscreteDistribution d(std::vector<double>{1.0, 0.0}, 8);
+  EXPECT_EQ(d.sample(255), 0u);
+  EXPECT_EQ(d.sample(256), 0u);
+  EXPECT_EQ(d.sample(~uint64_t(0)), 0u);
+}
+
 TEST(DiscreteDistribution, RejectsBadWeights) {
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{0.0, 0.0}, 24), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, -1.0}, 24), std::invalid_argument);
