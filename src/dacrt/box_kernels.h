@@ -1,5 +1,7 @@
-// Ray-box kernels of DACRT: partitioning a ray index range against one box (AVX-512, with a
-// scalar fallback) and testing one ray against many candidate boxes (ray sampling).
+// Ray-box kernels of DACRT: partitioning a ray index range against one box (AVX-512 or AVX2,
+// with a scalar fallback) and the ray sampling of Algorithm 2: one sample ray against the
+// K - 1 candidate box pairs (sample_pairs), or 16 sample rays against the two children of a
+// chosen split (sample_children); plus the vote rules and the child order they decide.
 // Both compute exactly core's intersect_box: the same float operations, near and far planes
 // chosen by the sign of the inverse direction, the same NaN handling (tested lane by lane in
 // tests/dacrt/dacrt_votes_test.cpp, rays lying in a box plane with a +-0 direction included).
@@ -82,7 +84,7 @@ inline int vote(DacrtVotes rule, bool hl, bool hr, float dl, float fl, float dr,
   switch (rule) {
     case DacrtVotes::Sign: return goes_up ? 0 : 1;
     case DacrtVotes::Interval: return fl < dr ? 0 : (fr < dl ? 1 : -1);
-    default: return (dl < dr || (dl == dr && goes_up)) ? 0 : 1;
+    default: return (dl < dr || (dl == dr && goes_up)) ? 0 : 1;  // DacrtVotes::Entry
   }
 }
 

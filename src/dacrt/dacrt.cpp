@@ -70,7 +70,8 @@ struct Dacrt::Arena {
   Buffer<RayRecord> rec;
   Buffer<dacrt::RayShear> shear;
   Buffer<uint32_t> rid, scratch, tid;
-  // Triangle boxes and centres with their bounds, filled once (the triangles never change).
+  // Triangle boxes, the scene box and the bounds of the boxes' centres, filled once (the
+  // triangles never change).
   Buffer<dacrt::TriBox> boxes;
   Buffer<uint8_t> bin_idx;
   Bounds3 box, cb;

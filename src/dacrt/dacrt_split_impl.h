@@ -52,14 +52,14 @@ template <bool kStats, bool kOccluded>
 bool DacrtTracer<kStats, kOccluded>::binned_split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
                                                   int axis, float lo, float extent, bool sample, Split& s) {
   const int k = cfg_.bins;
-  bin_triangles(tid, nt, axis, lo, float(k) / extent, k);
+  bin_triangles(tid, nt, axis, lo, float(k) / extent, k);  // Algorithm 1, line 5
   sweep_bins(k);
   // The sampled cost only where its 2 (K - 1) N_s tests fit the budget (DacrtConfig).
   const bool sampled_cost = sample && cfg_.sampled_cost &&
                             (cfg_.sample_budget <= 0.0 ||
                              double(cfg_.sample_count(nr)) * double(k - 1) <= cfg_.sample_budget * double(nr));
   const size_t ns = sampled_cost ? sample_candidates(rid, nr, axis, k) : 0;
-  const int jmin = cheapest_candidate(k, ns);
+  const int jmin = cheapest_candidate(k, ns);  // Algorithm 1, lines 10-17
   if (jmin < 0) return false;
   s.n_left = partition_by_bin(tid, nt, jmin);
   s.box[0] = left_[jmin].box; s.cb[0] = left_[jmin].cb;
@@ -123,7 +123,8 @@ void DacrtTracer<kStats, kOccluded>::sweep_bins(int k) {
 
 template <bool kStats, bool kOccluded>
 size_t DacrtTracer<kStats, kOccluded>::sample_candidates(const uint32_t* rid, size_t nr, int axis, int k) {
-  // Algorithm 2 for every sample ray and candidate: hit counts c_L, c_R and votes n_L, n_R.
+  // Algorithm 1, lines 6-9 (Algorithm 2 for every sample ray and candidate): hit counts
+  // c_L, c_R and votes n_L, n_R.
   // Padded as partitioning pads them, so alpha is the share of rays partitioning would keep.
   for (int j = 0; j < k - 1; ++j) { lb_.set(j, padded(left_[j].box, ctx_.pad)); rb_.set(j, padded(right_[j].box, ctx_.pad)); }
   lb_.resize(k - 1); rb_.resize(k - 1);

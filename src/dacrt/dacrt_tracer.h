@@ -81,12 +81,13 @@ class DacrtTracer {
     else return leaf_intersect(ctx_.rays, ctx_.pre, rid, nr, ctx_.tris, tid, nt, ctx_.hits);
   }
 
-  // Algorithm 1. rid[0, nr) all hit this node's box (or were passed on unfiltered).
+  // Algorithm 1, DACRT(R, T, cb). rid[0, nr) all hit this node's box (or were passed on
+  // unfiltered); tid[0, nt) are the node's triangles, cb the bounds of their box centres.
   void node(uint32_t* rid, size_t nr, uint32_t* tid, size_t nt, const Bounds3& cb) {
     if constexpr (kStats) ++stats.traversal_steps;
     if (nr == 0) return;
-    if (nr < cfg_.delta_r || nt < cfg_.delta_t) { leaf(rid, nr, tid, nt); return; }
-    Split s;
+    if (nr < cfg_.delta_r || nt < cfg_.delta_t) { leaf(rid, nr, tid, nt); return; }  // lines 2-4
+    Split s;  // lines 5-17
     const bool sample = cfg_.samples_rays() && nr >= cfg_.min_rays_sampling;
     if (!split(rid, nr, tid, nt, cb, sample, s)) { leaf(rid, nr, tid, nt); return; }
 
@@ -98,6 +99,9 @@ class DacrtTracer {
       // Afra: one ray (the first of the set) decides, by its direction along the split axis.
       first = ctx_.rays[rid[0]].goes_up(s.axis) ? 0 : 1;
     }
+    // Lines 25-34: each child in order, its rays filtered against its box (with the hit
+    // distances the first child left) or, when sampling says most would hit it, passed on
+    // unfiltered (eq. 5 in place of line 25's threshold, see DacrtConfig::skip_threshold).
     for (int k = 0; k < 2; ++k) {
       const int c = k == 0 ? first : 1 - first;
       uint32_t* ctid = c == 0 ? tid : tid + s.n_left;
@@ -146,8 +150,10 @@ class DacrtTracer {
   // Moves the triangles of bins 0..jmin to the front; returns their count.
   size_t partition_by_bin(uint32_t* tid, size_t nt, int jmin) const;
   __attribute__((noinline)) void sample_two(const uint32_t* rid, size_t nr, Split& s);
-  size_t sample_index(size_t k, size_t ns, size_t nr) {
-    if (cfg_.strategy == DacrtSampling::Stride) return k * (nr / ns);
+  // Position in rid[0, nr) of sample ray q of ns: a fixed stride (sec. 4.1) or, with the
+  // random strategy, the next draw of the task's xorshift generator (fig. 9).
+  size_t sample_index(size_t q, size_t ns, size_t nr) {
+    if (cfg_.strategy == DacrtSampling::Stride) return q * (nr / ns);
     rng_ ^= rng_ << 13; rng_ ^= rng_ >> 7; rng_ ^= rng_ << 17;  // xorshift64
     return size_t(rng_ % nr);
   }

@@ -48,7 +48,6 @@ struct alignas(32) TriBox {
   float lo[4], hi[4];
   TriBox() = default;
   explicit TriBox(const Bounds3& b) : lo{b.lo.x, b.lo.y, b.lo.z, 0.0f}, hi{b.hi.x, b.hi.y, b.hi.z, 0.0f} {}
-  Bounds3 bounds() const { return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}; }
   /// Centre along one axis, exactly Bounds3::center()[axis].
   float center(int axis) const { return (lo[axis] + hi[axis]) * 0.5f; }
 };

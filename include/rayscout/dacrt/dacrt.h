@@ -64,8 +64,8 @@ class Dacrt final : public Accelerator {
   std::string name_;
   /// Per-call buffers kept between calls (grown to the largest call, never initialised
   /// beyond what a call writes), so repeated batches do not page-fault fresh memory; the
-  /// triangle boxes and centres are computed at the first call. A concurrent call that finds
-  /// it in use allocates its own.
+  /// triangle boxes and their bounds are computed at the first call. A concurrent call that
+  /// finds it in use allocates its own.
   struct Arena;
   mutable std::unique_ptr<Arena> arena_;
   mutable std::mutex arena_mutex_;

@@ -23,7 +23,8 @@ struct DacrtConfig {
   /// surface-area ratios (false, Afra). Option cost=sampled|sah.
   bool sampled_cost = false;
   /// Child order by the sample rays' n_L/n_R votes (true, sec. 4.3) or by the direction of
-  /// one ray along the split axis (false, Afra). Option order=sampled|one-ray.
+  /// one ray along the split axis (false, Afra). Option order=one-ray (false) or the name of
+  /// a vote rule (true, see votes).
   bool sampled_order = false;
   /// With sampled_order, how the sample rays vote (docs/dacrt.md). Literal = Algorithm 2,
   /// lines 10-14 as printed: every sample ray votes, n_L when d_L < d_R with d = inf on a
