@@ -11,14 +11,6 @@
 
 namespace rayscout::dacrt {
 
-/// Bounds3 of two SIMD rows (x, y, z, unused).
-inline Bounds3 to_bounds(__m128 lo, __m128 hi) {
-  alignas(16) float l[4], h[4];
-  _mm_store_ps(l, lo);
-  _mm_store_ps(h, hi);
-  return {Vec3(l[0], l[1], l[2]), Vec3(h[0], h[1], h[2])};
-}
-
 template <bool kStats, bool kOccluded>
 bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint32_t* tid, size_t nt,
                                            const Bounds3& cb, bool sample, Split& s) {
@@ -32,7 +24,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
       const TriBox* tb = ctx_.tri_boxes;
       s.n_left = size_t(std::partition(tid, tid + nt, [&](uint32_t p) { return tb[p].center(axis) < mid; }) - tid);
       separated = s.n_left > 0 && s.n_left < nt;
-      if (separated) finish_sides(tid, nt, s);
+      if (separated) bound_sides(tid, nt, s);
     } else {
       separated = binned_split(rid, nr, tid, nt, axis, lo, extent, sample, s);
     }
@@ -41,7 +33,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
     if (nt < 2) return false;
     // Centroids (nearly) equal on every axis: halve by position, which still shrinks |T|.
     s.n_left = nt / 2;
-    finish_sides(tid, nt, s);
+    bound_sides(tid, nt, s);
   }
   // Sample rays for the order and skipping only when one of them is on (not for a cost-only run).
   if (sample && !s.sampled && (cfg_.sampled_order || cfg_.skip_partitioning)) sample_two(rid, nr, s);
@@ -79,19 +71,16 @@ void DacrtTracer<kStats, kOccluded>::bin_triangles(const uint32_t* tid, size_t n
                                                    int k) {
   // Two bin sets, even and odd triangles, so consecutive triangles of one bin do not wait
   // for each other's stores; each triangle's bin is kept for partition_by_bin.
-  const __m128 half = _mm_set1_ps(0.5f), pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
   for (int set = 0; set < 2; ++set)
-    for (int j = 0; j < k; ++j) { vbins_[set][j] = {pinf, ninf, pinf, ninf}; counts_[set][j] = 0; }
+    for (int j = 0; j < k; ++j) { vbins_[set][j] = VBin::empty(); counts_[set][j] = 0; }
   const TriBox* tb = ctx_.tri_boxes;
   uint8_t* bin_idx = bin_idx_;
   auto add = [&](int set, size_t i) {
     if (i + 16 < nt) _mm_prefetch(reinterpret_cast<const char*>(tb + tid[i + 16]), _MM_HINT_T0);
     const TriBox& t = tb[tid[i]];
-    const __m128 blo = _mm_load_ps(t.lo), bhi = _mm_load_ps(t.hi);
-    const __m128 c = _mm_mul_ps(_mm_add_ps(blo, bhi), half);  // Bounds3::center()
     const int b = std::clamp(int((t.center(axis) - lo) * scale), 0, k - 1);
     bin_idx[i] = uint8_t(b);
-    vbins_[set][b].extend(blo, bhi, c);
+    vbins_[set][b].extend(t);
     ++counts_[set][b];
   };
   size_t i = 0;
@@ -106,17 +95,16 @@ void DacrtTracer<kStats, kOccluded>::bin_triangles(const uint32_t* tid, size_t n
 template <bool kStats, bool kOccluded>
 void DacrtTracer<kStats, kOccluded>::sweep_bins(int k) {
   // left_[j] = bins 0..j, right_[j] = bins j+1..k-1 (candidate j, 0 <= j < k - 1).
-  const __m128 pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
   const VBin* bins = vbins_[0];
-  VBin acc = {pinf, ninf, pinf, ninf};
+  VBin acc = VBin::empty();
   uint32_t n_acc = 0;
   auto sweep = [&](int j, Bin& out) {
     acc.extend(bins[j]);
     n_acc += counts_[0][j];
-    out.box = to_bounds(acc.lo, acc.hi); out.cb = to_bounds(acc.clo, acc.chi); out.n = n_acc;
+    out.box = acc.box(); out.cb = acc.centroid_bounds(); out.n = n_acc;
   };
   for (int j = 0; j < k - 1; ++j) sweep(j, left_[j]);
-  acc = {pinf, ninf, pinf, ninf};
+  acc = VBin::empty();
   n_acc = 0;
   for (int j = k - 1; j > 0; --j) sweep(j, right_[j - 1]);
 }
@@ -185,20 +173,15 @@ size_t DacrtTracer<kStats, kOccluded>::partition_by_bin(uint32_t* tid, size_t nt
 }
 
 template <bool kStats, bool kOccluded>
-void DacrtTracer<kStats, kOccluded>::finish_sides(const uint32_t* tid, size_t nt, Split& s) const {
-  const __m128 half = _mm_set1_ps(0.5f);
+void DacrtTracer<kStats, kOccluded>::bound_sides(const uint32_t* tid, size_t nt, Split& s) const {
   for (int c = 0; c < 2; ++c) {
-    __m128 blo = _mm_set1_ps(kInfinity), bhi = _mm_set1_ps(-kInfinity), clo = blo, chi = bhi;
+    VBin side = VBin::empty();
     for (size_t i = c == 0 ? 0 : s.n_left, end = c == 0 ? s.n_left : nt; i < end; ++i) {
       if (i + 16 < end) _mm_prefetch(reinterpret_cast<const char*>(ctx_.tri_boxes + tid[i + 16]), _MM_HINT_T0);
-      const TriBox& t = ctx_.tri_boxes[tid[i]];
-      const __m128 lo = _mm_load_ps(t.lo), hi = _mm_load_ps(t.hi);
-      const __m128 cen = _mm_mul_ps(_mm_add_ps(lo, hi), half);
-      blo = _mm_min_ps(lo, blo); bhi = _mm_max_ps(hi, bhi);
-      clo = _mm_min_ps(cen, clo); chi = _mm_max_ps(cen, chi);
+      side.extend(ctx_.tri_boxes[tid[i]]);
     }
-    s.box[c] = to_bounds(blo, bhi);
-    s.cb[c] = to_bounds(clo, chi);
+    s.box[c] = side.box();
+    s.cb[c] = side.centroid_bounds();
   }
 }
 

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <immintrin.h>
+
 #include "box_kernels.h"
 #include "leaf_avx2.h"
 #include "leaf_avx512.h"
@@ -26,6 +28,40 @@ struct TraceContext {
   HitOut hits;                ///< closest-hit outputs (intersect)
   uint8_t* occ;               ///< any-hit outputs (occluded)
   float pad;                  ///< world-space box padding of filtering, pad_for(max coordinate)
+};
+
+/// Bounds3 of two SIMD rows (x, y, z, unused).
+inline Bounds3 to_bounds(__m128 lo, __m128 hi) {
+  alignas(16) float l[4], h[4];
+  _mm_store_ps(l, lo);
+  _mm_store_ps(h, hi);
+  return {Vec3(l[0], l[1], l[2]), Vec3(h[0], h[1], h[2])};
+}
+
+/// The box and centroid bounds of a set of triangles as SIMD rows (x, y, z, unused), grown
+/// one TriBox at a time: the bins of the binned split and the two sides of a split.
+/// min(x, acc) / max(x, acc) are std::min(acc, x) / std::max(acc, x) of Bounds3::extend.
+struct VBin {
+  __m128 lo, hi, clo, chi;
+  static VBin empty() {
+    const __m128 pinf = _mm_set1_ps(kInfinity), ninf = _mm_set1_ps(-kInfinity);
+    return {pinf, ninf, pinf, ninf};
+  }
+  void extend(__m128 blo, __m128 bhi, __m128 c) {
+    lo = _mm_min_ps(blo, lo); hi = _mm_max_ps(bhi, hi);
+    clo = _mm_min_ps(c, clo); chi = _mm_max_ps(c, chi);
+  }
+  /// Adds a triangle's box and its centre (Bounds3::center()).
+  void extend(const TriBox& t) {
+    const __m128 blo = _mm_load_ps(t.lo), bhi = _mm_load_ps(t.hi);
+    extend(blo, bhi, _mm_mul_ps(_mm_add_ps(blo, bhi), _mm_set1_ps(0.5f)));
+  }
+  void extend(const VBin& o) {
+    lo = _mm_min_ps(o.lo, lo); hi = _mm_max_ps(o.hi, hi);
+    clo = _mm_min_ps(o.clo, clo); chi = _mm_max_ps(o.chi, chi);
+  }
+  Bounds3 box() const { return to_bounds(lo, hi); }
+  Bounds3 centroid_bounds() const { return to_bounds(clo, chi); }
 };
 
 /// One triangle split: tid[0, n_left) left, the rest right.
@@ -157,7 +193,8 @@ class DacrtTracer {
     rng_ ^= rng_ << 13; rng_ ^= rng_ >> 7; rng_ ^= rng_ << 17;  // xorshift64
     return size_t(rng_ % nr);
   }
-  void finish_sides(const uint32_t* tid, size_t nt, Split& s) const;
+  // The box and centroid bounds of both sides of s (tid[0, n_left) and the rest).
+  void bound_sides(const uint32_t* tid, size_t nt, Split& s) const;
 
   const TraceContext& ctx_;
   const DacrtConfig& cfg_;
@@ -166,19 +203,6 @@ class DacrtTracer {
   uint64_t rng_;
   // Binning and sampling buffers, reused by every node (no per-node allocation).
   struct Bin { Bounds3 box, cb; uint32_t n = 0; };
-  // Box and centroid bounds as rows x, y, z, unused. min(x, acc) / max(x, acc) are
-  // std::min(acc, x) / std::max(acc, x) of Bounds3::extend.
-  struct VBin {
-    __m128 lo, hi, clo, chi;
-    void extend(__m128 blo, __m128 bhi, __m128 c) {
-      lo = _mm_min_ps(blo, lo); hi = _mm_max_ps(bhi, hi);
-      clo = _mm_min_ps(c, clo); chi = _mm_max_ps(c, chi);
-    }
-    void extend(const VBin& o) {
-      lo = _mm_min_ps(o.lo, lo); hi = _mm_max_ps(o.hi, hi);
-      clo = _mm_min_ps(o.clo, clo); chi = _mm_max_ps(o.chi, chi);
-    }
-  };
   Bin left_[256], right_[256];
   VBin vbins_[2][256];
   uint32_t counts_[2][256];
