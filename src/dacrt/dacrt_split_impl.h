@@ -36,7 +36,7 @@ bool DacrtTracer<kStats, kOccluded>::split(const uint32_t* rid, size_t nr, uint3
     bound_sides(tid, nt, s);
   }
   // Sample rays for the order and skipping only when one of them is on (not for a cost-only run).
-  if (sample && !s.sampled && (cfg_.sampled_order || cfg_.skip_partitioning)) sample_two(rid, nr, s);
+  if (sample && !s.sampled && (cfg_.sampled_order || cfg_.skip_partitioning)) sample_split_children(rid, nr, s);
   return true;
 }
 
@@ -58,8 +58,8 @@ bool DacrtTracer<kStats, kOccluded>::binned_split(const uint32_t* rid, size_t nr
   s.box[1] = right_[jmin].box; s.cb[1] = right_[jmin].cb;
   if (ns > 0) {
     s.sampled = true;
-    s.alpha[0] = double(c_l_[jmin]) / double(ns);
-    s.alpha[1] = double(c_r_[jmin]) / double(ns);
+    s.alpha[0] = hit_ratio(c_l_[jmin], ns);
+    s.alpha[1] = hit_ratio(c_r_[jmin], ns);
     s.votes[0] = votes_l_[jmin];
     s.votes[1] = votes_r_[jmin];
   }
@@ -124,12 +124,7 @@ size_t DacrtTracer<kStats, kOccluded>::sample_candidates(const uint32_t* rid, si
     const RayRecord& r = ctx_.rays[rid[sample_index(q, ns, nr)]];
     sample_pairs(r, lb_, rb_, r.goes_up(axis), cfg_.votes, c_l_, c_r_, votes_l_, votes_r_);
   }
-  if constexpr (kStats) {
-    const uint64_t tests = uint64_t(ns) * 2 * uint64_t(k - 1);
-    stats.ray_box_tests += tests;
-    details.sampling_box_tests += tests;
-    ++details.sampled_nodes;
-  }
+  count_sampling(uint64_t(ns) * 2 * uint64_t(k - 1), true);
   return ns;
 }
 
@@ -144,8 +139,8 @@ int DacrtTracer<kStats, kOccluded>::cheapest_candidate(int k, size_t ns) const {
     if (l.n == 0 || r.n == 0) continue;
     double pl, pr;
     if (ns > 0) {  // eq. (2)
-      pl = double(c_l_[j]) / double(ns);
-      pr = double(c_r_[j]) / double(ns);
+      pl = hit_ratio(c_l_[j], ns);
+      pr = hit_ratio(c_r_[j], ns);
     } else {  // eq. (1), surface-area ratios
       pl = area > 0 ? l.box.surface_area() / area : 1.0;
       pr = area > 0 ? r.box.surface_area() / area : 1.0;
@@ -185,22 +180,17 @@ void DacrtTracer<kStats, kOccluded>::bound_sides(const uint32_t* tid, size_t nt,
   }
 }
 
-// Algorithm 2 for the two children of an already chosen split.
 template <bool kStats, bool kOccluded>
-void DacrtTracer<kStats, kOccluded>::sample_two(const uint32_t* rid, size_t nr, Split& s) {
+void DacrtTracer<kStats, kOccluded>::sample_split_children(const uint32_t* rid, size_t nr, Split& s) {
   const size_t ns = cfg_.sample_count(nr);
   uint32_t hits[2];
   const Bounds3 box[2] = {padded(s.box[0], ctx_.pad), padded(s.box[1], ctx_.pad)};
   sample_children(ctx_.rays, ns, [&](size_t q) { return rid[sample_index(q, ns, nr)]; }, box, s.axis, cfg_.votes,
                   hits, s.votes);
-  s.alpha[0] = double(hits[0]) / double(ns);
-  s.alpha[1] = double(hits[1]) / double(ns);
+  s.alpha[0] = hit_ratio(hits[0], ns);
+  s.alpha[1] = hit_ratio(hits[1], ns);
   s.sampled = true;
-  if constexpr (kStats) {
-    stats.ray_box_tests += 2 * ns;
-    details.sampling_box_tests += 2 * ns;
-    ++details.sampled_nodes;
-  }
+  count_sampling(2 * ns, true);
 }
 
 }  // namespace rayscout::dacrt

@@ -144,7 +144,7 @@ class DacrtTracer {
       const size_t cnt = c == 0 ? s.n_left : nt - s.n_left;
       // alpha of the second child: the share of R that hits its box with the hit distances
       // left by the first child, which is what partitioning would test (eqs. 3-5).
-      if (k == 1 && s.sampled && cfg_.skip_partitioning && cfg_.resample_second) s.alpha[c] = sample_one(rid, nr, s.box[c]);
+      if (k == 1 && s.sampled && cfg_.skip_partitioning && cfg_.resample_second) s.alpha[c] = resampled_alpha(rid, nr, s.box[c]);
       if (s.sampled && cfg_.skip_partitioning && s.alpha[c] > cfg_.skip_threshold(cnt)) {
         if constexpr (kStats) ++details.skipped_partitions;
         node(rid, nr, ctid, cnt, s.cb[c]);
@@ -155,8 +155,9 @@ class DacrtTracer {
     }
   }
 
-  // Share of N_s sample rays of rid[0, nr) hitting box with their current hit distance.
-  double sample_one(const uint32_t* rid, size_t nr, const Bounds3& box) {
+  // alpha of box measured again: the share of N_s sample rays of rid[0, nr) hitting it with
+  // their current hit distance (DacrtConfig::resample_second).
+  double resampled_alpha(const uint32_t* rid, size_t nr, const Bounds3& box) {
     const size_t ns = cfg_.sample_count(nr);
     const Bounds3 filter_box = padded(box, ctx_.pad);
     uint32_t hits = 0;
@@ -164,8 +165,20 @@ class DacrtTracer {
       float tnear;
       hits += ray_hits_box(ctx_.rays[rid[sample_index(q, ns, nr)]], filter_box, tnear);
     }
-    if constexpr (kStats) { stats.ray_box_tests += ns; details.sampling_box_tests += ns; }
-    return double(hits) / double(ns);
+    count_sampling(ns, false);
+    return hit_ratio(hits, ns);
+  }
+
+  // alpha = c / N_s, the share of the sample rays that hit a box (Algorithm 1, line 12).
+  static double hit_ratio(uint32_t hits, size_t ns) { return double(hits) / double(ns); }
+
+  // Counts `tests` ray-box tests of sample rays; new_node: the node draws its sample rays.
+  void count_sampling(uint64_t tests, bool new_node) {
+    if constexpr (kStats) {
+      stats.ray_box_tests += tests;
+      details.sampling_box_tests += tests;
+      details.sampled_nodes += new_node;
+    }
   }
 
   // Chooses and performs the triangle split; false when the triangles cannot be separated.
@@ -185,7 +198,9 @@ class DacrtTracer {
   int cheapest_candidate(int k, size_t ns) const;
   // Moves the triangles of bins 0..jmin to the front; returns their count.
   size_t partition_by_bin(uint32_t* tid, size_t nt, int jmin) const;
-  __attribute__((noinline)) void sample_two(const uint32_t* rid, size_t nr, Split& s);
+  // Algorithm 2 against the two children of a split already chosen (midpoint, or SAH over
+  // the sampling budget): fills s.alpha and s.votes for the order and skipping.
+  __attribute__((noinline)) void sample_split_children(const uint32_t* rid, size_t nr, Split& s);
   // Position in rid[0, nr) of sample ray q of ns: a fixed stride (sec. 4.1) or, with the
   // random strategy, the next draw of the task's xorshift generator (fig. 9).
   size_t sample_index(size_t q, size_t ns, size_t nr) {
