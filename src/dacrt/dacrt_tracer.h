@@ -127,7 +127,7 @@ class DacrtTracer {
     const bool sample = cfg_.samples_rays() && nr >= cfg_.min_rays_sampling;
     if (!split(rid, nr, tid, nt, cb, sample, s)) { leaf(rid, nr, tid, nt); return; }
 
-    int first = 0;
+    int first = 0;  // lines 18-24: the child visited first
     if (s.sampled && cfg_.sampled_order && s.votes[0] + s.votes[1] > 0) {
       // Algorithm 1, line 18; dacrt-rs weighs the votes by depth (DacrtConfig::depth_weighted_votes).
       first = first_child_by_votes(s.votes[0], s.votes[1], s.n_left, nt - s.n_left, cfg_.depth_weighted_votes);
