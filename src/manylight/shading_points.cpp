@@ -50,7 +50,9 @@ std::vector<ShadingPoint> generate_shading_points(const Scene& scene, const Acce
       const Vec3 wo = -normalize(ray.dir);
       Vec3 nrm = normalize(scene.triangles[prim].normal());
       if (dot(nrm, wo) < 0.0f) nrm = -nrm;
-      const Vec3 p = ray.org + ray.dir * hits.t[k];
+      // The render module's hit refinement: t from the triangle itself, so that accelerators whose
+      // kernels round differently (Embree) give the same shading points.
+      const Vec3 p = ray.org + ray.dir * refine_hit(scene, ray, hits[k]).t;
       Vec3& tp = throughput[active[k]];
       // Emitters are one-sided: they shine on the side of the geometric normal.
       if (m.emissive() && dot(scene.triangles[prim].normal(), ray.dir) < 0.0f) sp.emitted += tp * m.emission;

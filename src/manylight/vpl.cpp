@@ -13,6 +13,7 @@
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/render/bsdf.h"
+#include "rayscout/render/surface.h"
 #include "ray_offset.h"
 #include "rng.h"
 
@@ -204,7 +205,9 @@ VplSet generate_vpls(const Scene& scene, const Accelerator& accel, const Manylig
         if (hits.prim[i] == kInvalidId) continue;
         LightPathState st = states[i];
         Ray next;
-        if (!extend_path(scene, config, offset, rays[i], hits.t[i], hits.prim[i], st, out.vpls, next)) continue;
+        // t refined as for shading points (refine_hit): the same VPLs on every accelerator.
+        const float t = refine_hit(scene, rays[i], hits[i]).t;
+        if (!extend_path(scene, config, offset, rays[i], t, hits.prim[i], st, out.vpls, next)) continue;
         next_states.push_back(st);
         next_rays.push_back(next);
       }
