@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -59,10 +60,12 @@ void draw_progress(const RenderProgress& p) {
 // asked for ~26 GB on a 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB:
 // the kernel killed the process after the scene load. Refused here, before any work.
 // manylight adds (measured sizes, rounded up) ~100 bytes per VPL (the light, its cluster
-// records), ~16 per pair of shading and VPL clusters (the visibility estimate and its sampling
-// lists; clusters are at most the points and VPLs), and ~110 per VPL sample of a wavefront
-// round (its sample record and shadow ray; a round takes 16 points of every shading cluster).
-// `--vpls 4294967295` asked for ~430 GB.
+// records), ~40 per pair of shading and VPL clusters (the pair's sample counts and sums, 20;
+// its r, weight and id, 12; its unit of the row's distribution, 8: 655 MB measured for 2048 x
+// 8192 pairs), and ~110 per VPL sample of a wavefront round (its sample record and shadow ray;
+// a round takes 16 points of every shading cluster). Cluster counts are rounded up to a power
+// of two, as cluster_points does (--shading-clusters 600 makes 1024), and are at most the
+// points and VPLs. `--vpls 4294967295` asked for ~430 GB.
 void check_memory(const RenderConfig& c, const std::string& integrator, const ManylightConfig& m,
                   size_t point_lights = 0) {
   const double pixels = double(c.width) * double(c.height);
@@ -73,11 +76,14 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
   const bool manylight = integrator == "manylight";
   const double points = manylight ? pixels * double(c.spp) : 0.0;
   const double vpls = manylight ? double(m.vpl_count) : 0.0;
-  const double shading_clusters = std::min(double(m.shading_clusters), points);
-  const double pairs = shading_clusters * std::min(double(m.vpl_clusters), vpls);
+  const auto clusters = [](int wanted, double items) {
+    return std::min(items, std::exp2(std::ceil(std::log2(std::max(1.0, std::min(double(wanted), items))))));
+  };
+  const double shading_clusters = clusters(m.shading_clusters, points);
+  const double pairs = shading_clusters * clusters(m.vpl_clusters, vpls);
   const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
   require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + 130.0 * points + 100.0 * vpls +
-                     16.0 * pairs + 110.0 * round,
+                     40.0 * pairs + 110.0 * round,
                  fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
                              "a pass (--max-batch) at ~200 bytes{}{}) need",
                              c.width, c.height, pixels, pass_rays,
@@ -85,7 +91,7 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
                                                        point_lights > 0 ? fmt::format(" ({} to point lights)", point_lights) : "")
                                           : "",
                              manylight ? fmt::format("; manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs "
-                                                     "(--shading-clusters x --vpl-clusters) at ~16 bytes, {:.0f} VPL "
+                                                     "(--shading-clusters x --vpl-clusters) at ~40 bytes, {:.0f} VPL "
                                                      "samples a round (--vpl-samples) at ~110 bytes, {:.0f} shading "
                                                      "points at ~130 bytes",
                                                      m.vpl_count, pairs, round, points)

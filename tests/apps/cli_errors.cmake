@@ -176,6 +176,9 @@ expect(2 "is a directory, not a ray file" trace --scene cornell --rays ${WORK})
 expect(2 "^rayscout: error: .*no-such-dir does not exist" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --out ${WORK}/no-such-dir/d.png)
 # manylight's inputs are checked before the work: its memory, the log's format, the reference.
 expect(2 "--vpls 4294967295 at ~100 bytes.*more than this machine" render --integrator manylight --vpls 4294967295 --width 8 --height 8 --out ${WORK}/x.png)
+# Cluster pairs are counted as made: 600 and 300 clusters are rounded up to 1024 and 512 (the
+# estimate used to count 180000 pairs at 16 bytes for 524288 pairs of ~40 bytes).
+expect(2 "524288 cluster pairs \\(--shading-clusters x --vpl-clusters\\) at ~40 bytes.*more than this machine" render --integrator manylight --vpls 4294967295 --shading-clusters 600 --vpl-clusters 300 --width 64 --height 48 --out ${WORK}/x.png)
 expect(2 "--rmse-log .*log.txt: the file name must end in .json or .csv" render --integrator manylight --rmse-log ${WORK}/log.txt --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "--reference .*x.png: must be an .exr or .pfm image" render --integrator manylight --reference ${WORK}/x.png --width 8 --height 8 --out ${WORK}/y.png)
 expect(2 "--reference .*none.exr: no such file" render --integrator manylight --reference ${WORK}/none.exr --width 8 --height 8 --out ${WORK}/y.png)
