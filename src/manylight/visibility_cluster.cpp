@@ -7,10 +7,13 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/discrete_distribution.h"
+#include "rayscout/core/input_error.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/render/bsdf.h"
@@ -270,6 +273,12 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   // The average visibility r of every cluster pair from a few member pairs' shadow rays.
   t0 = SteadyClock::now();
   const size_t ns = vc.shading.size(), nl = vc.lights.size(), pairs = ns * nl;
+  // Pair ids are 32-bit (PairSampling, the refinement list): beyond that they would wrap and
+  // some pairs would be sampled twice, others never. (2^32 pairs take ~170 GB anyway.)
+  if (pairs > UINT32_MAX)
+    throw InputError("manylight: " + std::to_string(ns) + " shading clusters x " + std::to_string(nl) +
+                     " VPL clusters = " + std::to_string(pairs) + " cluster pairs, more than 2^32 - 1: use fewer "
+                     "--shading-clusters or --vpl-clusters");
   const float offset = manylight_detail::ray_offset(diag);
   const PairSampling ps{scene, points, vpls, config, vc, nl};
   PairEstimates est(pairs);

@@ -190,5 +190,31 @@ TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
   EXPECT_GT(vc.shadow_rays, 0u);
 }
 
+// Cluster pair ids are 32-bit: more pairs than that are an input error, before any of the
+// ~40 bytes a pair are allocated (70000 x 70000 pairs asked for ~200 GB and then wrapped ids).
+TEST(ManylightVisibilityClusters, MorePairsThan32BitIdsAreAnInputError) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  const size_t n = 70000;  // n^2 > 2^32
+  std::vector<ShadingPoint> points(n);
+  VplSet vpls;
+  vpls.vpls.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float x = float(i % 265) / 265.0f, z = float(i / 265) / 265.0f;
+    points[i].position = Vec3(2.0f * x - 1.0f, 0.0f, 2.0f * z - 1.0f);
+    points[i].normal = Vec3(0.0f, 1.0f, 0.0f);
+    points[i].weight = Vec3(1.0f);
+    vpls.vpls[i].position = Vec3(2.0f * x - 1.0f, 1.9f, 2.0f * z - 1.0f);
+  }
+  ManylightConfig config;
+  config.shading_clusters = config.vpl_clusters = 1 << 17;
+  try {
+    build_visibility_clusters(scene, *accel, points, vpls, config);
+    FAIL() << "built";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cluster pairs, more than 2^32 - 1"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rayscout
