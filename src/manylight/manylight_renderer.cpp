@@ -193,6 +193,8 @@ void ManylightRenderer::resolve_samples(size_t c, std::span<const Sample> sample
     double vt = 0;
     if (s.state == SampleState::Skipped) vt = s.r;
     else if (s.state == SampleState::Traced) vt = visibility_estimate(false, occluded[s.ray] ? 0.0 : 1.0, s.r, s.q);
+    // A zero-contribution sample costs what a skipped one does (calibrate() charges it t_skip),
+    // so it enters mean(q) of eq. (16) with q = 1, and eq. (17) with y = t V~ / p = 0.
     if (s.state != SampleState::ZeroContribution) st.add(s.q, s.lum_t * vt);
     else st.add(1.0, 0.0);
     if (!accumulate) continue;

@@ -18,8 +18,10 @@
 
 namespace rayscout {
 
-/// Wall-clock costs of the preprocess (independent of the sample count; the paper's
-/// "Visibility Cluster" column of Table 1) and the calibrated per-sample costs.
+/// Costs of the preprocess (independent of the sample count; the paper's "Visibility Cluster"
+/// column of Table 1) and the calibrated per-sample costs, on config.cpu_clock's clock (wall
+/// time, or process CPU time); VisibilityCluster's phases split its measured total in the
+/// proportions of their wall times.
 struct ManylightTimings {
   double vpl_ms = 0, shading_points_ms = 0, cluster_ms = 0, visibility_ms = 0, pmf_ms = 0;
   double calibration_ms = 0;

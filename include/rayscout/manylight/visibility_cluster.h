@@ -51,7 +51,8 @@ struct VisibilityClusters {
 Vec3 tentative_contribution(const Scene& scene, const ShadingPoint& sp, const Vpl& vpl,
                             float clamp_distance);
 
-/// The shadow ray from sp to vpl (both ends offset by `offset` along their normals).
+/// The shadow ray from sp to vpl: it leaves sp `offset` along sp's normal and ends `offset` off
+/// the VPL's surface on sp's side (a point light's end is not moved), at 0.999 of the way.
 Ray shadow_ray(const ShadingPoint& sp, const Vpl& vpl, float offset);
 
 /// Builds the clusters, estimates r from config.visibility_samples random member pairs per
