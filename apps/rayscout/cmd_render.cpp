@@ -2,7 +2,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -22,6 +21,7 @@
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/image/image.h"
+#include "rayscout/manylight/visibility_cluster.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/scene/load_scene.h"
 
@@ -76,11 +76,8 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
   const bool manylight = integrator == "manylight";
   const double points = manylight ? pixels * double(c.spp) : 0.0;
   const double vpls = manylight ? double(m.vpl_count) : 0.0;
-  const auto clusters = [](int wanted, double items) {
-    return std::min(items, std::exp2(std::ceil(std::log2(std::max(1.0, std::min(double(wanted), items))))));
-  };
-  const double shading_clusters = clusters(m.shading_clusters, points);
-  const double pairs = shading_clusters * clusters(m.vpl_clusters, vpls);
+  const double shading_clusters = double(cluster_count(size_t(points), m.shading_clusters));
+  const double pairs = shading_clusters * double(cluster_count(size_t(vpls), m.vpl_clusters));
   const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
   require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + 130.0 * points + 100.0 * vpls +
                      40.0 * pairs + 110.0 * round,

@@ -152,15 +152,15 @@ class DacrtBench {
     return median(t);
   }
 
-  /// Median times of a and b on s (ms), their repetitions interleaved so that a change of
-  /// load on the shared machine hits both sides of the ratio alike.
-  std::pair<double, double> time_pair(const Accelerator& a, const Accelerator& b, const RaySet& s) const {
-    std::vector<double> ta, tb;
-    for (int r = 0; r < o_.reps; ++r) {
-      ta.push_back(trace_ms(clock_, a, s));
-      tb.push_back(trace_ms(clock_, b, s));
-    }
-    return {median(ta), median(tb)};
+  /// Median times of accs on s (ms), their repetitions interleaved so that a change of load
+  /// on the shared machine hits every side of a ratio alike.
+  std::vector<double> interleaved_ms(const std::vector<const Accelerator*>& accs, const RaySet& s) const {
+    std::vector<std::vector<double>> t(accs.size());
+    for (int r = 0; r < o_.reps; ++r)
+      for (size_t k = 0; k < accs.size(); ++k) t[k].push_back(trace_ms(clock_, *accs[k], s));
+    std::vector<double> medians;
+    for (const auto& tk : t) medians.push_back(median(tk));
+    return medians;
   }
 
   double frame_ms(const Accelerator& a, const Study& st) const {
@@ -221,7 +221,8 @@ class DacrtBench {
       for (int res : o_.res) {
         double fa = 0, fr = 0;
         for (const auto& s : ray_sets(v, *scene, res)) {
-          const auto [ta, tr] = time_pair(*afra, *rs, s);
+          const std::vector<double> ms = interleaved_ms({afra.get(), rs.get()}, s);
+          const double ta = ms[0], tr = ms[1];
           fa += ta;
           fr += tr;
           fmt::print("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | |\n", v.name, res, s.label(), s.rays.size(), ta, tr, ta / tr);
@@ -268,13 +269,13 @@ class DacrtBench {
       for (int res : o_.res) {
         std::vector<double> frame(configs.size(), 0.0);
         for (const auto& s : ray_sets(v, *scene, res)) {
-          std::vector<std::vector<double>> t(configs.size());
-          for (int r = 0; r < o_.reps; ++r)
-            for (size_t k = 0; k < accs.size(); ++k) t[k].push_back(trace_ms(clock_, *accs[k], s));
+          std::vector<const Accelerator*> timed;
+          for (const auto& a : accs) timed.push_back(a.get());
+          const std::vector<double> ms = interleaved_ms(timed, s);
           fmt::print("| {} | {} | {} | {} |", v.name, res, s.label(), s.rays.size());
-          const double base = median(t[0]);
+          const double base = ms[0];
           for (size_t k = 0; k < accs.size(); ++k) {
-            const double m = median(t[k]);
+            const double m = ms[k];
             frame[k] += m;
             TraceStats st;
             trace(*accs[k], s, &st);
@@ -412,7 +413,8 @@ class DacrtBench {
     auto a = make("dacrt", st.scene), r = make("dacrt-rs", st.scene);
     const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
     for (const auto& s : st.sets) {
-      const auto [ta, tr] = time_pair(*a, *r, s);
+      const std::vector<double> ms = interleaved_ms({a.get(), r.get()}, s);
+      const double ta = ms[0], tr = ms[1];
       const auto [bvh_build, bvh_trace] = build_and_trace("bvh", st.scene, s);
       const auto [embree_build, embree_trace] = have_embree ? build_and_trace("embree", st.scene, s) : std::pair{0.0, 0.0};
       fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", s.label(), s.rays.size(), ta, tr,

@@ -201,9 +201,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> scene_names;
     for (const BenchScene& s : kScenes) scene_names.push_back(s.name);
     bench::check_names("--scenes", o.scenes, scene_names);
-    std::vector<std::string> accel_names;
-    for (const AcceleratorInfo& a : accelerators()) accel_names.push_back(a.name);
-    bench::check_names("--accel", {o.accel}, accel_names);
+    check_accelerator(o.accel);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
     std::filesystem::create_directories(o.out_dir);
     check_output_path(o.json, "--json");

@@ -57,6 +57,11 @@ void bisect(std::vector<Feature>& f, std::vector<uint32_t>& order, size_t lo, si
 
 }  // namespace
 
+size_t cluster_count(size_t items, int wanted) {
+  if (items == 0) return 0;
+  return std::min(items, size_t(1) << ceil_log2(std::min(items, size_t(std::max(1, wanted)))));
+}
+
 Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3> normals,
                           float diagonal, float normal_weight, int clusters) {
   Clustering c;

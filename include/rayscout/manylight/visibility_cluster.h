@@ -24,6 +24,10 @@ struct Clustering {
 
 /// Recursive median bisection of 6-D features (position / scene diagonal, normal * normal_weight)
 /// along the widest dimension, to 2^ceil(log2(clusters)) clusters of (almost) equal size.
+/// How many clusters cluster_points makes of `items` when asked for `wanted`: 2^ceil(log2(wanted))
+/// (600 makes 1024), at most `items`.
+size_t cluster_count(size_t items, int wanted);
+
 Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3> normals,
                           float diagonal, float normal_weight, int clusters);
 
