@@ -18,17 +18,23 @@ namespace rayscout {
 /// start entries): a caller that box-tests start entries on the traversal's behalf (shafts'
 /// entry boxes) must use the same interval, which Bvh2/WideBvh::cull_interval(ray) give.
 struct CullInterval {
-  float abs_slack;
+  /// Slack relative to the distance itself, 2^-17.
+  static constexpr float kRelativeSlack = 0x1p-17f;
+  /// Slack relative to the coordinates' magnitude, 2^-20 (divided by the dominant direction
+  /// component, it becomes a distance along the ray).
+  static constexpr float kCoordinateSlack = 0x1p-20f;
+
+  float abs_slack;  ///< kCoordinateSlack of this ray's coordinates, as a distance along it
 
   CullInterval(const Bounds3& scene, const Ray& ray) {
     const float coords = max_component(max(abs(scene.lo), abs(scene.hi))) + max_component(abs(ray.org));
-    abs_slack = coords * (1.0f / 1048576.0f) / max_component(abs(ray.dir));
+    abs_slack = coords * kCoordinateSlack / max_component(abs(ray.dir));
   }
   /// Box-test far limit for a current closest distance t (|t|: a hit behind the origin, for
   /// a ray with tmin < 0, must widen the interval too).
-  float far(float t) const { return t + (t < 0 ? -t : t) * (1.0f / 131072.0f) + abs_slack; }
+  float far(float t) const { return t + (t < 0 ? -t : t) * kRelativeSlack + abs_slack; }
   /// Box-test near limit for the ray's tmin.
-  float near(float tmin) const { return tmin - (tmin < 0 ? -tmin : tmin) * (1.0f / 131072.0f) - abs_slack; }
+  float near(float tmin) const { return tmin - (tmin < 0 ? -tmin : tmin) * kRelativeSlack - abs_slack; }
 };
 
 }  // namespace rayscout
