@@ -19,8 +19,6 @@
 namespace rayscout::detail {
 namespace {
 
-constexpr int kMaxBins = 256;
-
 // A box as two SSE registers (x, y, z, unused); the builder's working format.
 struct Box4 {
   __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
@@ -180,7 +178,7 @@ class Builder {
     if (config_.bins <= 16) return find_split_n<16>(r);
     if (config_.bins <= 32) return find_split_n<32>(r);
     if (config_.bins <= 64) return find_split_n<64>(r);
-    return find_split_n<kMaxBins>(r);
+    return find_split_n<kBvhMaxBins>(r);
   }
 
   template <int NB>
@@ -323,13 +321,15 @@ class Builder {
 
 int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& config,
                      std::vector<Bvh2Node>& nodes, std::vector<uint32_t>& prim_ids) {
-  if (config.bins < 2 || config.bins > kMaxBins)
-    throw InputError("BvhBuildConfig.bins = " + std::to_string(config.bins) + ": must be in [2, 256]");
-  if (config.max_leaf_size < 1 || config.max_leaf_size > 15)
-    throw InputError("BvhBuildConfig.max_leaf_size = " + std::to_string(config.max_leaf_size) +
-                     ": must be in [1, 15]");
+  if (config.bins < 2 || config.bins > kBvhMaxBins)
+    throw InputError("BvhBuildConfig.bins = " + std::to_string(config.bins) + ": must be in [2, " +
+                     std::to_string(kBvhMaxBins) + "]");
+  if (config.max_leaf_size < 1 || config.max_leaf_size > kBvhMaxLeafSize)
+    throw InputError("BvhBuildConfig.max_leaf_size = " + std::to_string(config.max_leaf_size) + ": must be in [1, " +
+                     std::to_string(kBvhMaxLeafSize) + "]");
   if (config.leaf_block < 1)
     throw InputError("BvhBuildConfig.leaf_block = " + std::to_string(config.leaf_block) + ": must be >= 1");
+  // The wide BVH's leaf references address 2^27 slots (WideRef::kMaxFirst); the Bvh2 shares the limit.
   if (boxes.size() >= (1u << 27))
     throw InputError("BVH: " + std::to_string(boxes.size()) +
                      " primitives (triangles, or their pieces with presplit), at most 2^27 supported");

@@ -52,13 +52,13 @@ BvhBuildConfig wide_bvh_default_config() {
 
 BvhBuildConfig bvh_config_from_options(const AcceleratorOptions& options, const BvhBuildConfig& defaults) {
   BvhBuildConfig c = defaults;
-  c.bins = int(options.get_int("bins", c.bins, 2, 256));
-  c.max_leaf_size = int(options.get_int("max_leaf_size", c.max_leaf_size, 1, 15));
+  c.bins = int(options.get_int("bins", c.bins, 2, kBvhMaxBins));
+  c.max_leaf_size = int(options.get_int("max_leaf_size", c.max_leaf_size, 1, kBvhMaxLeafSize));
   c.traversal_cost = float(options.get_double("traversal_cost", c.traversal_cost));
   c.intersection_cost = float(options.get_double("intersection_cost", c.intersection_cost));
-  c.leaf_block = int(options.get_int("leaf_block", c.leaf_block, 1, 15));
+  c.leaf_block = int(options.get_int("leaf_block", c.leaf_block, 1, kBvhMaxLeafSize));
   c.presplit = float(options.get_double("presplit", c.presplit, 0.0, 4.0));
-  c.presplit_max_pieces = int(options.get_int("presplit_pieces", c.presplit_max_pieces, 1, 65));
+  c.presplit_max_pieces = int(options.get_int("presplit_pieces", c.presplit_max_pieces, 1, kBvhMaxPresplitPieces));
   if (!(c.traversal_cost > 0) || !(c.intersection_cost > 0))
     throw InputError("bvh options traversal_cost and intersection_cost must be positive");
   return c;
@@ -70,7 +70,7 @@ BvhBuildConfig wide_bvh_config_from_options(const AcceleratorOptions& options) {
   c.collapse_node_cost = float(options.get_double("collapse_node_cost", c.collapse_node_cost));
   c.collapse_leaf_cost = float(options.get_double("collapse_leaf_cost", c.collapse_leaf_cost));
   c.collapse_block_cost = float(options.get_double("collapse_block_cost", c.collapse_block_cost));
-  c.collapse_max_leaf = int(options.get_int("collapse_max_leaf", c.collapse_max_leaf, 1, 15));
+  c.collapse_max_leaf = int(options.get_int("collapse_max_leaf", c.collapse_max_leaf, 1, kBvhMaxLeafSize));
   if (!(c.collapse_node_cost > 0) || !(c.collapse_leaf_cost >= 0) || !(c.collapse_block_cost > 0))
     throw InputError("bvh options collapse_node_cost and collapse_block_cost must be positive, collapse_leaf_cost >= 0");
   return c;

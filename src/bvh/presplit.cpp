@@ -141,7 +141,7 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, 
   // Karras and Aila find the scale by bisection so the floored counts meet the budget: the
   // plain budget / mean priority gave a scene-dependent 4-45 % of it (Sponza 0.3 -> 3.5 %).
   const double target = double(budget) * double(n);
-  const double max_extra = double(std::clamp(max_pieces, 1, 65) - 1);
+  const double max_extra = double(std::clamp(max_pieces, 1, kBvhMaxPresplitPieces) - 1);
   // Every term is a whole number, so the sum is exact in any order: summing in parallel
   // keeps the result (and the tree) independent of the thread count.
   auto extra_refs = [&](double s) {

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "rayscout/bvh/build_config.h"
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/triangle.h"
 
@@ -23,7 +24,7 @@ struct PrimReferences {
 /// plane of a global power-of-two grid over the scene, clipping the triangle so every piece
 /// box is tight. Every point of a triangle stays inside one of its boxes (clip points are
 /// padded outward). budget = 0 gives one reference per triangle. A triangle gets at most
-/// max_pieces references (clamped to [1, 65]).
+/// max_pieces references (clamped to [1, kBvhMaxPresplitPieces]).
 PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces);
 
 }  // namespace rayscout::detail

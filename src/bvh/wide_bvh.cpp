@@ -76,7 +76,7 @@ class SahCollapse {
         stack.push_back(bvh.nodes[i].first + 1);
       }
     }
-    const uint32_t max_leaf = uint32_t(std::clamp(config.collapse_max_leaf, 1, 15));
+    const uint32_t max_leaf = uint32_t(std::clamp(config.collapse_max_leaf, 1, kBvhMaxLeafSize));
     for (size_t o = order.size(); o-- > 0;) {
       const uint32_t i = order[o];
       const Bvh2Node& nd = bvh.nodes[i];

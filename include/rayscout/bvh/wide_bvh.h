@@ -27,12 +27,15 @@ inline constexpr int kWideWidth = 8;
 /// more blocks than it needs).
 struct WideRef {
   static constexpr uint32_t kLeafBit = 0x80000000u;
-  static constexpr uint32_t kMaxFirst = (1u << 27) - 1;
+  static constexpr uint32_t kCountShift = 27;
+  static constexpr uint32_t kMaxCount = 15;  ///< the 4 bits 27..30
+  static constexpr uint32_t kMaxFirst = (1u << kCountShift) - 1;
   static bool is_leaf(uint32_t ref) { return (ref & kLeafBit) != 0; }
-  static uint32_t leaf(uint32_t first, uint32_t count) { return kLeafBit | (count << 27) | first; }
+  static uint32_t leaf(uint32_t first, uint32_t count) { return kLeafBit | (count << kCountShift) | first; }
   static uint32_t leaf_first(uint32_t ref) { return ref & kMaxFirst; }
-  static uint32_t leaf_count(uint32_t ref) { return (ref >> 27) & 15u; }
+  static uint32_t leaf_count(uint32_t ref) { return (ref >> kCountShift) & kMaxCount; }
 };
+static_assert(uint32_t(kBvhMaxLeafSize) <= WideRef::kMaxCount);
 
 /// Triangles per TriangleBlock: one SSE register.
 inline constexpr uint32_t kTriangleBlockWidth = 4;
