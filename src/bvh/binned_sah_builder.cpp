@@ -49,7 +49,14 @@ struct Bin {
   Box4Raw box;
   uint32_t count;
   void clear() { box.lo = _mm_set1_ps(kInfinity); box.hi = _mm_set1_ps(-kInfinity); count = 0; }
-  void add(const Bin& o) { box.lo = _mm_min_ps(box.lo, o.box.lo); box.hi = _mm_max_ps(box.hi, o.box.hi); count += o.count; }
+  // One more primitive of box b.
+  void add(const Box4& b) { box.lo = _mm_min_ps(box.lo, b.lo); box.hi = _mm_max_ps(box.hi, b.hi); ++count; }
+  // The union with bin o (another task's share of the same node).
+  void merge(const Bin& o) {
+    box.lo = _mm_min_ps(box.lo, o.box.lo);
+    box.hi = _mm_max_ps(box.hi, o.box.hi);
+    count += o.count;
+  }
 };
 
 struct Split {
@@ -72,7 +79,6 @@ struct Range {
 struct PrimRef : Box4 {
   uint32_t id = 0;
 };
-inline uint32_t id_of(const PrimRef& p) { return p.id; }
 
 class Builder {
  public:
@@ -88,26 +94,17 @@ class Builder {
     node.bounds = r.box.bounds();
     node.pad = 0;
     node.axis = 0;
-    const bool can_be_leaf = n <= uint32_t(config_.max_leaf_size);
     if (n == 1) return make_leaf(node, r.begin, n);
     const Split split = find_split(r);
-    if (split.axis < 0 && can_be_leaf) return make_leaf(node, r.begin, n);
-    if (split.axis >= 0 && can_be_leaf) {
-      // SAH (Wald 2007 eq. 1) multiplied through by A(box), so flat boxes need no division.
-      const float area = r.box.half_area();
-      const float split_cost = config_.traversal_cost * area + config_.intersection_cost * split.cost;
-      const uint32_t tests = (n + uint32_t(config_.leaf_block) - 1) / uint32_t(config_.leaf_block);
-      const float leaf_cost = config_.intersection_cost * float(tests) * area;
-      if (leaf_cost <= split_cost) return make_leaf(node, r.begin, n);
-    }
+    if (n <= uint32_t(config_.max_leaf_size) && (split.axis < 0 || leaf_costs_no_more(r, split)))
+      return make_leaf(node, r.begin, n);
     Range left, right;
     if (split.axis >= 0) {
       partition(r, split, left, right);
       node.axis = uint8_t(split.axis);
     } else {
       // Every centre is equal, or no split has a finite non-zero cost: split the list in half.
-      node.axis = uint8_t(r.box.bounds().largest_axis());
-      median_split(r, left, right);
+      node.axis = uint8_t(median_split(r, left, right));
     }
     const uint32_t nl = left.end - left.begin;
     node.first = desc;
@@ -128,16 +125,26 @@ class Builder {
   // per-triangle counts here, leaves of up to max_leaf_size looked cheaper than any split.
   uint32_t blocks(uint32_t n) const { return (n + uint32_t(config_.leaf_block) - 1) / uint32_t(config_.leaf_block); }
 
+  // The SAH's leaf-or-split decision (Wald 2007 eq. 1) multiplied through by A(box), so flat
+  // boxes need no division: C_I blocks(n) A <= C_T A + C_I (A_L N_L + A_R N_R). A tie makes a leaf.
+  bool leaf_costs_no_more(const Range& r, const Split& split) const {
+    const float area = r.box.half_area();
+    const float split_cost = config_.traversal_cost * area + config_.intersection_cost * split.cost;
+    const float leaf_cost = config_.intersection_cost * float(blocks(r.end - r.begin)) * area;
+    return leaf_cost <= split_cost;
+  }
+
   void make_leaf(Bvh2Node& node, uint32_t begin, uint32_t n) {
     node.first = begin;
     node.count = uint16_t(n);
     leaves_.fetch_add(1, std::memory_order_relaxed);
   }
 
+  // Maps doubled centres to bins: bin = (c2 - lo) * scale per axis, clamped to [0, top].
   struct Binner {
     __m128 lo, scale;
     int top;
-    // Bin index per axis of a doubled centre; the scale keeps the top value in the last bin.
+    // Bin index per axis (idx[0..2]; idx[3] is scratch) of a doubled centre.
     void index(__m128 c2, int* idx) const {
       _mm_store_si128(reinterpret_cast<__m128i*>(idx), _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(c2, lo), scale)));
       for (int a = 0; a < 3; ++a) idx[a] = std::clamp(idx[a], 0, top);
@@ -148,9 +155,11 @@ class Builder {
     alignas(16) float lo[4], hi[4], s[4] = {0, 0, 0, 0};
     _mm_store_ps(lo, cbox.lo);
     _mm_store_ps(hi, cbox.hi);
+    // The top centre lands inside the last bin: (hi - lo) * scale = bins * kShrink < bins.
+    constexpr float kShrink = 1.0f - 1e-6f;
     for (int a = 0; a < 3; ++a) {
       const float e = hi[a] - lo[a];
-      s[a] = e > 0.0f ? float(bins) * (1.0f - 1e-6f) / e : 0.0f;
+      s[a] = e > 0.0f ? float(bins) * kShrink / e : 0.0f;
     }
     return {cbox.lo, _mm_load_ps(s), bins - 1};
   }
@@ -164,12 +173,7 @@ class Builder {
     for (uint32_t i = begin; i < end; ++i) {
       const Box4& box = refs_[i];
       b.index(_mm_add_ps(box.lo, box.hi), idx);
-      for (int a = 0; a < 3; ++a) {
-        Bin& bin = bins[a][idx[a]];
-        bin.box.lo = _mm_min_ps(bin.box.lo, box.lo);
-        bin.box.hi = _mm_max_ps(bin.box.hi, box.hi);
-        ++bin.count;
-      }
+      for (int a = 0; a < 3; ++a) bins[a][idx[a]].add(box);
     }
   }
 
@@ -184,72 +188,86 @@ class Builder {
   template <int NB>
   Split find_split_n(const Range& r) const {
     Split best;
-    const Bounds3 cb = r.cbox.bounds();
-    const Vec3 extent = cb.diagonal();
+    const Vec3 extent = r.cbox.bounds().diagonal();
     if (!(extent.x > 0.0f || extent.y > 0.0f || extent.z > 0.0f)) return best;
     // Fewer primitives than bins: one bin per primitive (clearing and sweeping unused bins
     // dominates the cost of small nodes).
     const int nb = int(std::min<uint32_t>(uint32_t(config_.bins), std::max<uint32_t>(2u, r.end - r.begin)));
-    const Binner binr = binner(r.cbox, nb);
     BinArray<NB> bins;
-    auto clear = [nb](BinArray<NB>& b) {
-      for (int ax = 0; ax < 3; ++ax)
-        for (int k = 0; k < nb; ++k) b[ax][k].clear();
-    };
-    if (r.end - r.begin >= uint32_t(config_.parallel_threshold)) {
-      BinArray<NB> empty;
-      clear(empty);
-      // Bin unions and counts are exact, so the reduction order cannot change the result.
-      bins = tbb::parallel_reduce(
-          tbb::blocked_range<uint32_t>(r.begin, r.end, 1024), empty,
-          [&](const tbb::blocked_range<uint32_t>& br, BinArray<NB> acc) {
-            bin_range<NB>(br.begin(), br.end(), binr, acc);
-            return acc;
-          },
-          [nb](BinArray<NB> a, const BinArray<NB>& b) {
-            for (int ax = 0; ax < 3; ++ax)
-              for (int k = 0; k < nb; ++k) a[ax][k].add(b[ax][k]);
-            return a;
-          });
-    } else {
-      clear(bins);
-      bin_range<NB>(r.begin, r.end, binr, bins);
-    }
-    for (int a = 0; a < 3; ++a) {
-      if (!(extent[a] > 0.0f)) continue;
-      // Sweep from the right: right_cost[k] = A N of bins (k, nb).
-      std::array<float, NB> right_cost;
-      std::array<uint32_t, NB> right_count;
-      Box4 acc;
-      uint32_t count = 0;
-      for (int k = nb - 1; k > 0; --k) {
-        acc.extend(bins[a][k].box.lo, bins[a][k].box.hi);
-        count += bins[a][k].count;
-        right_cost[k - 1] = acc.half_area() * float(blocks(count));
-        right_count[k - 1] = count;
-      }
-      Box4 left;
-      count = 0;
-      for (int k = 0; k < nb - 1; ++k) {
-        left.extend(bins[a][k].box.lo, bins[a][k].box.hi);
-        count += bins[a][k].count;
-        if (count == 0 || right_count[k] == 0) continue;
-        const float cost = left.half_area() * float(blocks(count)) + right_cost[k];
-        if (best.axis < 0 || cost < best.cost) {
-          best.axis = a;
-          best.bin = k;
-          best.cost = cost;
-        }
-      }
-    }
+    bin_primitives<NB>(r, binner(r.cbox, nb), nb, bins);
+    for (int a = 0; a < 3; ++a)
+      if (extent[a] > 0.0f) sweep_axis<NB>(bins[a], a, nb, best);
     // Boxes without area (collinear input) or with an infinite one cost every split the same,
     // 0 or inf: the first bin would win at every level, peeling one bin off a chain of nodes
     // (depth 2257 for 1M collinear triangles). The median split halves them instead.
     if (!(best.cost > 0.0f && best.cost < std::numeric_limits<float>::infinity())) best.axis = -1;
     if (best.axis >= 0)
-      for (int k = 0; k < nb; ++k) (k <= best.bin ? best.left : best.right).extend(bins[best.axis][k].box.lo, bins[best.axis][k].box.hi);
+      for (int k = 0; k < nb; ++k) {
+        const Bin& bin = bins[best.axis][k];
+        (k <= best.bin ? best.left : best.right).extend(bin.box.lo, bin.box.hi);
+      }
     best.bins = nb;
     return best;
+  }
+
+  // Bins r's primitives by centre into the first nb bins of each axis, in parallel for a
+  // large node; the other bins are left as they are.
+  template <int NB>
+  void bin_primitives(const Range& r, const Binner& binr, int nb, BinArray<NB>& bins) const {
+    auto clear = [nb](BinArray<NB>& b) {
+      for (int ax = 0; ax < 3; ++ax)
+        for (int k = 0; k < nb; ++k) b[ax][k].clear();
+    };
+    if (r.end - r.begin < uint32_t(config_.parallel_threshold)) {
+      clear(bins);
+      bin_range<NB>(r.begin, r.end, binr, bins);
+      return;
+    }
+    BinArray<NB> empty;
+    clear(empty);
+    // Bin unions and counts are exact, so the reduction order cannot change the result.
+    bins = tbb::parallel_reduce(
+        tbb::blocked_range<uint32_t>(r.begin, r.end, 1024), empty,
+        [&](const tbb::blocked_range<uint32_t>& br, BinArray<NB> acc) {
+          bin_range<NB>(br.begin(), br.end(), binr, acc);
+          return acc;
+        },
+        [nb](BinArray<NB> a, const BinArray<NB>& b) {
+          for (int ax = 0; ax < 3; ++ax)
+            for (int k = 0; k < nb; ++k) a[ax][k].merge(b[ax][k]);
+          return a;
+        });
+  }
+
+  // The SAH sweep over one axis' nb bins (Wald 2007 sec. 3.2): the split after bin k costs
+  // A_L N_L + A_R N_R (half areas, N in leaf blocks); best takes it when it is cheaper than
+  // every split before (lower axes first, then lower k: ties keep the first).
+  template <int NB>
+  void sweep_axis(const std::array<Bin, NB>& bins, int axis, int nb, Split& best) const {
+    // From the right: right_cost[k] and right_count[k] are A N and N of bins (k, nb).
+    std::array<float, NB> right_cost;
+    std::array<uint32_t, NB> right_count;
+    Box4 right;
+    uint32_t count = 0;
+    for (int k = nb - 1; k > 0; --k) {
+      right.extend(bins[k].box.lo, bins[k].box.hi);
+      count += bins[k].count;
+      right_cost[k - 1] = right.half_area() * float(blocks(count));
+      right_count[k - 1] = count;
+    }
+    Box4 left;
+    count = 0;
+    for (int k = 0; k < nb - 1; ++k) {
+      left.extend(bins[k].box.lo, bins[k].box.hi);
+      count += bins[k].count;
+      if (count == 0 || right_count[k] == 0) continue;
+      const float cost = left.half_area() * float(blocks(count)) + right_cost[k];
+      if (best.axis < 0 || cost < best.cost) {
+        best.axis = axis;
+        best.bin = k;
+        best.cost = cost;
+      }
+    }
   }
 
   // In-place partition by bin (the binning's own arithmetic, so sides match the bins exactly);
@@ -262,18 +280,18 @@ class Builder {
       binr.index(c2, idx);
       return idx[s.axis] <= s.bin;
     };
-    PrimRef* ids = refs_.data();
+    PrimRef* refs = refs_.data();
     uint32_t i = r.begin, j = r.end;
     Box4 lc, rc;
     __m128 c2;
     for (;;) {
-      while (i < j && goes_left(ids[i], c2)) { lc.extend(c2); ++i; }
-      while (i < j && !goes_left(ids[j - 1], c2)) { rc.extend(c2); --j; }
+      while (i < j && goes_left(refs[i], c2)) { lc.extend(c2); ++i; }
+      while (i < j && !goes_left(refs[j - 1], c2)) { rc.extend(c2); --j; }
       if (i >= j) break;
-      // ids[i] goes right, ids[j - 1] goes left: swap them into place.
-      std::swap(ids[i], ids[j - 1]);
-      lc.extend(_mm_add_ps(ids[i].lo, ids[i].hi));
-      rc.extend(_mm_add_ps(ids[j - 1].lo, ids[j - 1].hi));
+      // refs[i] goes right, refs[j - 1] goes left: swap them into place.
+      std::swap(refs[i], refs[j - 1]);
+      lc.extend(_mm_add_ps(refs[i].lo, refs[i].hi));
+      rc.extend(_mm_add_ps(refs[j - 1].lo, refs[j - 1].hi));
       ++i;
       --j;
     }
@@ -281,7 +299,9 @@ class Builder {
     right = {i, r.end, s.right, rc};
   }
 
-  void median_split(const Range& r, Range& left, Range& right) const {
+  // Halves r at the median centre along the largest axis of its box (equal centres ordered by
+  // id, so each half is defined by centres and ids alone); returns that axis.
+  int median_split(const Range& r, Range& left, Range& right) const {
     const uint32_t mid = r.begin + (r.end - r.begin) / 2;
     const int axis = r.box.bounds().largest_axis();
     PrimRef* b = refs_.data();
@@ -292,12 +312,14 @@ class Builder {
     };
     std::nth_element(b + r.begin, b + mid, b + r.end, [&](const PrimRef& p, const PrimRef& q) {
       const float cp = centre(p), cq = centre(q);
-      return cp < cq || (cp == cq && id_of(p) < id_of(q));
+      return cp < cq || (cp == cq && p.id < q.id);
     });
     left = gather(r.begin, mid);
     right = gather(mid, r.end);
+    return axis;
   }
 
+  // The Range of refs_[begin, end): its box and centre bounds, by one pass.
   Range gather(uint32_t begin, uint32_t end) const {
     Range r{begin, end, {}, {}};
     for (uint32_t i = begin; i < end; ++i) {
@@ -311,10 +333,11 @@ class Builder {
   std::span<PrimRef> refs_;
   const BvhBuildConfig& config_;
   std::vector<Bvh2Node>& slots_;
+  std::atomic<uint32_t> leaves_{0};
 
  public:
   /// Leaves made so far: a binary tree with L leaves has 2 L - 1 nodes.
-  std::atomic<uint32_t> leaves_{0};
+  uint32_t leaf_count() const { return leaves_.load(); }
 };
 
 }  // namespace
@@ -359,13 +382,13 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
   Builder builder(refs, config, slots);
   builder.build(0, {0, n, all.box, all.cbox}, 1);
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const auto& r) {
-    for (uint32_t i = r.begin(); i != r.end(); ++i) prim_ids[i] = id_of(refs[i]);
+    for (uint32_t i = r.begin(); i != r.end(); ++i) prim_ids[i] = refs[i].id;
   });
 
   // Compact the scheduling-independent slot layout into depth-first order, siblings adjacent.
   // Exactly the reachable nodes: no over-sized buffer to shrink and copy (first touches of
   // fresh pages are a large part of a cold build).
-  nodes.reserve(2 * size_t(builder.leaves_.load()) - 1);
+  nodes.reserve(2 * size_t(builder.leaf_count()) - 1);
   nodes.push_back(slots[0]);
   struct Item { uint32_t node, slot; int depth; };
   std::vector<Item> stack{{0, 0, 0}};
