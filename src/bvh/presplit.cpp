@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -14,6 +15,10 @@
 
 namespace rayscout::detail {
 namespace {
+
+// The finest level of the power-of-two grid tried (level 1 halves the scene): cells of 2^-23
+// of the scene, near a float's relative precision.
+constexpr int kFinestGridLevel = 23;
 
 // Box of the part of tri on one side of the plane x[axis] = pos (left: <= pos), intersected
 // with clip. Crossing points are padded outward by a few ulps so the box stays conservative.
@@ -30,7 +35,8 @@ Bounds3 clip_side(const Triangle& tri, int axis, float pos, bool left, const Bou
       const float t = (pos - a[axis]) / (c[axis] - a[axis]);
       Vec3 p = a + (c - a) * t;
       for (int k = 0; k < 3; ++k) {
-        const float pad = 4.0f * 1.1920929e-07f * std::max(std::fabs(a[k]), std::fabs(c[k]));
+        constexpr float kRelativePad = 4.0f * std::numeric_limits<float>::epsilon();  // 2^-21
+        const float pad = kRelativePad * std::max(std::fabs(a[k]), std::fabs(c[k]));
         Vec3 q = p;
         q[k] = p[k] - pad;
         b.extend(q);
@@ -42,33 +48,33 @@ Bounds3 clip_side(const Triangle& tri, int axis, float pos, bool left, const Bou
   if (b.empty()) return b;
   b.lo[axis] = left ? b.lo[axis] : std::max(b.lo[axis], pos);
   b.hi[axis] = left ? std::min(b.hi[axis], pos) : b.hi[axis];
-  Bounds3 r{max(b.lo, clip.lo), min(b.hi, clip.hi)};
-  return r;
+  return {max(b.lo, clip.lo), min(b.hi, clip.hi)};
 }
 
-// The coarsest plane of the power-of-two grid over the scene that cuts box strictly inside,
-// on the axis where that plane is coarsest (largest extent breaks ties). False when none.
+// The coarsest plane of the power-of-two grid over the scene that cuts box strictly inside:
+// per axis, the grid line at or below the box's top at each level, coarse to fine; of axes
+// whose planes are equally coarse, the lowest. False when there is none.
 bool grid_plane(const Bounds3& box, const Bounds3& scene, int& axis, float& pos) {
-  int best_level = 64;
+  constexpr int kNone = kFinestGridLevel + 1;
+  int best_level = kNone;
   const Vec3 ext = scene.diagonal();
   for (int a = 0; a < 3; ++a) {
     if (!(ext[a] > 0.0f) || !(box.hi[a] > box.lo[a])) continue;
     const float hi = (box.hi[a] - scene.lo[a]) / ext[a];
-    for (int level = 1; level < std::min(best_level, 24); ++level) {
+    // Only levels coarser than the best axis so far: an equal one keeps the lower axis.
+    for (int level = 1; level < best_level; ++level) {
       const float cell = std::ldexp(1.0f, -level);
       const float k = std::floor(hi / cell);
       const float p = scene.lo[a] + k * cell * ext[a];
       if (p > box.lo[a] && p < box.hi[a]) {
-        if (level < best_level || (level == best_level && box.diagonal()[a] > box.diagonal()[axis])) {
-          best_level = level;
-          axis = a;
-          pos = p;
-        }
+        best_level = level;
+        axis = a;
+        pos = p;
         break;
       }
     }
   }
-  return best_level < 64;
+  return best_level < kNone;
 }
 
 // Writes n boxes covering tri within box into out (recursive binary splitting).
@@ -91,43 +97,82 @@ void split_into(const Triangle& tri, const Bounds3& box, uint32_t n, const Bound
   split_into(tri, r, n - nl, scene, out + nl);
 }
 
-}  // namespace
-
-PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces) {
-  const size_t n = tris.size();
-  // NaN would make the bounds depend on the reduction order (SSE min and max are not
-  // symmetric in NaN), and infinity every enclosing node's SAH cost. The scene loader refuses
-  // both; this is for callers of the library.
-  const bool finite = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, n, 16384), true,
+// Throws InputError naming the first triangle with an infinite or NaN vertex. NaN would make
+// the bounds depend on the reduction order (SSE min and max are not symmetric in NaN), and
+// infinity every enclosing node's SAH cost. The scene loader refuses both; this is for
+// callers of the library.
+void check_finite(std::span<const Triangle> tris) {
+  auto finite = [](const Triangle& t) { return is_finite(t.v0) && is_finite(t.v1) && is_finite(t.v2); };
+  const bool all_finite = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, tris.size(), 16384), true,
       [&](const auto& r, bool ok) {
-        for (size_t i = r.begin(); i != r.end(); ++i)
-          ok &= is_finite(tris[i].v0) & is_finite(tris[i].v1) & is_finite(tris[i].v2);
+        for (size_t i = r.begin(); i != r.end(); ++i) ok &= finite(tris[i]);
         return ok;
       },
       std::logical_and<>());
-  if (!finite) {
-    const auto bad = std::find_if(tris.begin(), tris.end(), [](const Triangle& t) {
-      return !is_finite(t.v0) || !is_finite(t.v1) || !is_finite(t.v2);
-    });
-    throw InputError("BVH: triangle " + std::to_string(bad - tris.begin()) + " has an infinite or NaN vertex");
-  }
+  if (all_finite) return;
+  const auto bad = std::find_if_not(tris.begin(), tris.end(), finite);
+  throw InputError("BVH: triangle " + std::to_string(bad - tris.begin()) + " has an infinite or NaN vertex");
+}
+
+// One reference per triangle, with its full box.
+PrimReferences one_reference_each(std::span<const Triangle> tris) {
   PrimReferences refs;
-  if (!(budget > 0.0f) || n == 0) {
-    refs.boxes.resize(n);
-    refs.ref_tri.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i) refs.boxes[i] = tris[i].bounds(), refs.ref_tri[i] = uint32_t(i);
-    });
-    return refs;
-  }
-  // Triangle boxes are recomputed where needed rather than kept: an array of them is fresh
-  // memory to fault in, which costs more than the few min/max operations.
-  std::vector<float> priority(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
+  refs.boxes.resize(tris.size());
+  refs.ref_tri.resize(tris.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) refs.boxes[i] = tris[i].bounds(), refs.ref_tri[i] = uint32_t(i);
+  });
+  return refs;
+}
+
+// Each triangle's claim on the budget (Karras and Aila's priority with exponent 0.3): the area
+// its box wastes, box surface minus the triangle's two faces. Triangle boxes are recomputed
+// where needed rather than kept: an array of them is fresh memory to fault in, which costs
+// more than the few min/max operations.
+std::vector<float> split_priorities(std::span<const Triangle> tris) {
+  std::vector<float> priority(tris.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)
       priority[i] = std::pow(std::max(0.0f, tris[i].bounds().surface_area() - 2.0f * tris[i].area()), 0.3f);
   });
+  return priority;
+}
+
+// The scale s whose extra references, sum of min(max_extra, floor(priority s)), come closest
+// to target from below. Karras and Aila find it by bisection: the plain target / sum of
+// priorities gave a scene-dependent 4-45 % of the budget (Sponza 0.3 -> 3.5 %).
+double budget_scale(const std::vector<float>& priority, double priority_sum, double target, double max_extra) {
+  // Every term is a whole number, so the sum is exact in any order: summing in parallel
+  // keeps the result (and the tree) independent of the thread count.
+  auto extra_refs = [&](double s) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, priority.size(), 8192), 0.0,
+        [&](const auto& r, double sum) {
+          for (size_t i = r.begin(); i != r.end(); ++i) sum += std::min(max_extra, std::floor(double(priority[i]) * s));
+          return sum;
+        },
+        [](double a, double b) { return a + b; });
+  };
+  double lo = 0.0, hi = priority_sum > 0 ? target / priority_sum : 0.0;
+  // Double until the target is bracketed; 1e30 stops a target no scale reaches (above
+  // max_extra per triangle).
+  while (hi > 0.0 && extra_refs(hi) < target && hi < 1e30) hi *= 2.0;
+  constexpr int kHalvings = 25;
+  for (int it = 0; it < kHalvings && hi > 0.0; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (extra_refs(mid) <= target ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+}  // namespace
+
+PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces) {
+  check_finite(tris);
+  const size_t n = tris.size();
+  if (!(budget > 0.0f) || n == 0) return one_reference_each(tris);
+  const std::vector<float> priority = split_priorities(tris);
   struct Sum { double p = 0; Bounds3 scene; };
   // Deterministic reduction: the floating-point sum must not depend on the thread count.
   const Sum total = tbb::parallel_deterministic_reduce(
@@ -137,34 +182,15 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, 
         return s;
       },
       [](Sum a, const Sum& b) { a.p += b.p; a.scene.extend(b.scene); return a; });
-  // Pieces per triangle; the sum is exact per index range, so the layout is deterministic.
-  // Karras and Aila find the scale by bisection so the floored counts meet the budget: the
-  // plain budget / mean priority gave a scene-dependent 4-45 % of it (Sponza 0.3 -> 3.5 %).
-  const double target = double(budget) * double(n);
   const double max_extra = double(std::clamp(max_pieces, 1, kBvhMaxPresplitPieces) - 1);
-  // Every term is a whole number, so the sum is exact in any order: summing in parallel
-  // keeps the result (and the tree) independent of the thread count.
-  auto extra_refs = [&](double s) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, n, 8192), 0.0,
-        [&](const auto& r, double sum) {
-          for (size_t i = r.begin(); i != r.end(); ++i) sum += std::min(max_extra, std::floor(double(priority[i]) * s));
-          return sum;
-        },
-        [](double a, double b) { return a + b; });
-  };
-  double lo = 0.0, hi = total.p > 0 ? target / total.p : 0.0;
-  while (hi > 0.0 && extra_refs(hi) < target && hi < 1e30) hi *= 2.0;
-  for (int it = 0; it < 25 && hi > 0.0; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (extra_refs(mid) <= target ? lo : hi) = mid;
-  }
-  const double scale = lo;
+  const double scale = budget_scale(priority, total.p, double(budget) * double(n), max_extra);
+  // Triangle i's references are offset[i] .. offset[i + 1] - 1.
   std::vector<uint32_t> count(n), offset(n + 1, 0);
   for (size_t i = 0; i < n; ++i) {
     count[i] = 1 + uint32_t(std::min(max_extra, std::floor(double(priority[i]) * scale)));
     offset[i + 1] = offset[i] + count[i];
   }
+  PrimReferences refs;
   refs.boxes.resize(offset[n]);
   refs.ref_tri.resize(offset[n]);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
