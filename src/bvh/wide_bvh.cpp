@@ -13,6 +13,9 @@ namespace rayscout {
 
 namespace {
 
+// TriangleBlocks that n consecutive leaf slots from a block's first lane span.
+constexpr uint32_t blocks_for(uint32_t n) { return (n + kTriangleBlockWidth - 1) / kTriangleBlockWidth; }
+
 // A child slot chosen by the collapse: Bvh2 node `node` becomes one wide child, a leaf
 // holding every triangle below it (leaf = true) or a wide node.
 struct Slot {
@@ -52,6 +55,39 @@ int greedy_slots(const Bvh2& bvh, uint32_t n, Slot* out) {
   return k;
 }
 
+// The cheapest spread of the two children of an inner Bvh2 node over at most `slots` child
+// slots (2..8) of a wide node, given their plans cl and cr (SahCollapse::cost_ rows).
+struct Spread {
+  float cost;      // cl[left_slots - 1] + cr[slots - left_slots - 1]
+  int left_slots;  // slots given to the left child (ties: the fewest)
+};
+Spread best_spread(const float* cl, const float* cr, int slots) {
+  Spread best{kInfinity, 1};
+  for (int left = 1; left < slots; ++left) {
+    const float v = cl[left - 1] + cr[slots - left - 1];
+    if (v < best.cost) best = {v, left};
+  }
+  return best;
+}
+
+// Pre-order of the Bvh2's nodes: from_bvh2 takes any Bvh2, whose children need not follow
+// their parents in the node array, so a walk gives the order instead of the indices.
+std::vector<uint32_t> preorder(const Bvh2& bvh) {
+  std::vector<uint32_t> order;
+  order.reserve(bvh.nodes.size());
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t i = stack.back();
+    stack.pop_back();
+    order.push_back(i);
+    if (!bvh.nodes[i].is_leaf()) {
+      stack.push_back(bvh.nodes[i].first);
+      stack.push_back(bvh.nodes[i].first + 1);
+    }
+  }
+  return order;
+}
+
 // The SAH collapse plan (Ylitie, Karras, Laine 2017, sec. 4.1): cost[n][i] = least SAH cost
 // of the subtree of Bvh2 node n using at most i + 1 slots of its wide parent, areas not
 // normalised (only comparisons matter).
@@ -63,69 +99,10 @@ class SahCollapse {
     split_.resize(n * kWideWidth);
     as_leaf_.resize(n);
     refs_.resize(n);
-    // Children after parents in no guaranteed order: an explicit post-order.
-    std::vector<uint32_t> order;
-    order.reserve(n);
-    std::vector<uint32_t> stack{0};
-    while (!stack.empty()) {
-      const uint32_t i = stack.back();
-      stack.pop_back();
-      order.push_back(i);
-      if (!bvh.nodes[i].is_leaf()) {
-        stack.push_back(bvh.nodes[i].first);
-        stack.push_back(bvh.nodes[i].first + 1);
-      }
-    }
+    const std::vector<uint32_t> order = preorder(bvh);
     const uint32_t max_leaf = uint32_t(std::clamp(config.collapse_max_leaf, 1, kBvhMaxLeafSize));
-    for (size_t o = order.size(); o-- > 0;) {
-      const uint32_t i = order[o];
-      const Bvh2Node& nd = bvh.nodes[i];
-      const float area = nd.bounds.surface_area();
-      float* c = &cost_[size_t(i) * kWideWidth];
-      uint8_t* sp = &split_[size_t(i) * kWideWidth];
-      auto leaf_cost = [&](uint32_t count) {
-        return area * (config.collapse_leaf_cost +
-                       config.collapse_block_cost * float((count + kTriangleBlockWidth - 1) / kTriangleBlockWidth));
-      };
-      if (nd.is_leaf()) {
-        refs_[i] = nd.count;
-        as_leaf_[i] = 1;
-        for (int s = 0; s < kWideWidth; ++s) c[s] = leaf_cost(nd.count), sp[s] = 0;
-        continue;
-      }
-      const uint32_t l = nd.first, r = nd.first + 1;
-      const float* cl = &cost_[size_t(l) * kWideWidth];
-      const float* cr = &cost_[size_t(r) * kWideWidth];
-      // dist[j]: the two children spread over at most j + 1 slots (j >= 1).
-      float dist[kWideWidth];
-      uint8_t dk[kWideWidth];
-      dist[0] = kInfinity;
-      for (int j = 1; j < kWideWidth; ++j) {
-        dist[j] = kInfinity;
-        for (int k = 0; k < j; ++k) {  // k + 1 slots left, j - k right
-          const float v = cl[k] + cr[j - 1 - k];
-          if (v < dist[j]) dist[j] = v, dk[j] = uint8_t(k + 1);
-        }
-      }
-      float single = area * config.collapse_node_cost + dist[kWideWidth - 1];
-      as_leaf_[i] = 0;
-      // Pieces of one pre-split triangle count once per piece here (an upper bound: the
-      // leaf may end up smaller), which spares gathering the ids of every small subtree.
-      refs_[i] = std::min<uint32_t>(refs_[l] + refs_[r], 0xFFFFu);
-      if (refs_[i] <= max_leaf && leaf_cost(refs_[i]) <= single) {
-        single = leaf_cost(refs_[i]);
-        as_leaf_[i] = 1;
-      }
-      c[0] = single;
-      sp[0] = 0;
-      for (int j = 1; j < kWideWidth; ++j) {
-        if (dist[j] < c[j - 1]) {
-          c[j] = dist[j], sp[j] = dk[j];
-        } else {
-          c[j] = c[j - 1], sp[j] = sp[j - 1];
-        }
-      }
-    }
+    // Backwards through the pre-order: children are planned before their parent.
+    for (size_t o = order.size(); o-- > 0;) plan(order[o], config, max_leaf);
   }
 
   // The slots of the wide node made from inner Bvh2 node n.
@@ -137,14 +114,9 @@ class SahCollapse {
     }
     int k = 0;
     // Spread the two children over the 8 slots at the least cost (the table's choice).
-    int best_k = 1;
-    float best = kInfinity;
-    for (int j = 0; j < kWideWidth - 1; ++j) {
-      const float v = cost_[size_t(nd.first) * kWideWidth + j] + cost_[size_t(nd.first + 1) * kWideWidth + (kWideWidth - 2 - j)];
-      if (v < best) best = v, best_k = j + 1;
-    }
-    emit(nd.first, best_k, out, k);
-    emit(nd.first + 1, kWideWidth - best_k, out, k);
+    const Spread spread = best_spread(row(nd.first), row(nd.first + 1), kWideWidth);
+    emit(nd.first, spread.left_slots, out, k);
+    emit(nd.first + 1, kWideWidth - spread.left_slots, out, k);
     return k;
   }
 
@@ -166,6 +138,49 @@ class SahCollapse {
   }
 
  private:
+  const float* row(uint32_t n) const { return &cost_[size_t(n) * kWideWidth]; }
+
+  // Fills node i's row of cost_ and split_, as_leaf_[i] and refs_[i]; its children's are done.
+  void plan(uint32_t i, const BvhBuildConfig& config, uint32_t max_leaf) {
+    const Bvh2Node& nd = bvh_.nodes[i];
+    const float area = nd.bounds.surface_area();
+    float* cost = &cost_[size_t(i) * kWideWidth];
+    uint8_t* split = &split_[size_t(i) * kWideWidth];
+    auto leaf_cost = [&](uint32_t count) {
+      return area * (config.collapse_leaf_cost + config.collapse_block_cost * float(blocks_for(count)));
+    };
+    if (nd.is_leaf()) {
+      refs_[i] = nd.count;
+      as_leaf_[i] = 1;
+      for (int s = 0; s < kWideWidth; ++s) cost[s] = leaf_cost(nd.count), split[s] = 0;
+      return;
+    }
+    const uint32_t l = nd.first, r = nd.first + 1;
+    // spread[j]: the two children over at most j + 1 slots (j >= 1).
+    Spread spread[kWideWidth];
+    for (int j = 1; j < kWideWidth; ++j) spread[j] = best_spread(row(l), row(r), j + 1);
+    // One slot: a wide node of its own, or a leaf of every reference below when that is cheaper.
+    float single = area * config.collapse_node_cost + spread[kWideWidth - 1].cost;
+    as_leaf_[i] = 0;
+    // Pieces of one pre-split triangle count once per piece here (an upper bound: the
+    // leaf may end up smaller), which spares gathering the ids of every small subtree.
+    refs_[i] = refs_[l] + refs_[r];
+    if (refs_[i] <= max_leaf && leaf_cost(refs_[i]) <= single) {
+      single = leaf_cost(refs_[i]);
+      as_leaf_[i] = 1;
+    }
+    cost[0] = single;
+    split[0] = 0;
+    // More slots: the cheaper of the spread and what fewer slots already allow.
+    for (int j = 1; j < kWideWidth; ++j) {
+      if (spread[j].cost < cost[j - 1]) {
+        cost[j] = spread[j].cost, split[j] = uint8_t(spread[j].left_slots);
+      } else {
+        cost[j] = cost[j - 1], split[j] = split[j - 1];
+      }
+    }
+  }
+
   // Emits the subtree of m into at most `budget` slots.
   void emit(uint32_t m, int budget, Slot* out, int& k) const {
     const uint8_t s = split_[size_t(m) * kWideWidth + (budget - 1)];
@@ -182,8 +197,59 @@ class SahCollapse {
   std::vector<float> cost_;
   std::vector<uint8_t> split_;  // 0: one slot; else slots given to the left child
   std::vector<uint8_t> as_leaf_;
-  std::vector<uint32_t> refs_;  // leaf references below the node (pre-split pieces counted apart)
+  std::vector<uint32_t> refs_;  // leaf references below the node (pre-split pieces counted apart; < 2^27)
 };
+
+// A wide node with no children: every slot's box empty (lo = +inf, hi = -inf), as the SIMD
+// box test needs of unused slots.
+WideNode empty_wide_node() {
+  WideNode node{};
+  for (int c = 0; c < kWideWidth; ++c) {
+    node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = kInfinity;
+    node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = -kInfinity;
+  }
+  return node;
+}
+
+void set_child_bounds(WideNode& node, int c, const Bounds3& b) {
+  node.lo_x[c] = b.lo.x; node.lo_y[c] = b.lo.y; node.lo_z[c] = b.lo.z;
+  node.hi_x[c] = b.hi.x; node.hi_y[c] = b.hi.y; node.hi_z[c] = b.hi.z;
+}
+
+// Appends a leaf of the triangles `ids` to w's leaf slots and returns its WideRef. It goes
+// into the free lanes of the last block unless that makes it span more blocks than it needs
+// (more block tests); lanes skipped stay kInvalidId.
+uint32_t append_leaf(WideBvh& w, std::span<const uint32_t> ids, std::span<const Triangle> tris) {
+  constexpr uint32_t W = kTriangleBlockWidth;
+  const uint32_t count = uint32_t(ids.size());
+  if (w.prim_ids.size() + count + W > WideRef::kMaxFirst)
+    throw InputError("WideBvh: more than 2^27 leaf slots (too many triangles or pre-split references)");
+  uint32_t first = uint32_t(w.prim_ids.size());
+  if (blocks_for(first % W + count) > blocks_for(count)) first = blocks_for(first) * W;
+  w.prim_ids.resize(blocks_for(first + count) * W, kInvalidId);
+  w.leaf_blocks.resize(w.prim_ids.size() / W);
+  for (uint32_t j = 0; j < count; ++j) {
+    w.prim_ids[first + j] = ids[j];
+    w.leaf_blocks[(first + j) / W].set(int((first + j) % W), tris[ids[j]]);
+  }
+  w.prim_ids.resize(first + count);  // the next leaf may use the rest of this block
+  return WideRef::leaf(first, count);
+}
+
+// Pads prim_ids to whole blocks and gives every unused lane (kInvalidId) a copy of a real
+// triangle of its block: finite values, masked off anyway.
+void fill_padding_lanes(WideBvh& w) {
+  w.prim_ids.resize(w.leaf_blocks.size() * kTriangleBlockWidth, kInvalidId);
+  for (size_t s = 0; s < w.prim_ids.size(); ++s)
+    if (w.prim_ids[s] == kInvalidId) {
+      const size_t b = s / kTriangleBlockWidth;
+      for (size_t k = b * kTriangleBlockWidth; k < (b + 1) * kTriangleBlockWidth; ++k)
+        if (w.prim_ids[k] != kInvalidId) {
+          w.leaf_blocks[b].set(int(s % kTriangleBlockWidth), w.leaf_triangle(k));
+          break;
+        }
+    }
+}
 
 }  // namespace
 
@@ -217,18 +283,13 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
     w.depth_ = std::max(w.depth_, it.depth);
     Slot kids[kWideWidth];
     const int k = sah ? sah->slots(it.bvh2, kids) : greedy_slots(bvh, it.bvh2, kids);
-    WideNode node{};
-    for (int c = 0; c < kWideWidth; ++c) {
-      node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = kInfinity;
-      node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = -kInfinity;
-    }
+    WideNode node = empty_wide_node();
     node.count = uint32_t(k);
     Item children[kWideWidth];
     int inner = 0;
     for (int c = 0; c < k; ++c) {
       const Bvh2Node& n = bvh.nodes[kids[c].node];
-      node.lo_x[c] = n.bounds.lo.x; node.lo_y[c] = n.bounds.lo.y; node.lo_z[c] = n.bounds.lo.z;
-      node.hi_x[c] = n.bounds.hi.x; node.hi_y[c] = n.bounds.hi.y; node.hi_z[c] = n.bounds.hi.z;
+      set_child_bounds(node, c, n.bounds);
       if (kids[c].leaf) {
         ids.clear();
         if (n.is_leaf()) {
@@ -236,22 +297,7 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
         } else {
           sah->collect(kids[c].node, ids);
         }
-        const uint32_t count = uint32_t(ids.size());
-        // Pack leaves into the free lanes of the last block unless that makes the leaf span
-        // more blocks than it needs (more block tests); padding lanes stay kInvalidId.
-        constexpr uint32_t W = kTriangleBlockWidth;
-        if (w.prim_ids.size() + count + W > WideRef::kMaxFirst)
-          throw InputError("WideBvh: more than 2^27 leaf slots (too many triangles or pre-split references)");
-        uint32_t first = uint32_t(w.prim_ids.size());
-        if ((first % W + count + W - 1) / W > (count + W - 1) / W) first = (first + W - 1) / W * W;
-        w.prim_ids.resize((first + count + W - 1) / W * W, kInvalidId);
-        w.leaf_blocks.resize(w.prim_ids.size() / W);
-        for (uint32_t j = 0; j < count; ++j) {
-          w.prim_ids[first + j] = ids[j];
-          w.leaf_blocks[(first + j) / W].set(int((first + j) % W), tris[ids[j]]);
-        }
-        w.prim_ids.resize(first + count);  // the next leaf may use the rest of this block
-        node.child[c] = WideRef::leaf(first, count);
+        node.child[c] = append_leaf(w, ids, tris);
       } else {
         node.child[c] = uint32_t(w.nodes.size());
         w.nodes.emplace_back();
@@ -262,14 +308,7 @@ WideBvh WideBvh::from_bvh2(const Bvh2& bvh, std::span<const Triangle> tris, cons
     w.nodes[it.wide] = node;
     for (int c = inner; c-- > 0;) stack.push_back(children[c]);
   }
-  w.prim_ids.resize(w.leaf_blocks.size() * kTriangleBlockWidth, kInvalidId);
-  // Unused lanes get a copy of a real triangle of their block: finite values, masked off anyway.
-  for (size_t s = 0; s < w.prim_ids.size(); ++s)
-    if (w.prim_ids[s] == kInvalidId) {
-      const size_t b = s / kTriangleBlockWidth;
-      for (size_t k = b * kTriangleBlockWidth; k < (b + 1) * kTriangleBlockWidth; ++k)
-        if (w.prim_ids[k] != kInvalidId) { w.leaf_blocks[b].set(int(s % kTriangleBlockWidth), w.leaf_triangle(k)); break; }
-    }
+  fill_padding_lanes(w);
   // No shrink_to_fit: copying into exact-size buffers touches fresh pages, a large part of a
   // cold build; the reserve's unused tail is never touched (memory_bytes counts sizes).
   return w;
