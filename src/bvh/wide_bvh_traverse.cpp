@@ -271,7 +271,8 @@ Hit WideBvh::intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<cons
         // Three or more: the nearest child by a scalar scan (it is visited next, so this is
         // the critical path); the others sorted far to near by a comparator network, off
         // that path, and pushed at once. Sorting all of them and taking the nearest from the
-        // network measured slower than the insertion sort below (its latency is on the path).
+        // network measured slower than the scalar insertion sort that this replaced, and that
+        // the portable branch below still uses (the network's latency is on the path).
         const int near_c = nearest_child(mask, dist);
         sp = push_far_to_near(sp, node, dist, mask & ~(1u << near_c));
         e = {node.child[near_c], dist[near_c]};
