@@ -38,6 +38,25 @@ void for_each_ray(size_t n, TraceStats* stats, Trace&& trace) {
   stats->ray_tri_tests += tris;
 }
 
+// Closest hits of a batch with a Bvh2 or WideBvh (from the root).
+template <class Tree>
+void intersect_all(const Tree& tree, const RayBatch& rays, HitBatch& hits, TraceStats* stats) {
+  hits.reset(rays.size());
+  for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
+    const Hit h = tree.template intersect<S>(rays[i], {}, s);
+    if (h.hit()) hits.set(i, h);
+  });
+}
+
+// Any hits of a batch with a Bvh2 or WideBvh (from the root).
+template <class Tree>
+void occluded_all(const Tree& tree, const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) {
+  occluded.assign(rays.size(), 0);
+  for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
+    occluded[i] = tree.template occluded<S>(rays[i], {}, s) ? 1 : 0;
+  });
+}
+
 }  // namespace
 
 BvhBuildConfig wide_bvh_default_config() {
@@ -82,18 +101,11 @@ Bvh2Accelerator::Bvh2Accelerator(std::span<const Triangle> triangles, const BvhB
 }
 
 void Bvh2Accelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
-  hits.reset(rays.size());
-  for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
-    const Hit h = bvh_.intersect<S>(rays[i], {}, s);
-    if (h.hit()) hits.set(i, h);
-  });
+  intersect_all(bvh_, rays, hits, stats);
 }
 
 void Bvh2Accelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
-  occluded.assign(rays.size(), 0);
-  for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
-    occluded[i] = bvh_.occluded<S>(rays[i], {}, s) ? 1 : 0;
-  });
+  occluded_all(bvh_, rays, occluded, stats);
 }
 
 WideBvhAccelerator::WideBvhAccelerator(std::span<const Triangle> triangles, const BvhBuildConfig& config) {
@@ -102,18 +114,11 @@ WideBvhAccelerator::WideBvhAccelerator(std::span<const Triangle> triangles, cons
 }
 
 void WideBvhAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
-  hits.reset(rays.size());
-  for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
-    const Hit h = bvh_.intersect<S>(rays[i], {}, s);
-    if (h.hit()) hits.set(i, h);
-  });
+  intersect_all(bvh_, rays, hits, stats);
 }
 
 void WideBvhAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
-  occluded.assign(rays.size(), 0);
-  for_each_ray(rays.size(), stats, [&]<bool S>(size_t i, TraceStats* s) {
-    occluded[i] = bvh_.occluded<S>(rays[i], {}, s) ? 1 : 0;
-  });
+  occluded_all(bvh_, rays, occluded, stats);
 }
 
 }  // namespace rayscout
