@@ -71,9 +71,7 @@ std::string Bvh2::validate(std::span<const Triangle> tris) const {
         if (prim_seen[p]++ && !split_references) return at + "triangle " + std::to_string(p) + " appears twice";
         if (std::find(prim_ids.begin() + n.first, prim_ids.begin() + k, p) != prim_ids.begin() + k)
           return at + "triangle " + std::to_string(p) + " twice in one leaf";
-        // A split reference holds a clipped piece of its triangle, which only has to touch the box.
-        const Bounds3 tb = tris[p].bounds();
-        if (split_references ? Bounds3{max(tb.lo, n.bounds.lo), min(tb.hi, n.bounds.hi)}.empty() : !n.bounds.contains(tb))
+        if (detail::outside_leaf_box(tris[p].bounds(), n.bounds, split_references))
           return at + "triangle " + std::to_string(p) + " outside the leaf box";
         if (std::memcmp(&leaf_tris[k], &tris[p], sizeof(Triangle)) != 0)
           return at + "leaf_tris[" + std::to_string(k) + "] is not triangle " + std::to_string(p);

@@ -1,11 +1,21 @@
-// The end of both trees' validate(): every triangle in a leaf, every node reached.
+// What both trees' validate() share: the leaf box rule, and the end (every triangle in a
+// leaf, every node reached).
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "rayscout/core/bounds3.h"
+
 namespace rayscout::detail {
+
+/// True when a leaf triangle with box tri_box breaks the rule of its leaf's box: it must lie
+/// inside it, or, as a split reference (a clipped piece of the triangle), at least touch it.
+inline bool outside_leaf_box(const Bounds3& tri_box, const Bounds3& leaf_box, bool split_references) {
+  return split_references ? Bounds3{max(tri_box.lo, leaf_box.lo), min(tri_box.hi, leaf_box.hi)}.empty()
+                          : !leaf_box.contains(tri_box);
+}
 
 /// "" when leaves hold each of the triangle_count triangles (exactly once unless references
 /// are split) and every node was reached; else what is wrong. node_label names the node kind.

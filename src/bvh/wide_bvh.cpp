@@ -353,8 +353,7 @@ std::string WideBvh::validate(size_t triangle_count) const {
           if (p >= triangle_count) return slot + "triangle id " + std::to_string(p) + " out of range";
           if (prim_seen[p]++ && !split_references) return slot + "triangle " + std::to_string(p) + " appears twice";
           if (slot_seen[k]++) return slot + "leaf slot " + std::to_string(k) + " shared by two leaves";
-          const Bounds3 tb = leaf_triangle(k).bounds();
-          if (split_references ? Bounds3{max(tb.lo, box.lo), min(tb.hi, box.hi)}.empty() : !box.contains(tb))
+          if (detail::outside_leaf_box(leaf_triangle(k).bounds(), box, split_references))
             return slot + "triangle " + std::to_string(p) + " outside the child box";
           ++leaf_prims;
         }
