@@ -1,7 +1,7 @@
 // Bvh2 and WideBvh construction: invariants on nasty and real meshes, corruption detection, determinism.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -17,11 +17,6 @@
 
 namespace rayscout {
 namespace {
-
-bool small_scale() {
-  const char* s = std::getenv("RAYSCOUT_TEST_SCALE");
-  return s && std::string(s) == "small";
-}
 
 TEST(BvhBuild, NastyMeshesValidateForEveryLeafSizeAndBinCount) {
   for (const auto& m : testing::nasty_meshes()) {
@@ -218,7 +213,7 @@ TEST(BvhBuild, PresplitMeetsTheReferenceBudget) {
 }
 
 TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
-  const auto tris = testing::random_soup(small_scale() ? 20000 : 100000, 9);
+  const auto tris = testing::random_soup(testing::small_scale() ? 20000 : 100000, 9);
   BvhBuildConfig c;
   c.parallel_threshold = 1024;
   auto build_with = [&](int threads) {

@@ -1,7 +1,7 @@
 // Bvh2 and WideBvh traversal: brute-force agreement per config, exact counters, start nodes.
 #include <gtest/gtest.h>
 
-#include <algorithm>
+#include <memory>
 
 #include "generated_scenes.h"
 #include "rayscout/bvh/bvh_accelerators.h"
@@ -135,7 +135,6 @@ TEST(BvhTraversal, NearerChildFirstAndFartherBoxesCulledAfterAHit) {
     EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
   }
 }
-
 
 TEST(BvhTraversal, StatsPathGivesTheSameResultsAndSummedCounts) {
   const auto tris = testing::random_soup(3000, 8);

@@ -23,7 +23,8 @@ double wide_sah_cost(const WideBvh& w, const BvhBuildConfig& c) {
       const double a = n.child_bounds(int(s)).surface_area();
       if (WideRef::is_leaf(n.child[s])) {
         const uint32_t count = WideRef::leaf_count(n.child[s]);
-        cost += a * (c.collapse_leaf_cost + c.collapse_block_cost * double((count + 3) / 4));
+        const uint32_t blocks = (count + kTriangleBlockWidth - 1) / kTriangleBlockWidth;
+        cost += a * (c.collapse_leaf_cost + c.collapse_block_cost * double(blocks));
       } else {
         cost += a * c.collapse_node_cost;
       }
