@@ -82,7 +82,9 @@ struct WideRay {
 /// writes every slot's entry distance to dist. The same float operations in the same order
 /// as intersect_box_robust, lane by lane, so the result is identical to the scalar test.
 /// Unused slots hold empty boxes (lo = +inf, hi = -inf): with sign-selected planes their
-/// entry is +inf and exit -inf, so they never hit and the SIMD path needs no slot count.
+/// entry is +inf and exit -inf, so a ray with finite origin and inverse direction never hits
+/// them (intersect_children_finite relies on it); this test takes any ray and masks them by
+/// node.count.
 inline uint32_t intersect_children(const WideNode& node, const WideRay& r, float tmax, float* dist) {
 #if defined(__AVX2__)
   const char* base = reinterpret_cast<const char*>(&node);

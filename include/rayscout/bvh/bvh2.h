@@ -21,7 +21,7 @@ struct Bvh2Node {
   Bounds3 bounds;   ///< box of every triangle below the node
   uint32_t first;   ///< inner: index of the left child (right = first + 1); leaf: first index into prim_ids
   uint16_t count;   ///< 0 = inner node; else number of triangles of the leaf
-  uint8_t axis;     ///< split axis of an inner node (a record: traversal orders children by entry distance)
+  uint8_t axis;     ///< split axis of an inner node (recorded only: traversal orders children by entry distance)
   uint8_t pad;
   bool is_leaf() const { return count != 0; }
 };

@@ -112,7 +112,8 @@ class WideBvh {
   /// tested when it is visited); start[0] is visited first. Empty span = the root. With
   /// CaptureStats, stats (non-null) receives traversal_steps (entries visited: wide nodes and
   /// leaves), ray_box_tests (one per used child slot tested), ray_tri_tests (one per leaf
-  /// triangle in each block test; any hit counts whole blocks); not stats->rays.
+  /// triangle in each block test: closest hit tests every triangle of a leaf it enters, any
+  /// hit a leaf's blocks up to the first with a hit); not stats->rays.
   template <bool CaptureStats>
   Hit intersect(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
   /// Any hit with tmin <= t <= tmax, stops at the first one. Same start and stats as intersect.
