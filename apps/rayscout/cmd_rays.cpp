@@ -61,8 +61,10 @@ CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<RaysArgs>();
   auto* cmd = app.add_subcommand("rays", "Write a workload's rays to a RAYS file (for trace and other tracers)");
   cmd->add_option("--scene", args->scene, "Scene (.json or mesh file; 'cornell' = built-in)")->required();
-  cmd->add_option("--workload", args->workload, "primary, shadow, ao or diffuse (secondary rays start at primary hits; "
-                                                "pixels whose primary ray missed are left out)")->capture_default_str();
+  cmd->add_option("--workload", args->workload, "secondary rays (shadow, ao, diffuse) start at primary hits; "
+                                                "pixels whose primary ray missed are left out")
+      ->capture_default_str()
+      ->check(CLI::IsMember(workload_names()));
   cmd->add_option("--width", args->config.width, "Image width in pixels")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--height", args->config.height, "Image height in pixels")->capture_default_str()->transform(in_range(1));
   cmd->add_option("--spp", args->config.spp, "Camera samples per pixel")->capture_default_str()->transform(in_range(1));

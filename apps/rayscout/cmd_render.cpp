@@ -233,8 +233,10 @@ CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Render a scene to an image (PNG, EXR or PFM)");
   RenderConfig& c = opts->config;
   cmd->add_option("--scene", opts->scene, "scene file (.json) or mesh; default: built-in Cornell box");
-  cmd->add_option("--integrator", opts->integrator, "one of: " + integrator_names() + " (listed below)")
-      ->capture_default_str();
+  // Checked when parsed: a misspelt name is a usage error naming the option.
+  cmd->add_option("--integrator", opts->integrator, "integrator (listed below)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(integrator_name_list()));
   cmd->footer(integrator_help());
   cmd->add_option("--accel", opts->accel, "accelerator; see `rayscout accelerators`")->capture_default_str();
   cmd->add_option("--accel-opt", opts->accel_opts, "accelerator tunable key=value (repeatable)");

@@ -38,4 +38,10 @@ std::string integrator_names() {
   return names;
 }
 
+std::vector<std::string> integrator_name_list() {
+  std::vector<std::string> names;
+  for (const auto& e : integrator_table()) names.push_back(e.name);
+  return names;
+}
+
 }  // namespace rayscout::cli

@@ -26,6 +26,9 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name);
 /// The names, comma-separated (for help texts).
 std::string integrator_names();
 
+/// The names, for --integrator's check when the command line is parsed.
+std::vector<std::string> integrator_name_list();
+
 /// One line per integrator, name and description (the footer of `rayscout render --help`).
 std::string integrator_help();
 

@@ -23,11 +23,17 @@ Ray shadow_ray_or_nothing(const SurfacePoint& sp, const Vec3& target, float eps)
 }  // namespace
 
 Workload parse_workload(const std::string& name) {
-  if (name == "primary") return Workload::Primary;
-  if (name == "shadow") return Workload::Shadow;
-  if (name == "ao") return Workload::Ao;
-  if (name == "diffuse") return Workload::Diffuse;
-  throw InputError("unknown workload '" + name + "' (known: primary, shadow, ao, diffuse)");
+  for (const Workload w : kWorkloads)
+    if (name == workload_name(w)) return w;
+  std::string known;
+  for (const std::string& n : workload_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("unknown workload '" + name + "' (known: " + known + ")");
+}
+
+std::vector<std::string> workload_names() {
+  std::vector<std::string> names;
+  for (const Workload w : kWorkloads) names.push_back(workload_name(w));
+  return names;
 }
 
 std::string workload_name(Workload w) {

@@ -9,6 +9,14 @@ function(expect code pattern)
   if(NOT "${out}${err}" MATCHES "${pattern}")
     message(FATAL_ERROR "output does not match '${pattern}': rayscout ${ARGN}\n${out}${err}")
   endif()
+  set(last_output "${out}${err}" PARENT_SCOPE)
+endfunction()
+# As expect, and the output must not match `absent` either.
+function(expect_without code pattern absent)
+  expect(${code} "${pattern}" ${ARGN})
+  if("${last_output}" MATCHES "${absent}")
+    message(FATAL_ERROR "output matches '${absent}': rayscout ${ARGN}\n${last_output}")
+  endif()
 endfunction()
 
 expect(0 "Usage" --help)
@@ -20,6 +28,12 @@ expect(2 "A subcommand is required|subcommand")
 expect(2 "unknown command 'rendr' \\(commands: accelerators, .*render, trace" rendr --out ${WORK}/x.png)
 expect(2 "--scene is required" rays --workload primary --out ${WORK}/x.rays)
 expect(2 "--no-such-option" render --no-such-option)
+# A misspelt integrator or workload is a usage error naming the option, found as the command line
+# is parsed, not after a warning that --max-depth is "ignored by --integrator pth".
+expect_without(2 "--integrator: pth not in {direct,area,ao,path,manylight}" "warning"
+               render --integrator pth --max-depth 2 --width 8 --height 8 --out ${WORK}/x.png)
+expect_without(2 "--workload: aoo not in {primary,shadow,ao,diffuse}" "warning"
+               rays --scene cornell --workload aoo --ao-radius 1 --out ${WORK}/x.rays)
 expect(2 "nope" render --accel nope --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "bogus" render --accel bvh --accel-opt bogus=1 --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "missing\\.obj" render --scene ${WORK}/missing.obj --out ${WORK}/x.png)

@@ -91,6 +91,7 @@ TEST(Workloads, ParseNames) {
   for (Workload w : {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse})
     EXPECT_EQ(parse_workload(workload_name(w)), w);
   EXPECT_THROW(parse_workload("bogus"), InputError);
+  EXPECT_EQ(workload_names(), (std::vector<std::string>{"primary", "shadow", "ao", "diffuse"}));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "rayscout/core/accelerator.h"
 #include "rayscout/core/ray.h"
@@ -12,6 +13,8 @@ namespace rayscout {
 
 /// The ray sets the papers measure (ray-sampling DACRT and shaft-culling papers, "workloads").
 enum class Workload { Primary, Shadow, Ao, Diffuse };
+/// Every workload, in the order of the enum.
+inline constexpr Workload kWorkloads[] = {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse};
 
 /// Size and randomness of a workload.
 struct WorkloadConfig {
@@ -35,6 +38,8 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
 Workload parse_workload(const std::string& name);
 /// The name parse_workload accepts.
 std::string workload_name(Workload workload);
+/// The names of kWorkloads (for a command line's check).
+std::vector<std::string> workload_names();
 
 /// Shadow and AO rays ask whether anything is hit (occluded()); primary and diffuse rays want
 /// the closest hit (intersect()).
