@@ -30,7 +30,7 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this (or NaN)")
       ->transform(in_range(0.0));
   cmd->callback([opts] {
-    if (!opts->out.empty()) check_image_path(opts->out);  // before the work, not after it
+    if (!opts->out.empty()) check_image_path(opts->out, 0, 0, "--out " + opts->out);  // before the work, not after it
     check_distinct_files(std::array{NamedFile{opts->out, "--out " + opts->out}},
                          std::array{NamedFile{opts->a, "image A " + opts->a}, NamedFile{opts->b, "reference B " + opts->b}});
     const Image a = read_image(opts->a), b = read_image(opts->b);

@@ -100,12 +100,13 @@ void check_memory(const RenderConfig& c, const std::string& integrator, const Ma
 void check_before_work(const RenderOptions& o) {
   const ManylightRunOptions& ml = manylight_cli_options();
   const bool manylight = o.integrator == "manylight";
-  check_image_path(o.out, o.config.width, o.config.height);
+  check_image_path(o.out, o.config.width, o.config.height, "--out " + o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
   check_memory(o.config, o.integrator, ml.config);
   o.config.validate();
   if (manylight) {
-    if (!ml.skip_image.empty()) check_image_path(ml.skip_image, o.config.width, o.config.height);
+    if (!ml.skip_image.empty())
+      check_image_path(ml.skip_image, o.config.width, o.config.height, "--skip-image " + ml.skip_image);
     if (!ml.rmse_log.empty()) {
       if (!rmse_log_format(ml.rmse_log))
         throw InputError("--rmse-log " + ml.rmse_log + ": the file name must end in .json or .csv");

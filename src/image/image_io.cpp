@@ -218,18 +218,19 @@ float srgb_to_linear(float e) {
   return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
 }
 
-void check_image_path(const std::filesystem::path& path, int width, int height) {
+void check_image_path(const std::filesystem::path& path, int width, int height, const std::string& label) {
+  const std::string name = label.empty() ? path.string() : label;
   std::error_code ec;
-  if (path.empty()) throw InputError("no image file named (an empty path)");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a directory, not an image file");
+  if (path.empty()) throw InputError((label.empty() ? "" : label + ": ") + "no image file named (an empty path)");
+  if (std::filesystem::is_directory(path, ec)) throw InputError(name + ": is a directory, not an image file");
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
-    throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+    throw InputError(name + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
   // stb's PNG writer sizes its filtered rows, (3 width + 1) height bytes, in an int.
   if (ext == ".png" && (3 * int64_t(width) + 1) * int64_t(height) > INT_MAX)
-    throw InputError(path.string() + ": a PNG of " + std::to_string(width) + "x" + std::to_string(height) +
+    throw InputError(name + ": a PNG of " + std::to_string(width) + "x" + std::to_string(height) +
                      " pixels is beyond stb's PNG writer (at most 2^31 bytes of rows, 32768x21845); write .exr or .pfm");
-  check_output_path(path, path.string());
+  check_output_path(path, name);
 }
 
 bool writes_srgb(const std::filesystem::path& path) { return lower_extension(path) == ".png"; }

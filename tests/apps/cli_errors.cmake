@@ -172,6 +172,13 @@ expect(2 "a8.pfm/x.png: .*a8.pfm is a file, not a folder" render --width 8 --hei
 expect(2 "big.png: a PNG of 32768x21846 pixels is beyond stb's PNG writer" render --width 32768 --height 21846 --out ${WORK}/big.png)
 expect(2 "is a directory" render --width 8 --height 8 --out ${WORK})
 expect(2 "unknown image format '.bmp'" render --width 8 --height 8 --out ${WORK}/x.bmp)
+# An image path's error names its option: render writes two images with manylight.
+expect(2 "--skip-image .*s\\.bmp: unknown image format '.bmp'"
+       render --integrator manylight --width 8 --height 8 --out ${WORK}/x.png --skip-image ${WORK}/s.bmp)
+expect(2 "--skip-image .*: is a directory, not an image file"
+       render --integrator manylight --width 8 --height 8 --out ${WORK}/x.png --skip-image ${WORK})
+expect(2 "--out .*/noext: unknown image format ''" render --width 8 --height 8 --out ${WORK}/noext)
+expect(2 "--out .*d\\.bmp: unknown image format '.bmp'" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --out ${WORK}/d.bmp)
 expect(2 "--stats .*no-such-dir/s.json: folder" render --width 8 --height 8 --out ${WORK}/x.png --stats ${WORK}/no-such-dir/s.json)
 expect(2 "--out .*no-such-dir/r.rays: folder" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/no-such-dir/r.rays)
 expect(2 "--out .*: is a directory" trace --scene cornell --rays ${WORK}/ok.rays --out ${WORK})

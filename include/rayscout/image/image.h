@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "rayscout/core/vec3.h"
@@ -30,11 +31,13 @@ void write_image(const Image& image, const std::filesystem::path& path);
 /// value v is then stored as the 8-bit code of srgb(v), else as v itself.
 bool writes_srgb(const std::filesystem::path& path);
 
-/// Throws InputError (naming the path) when write_image could not write `path`: another
-/// extension than .png, .exr or .pfm, a directory, a parent folder that does not exist, or
-/// (when width and height are given) an image too large for the format.
-/// Commands call it before their work, so a mistyped --out never costs a finished render.
-void check_image_path(const std::filesystem::path& path, int width = 0, int height = 0);
+/// Throws InputError when write_image could not write `path`: another extension than .png,
+/// .exr or .pfm, a directory, a parent folder that does not exist, or (when width and height
+/// are given) an image too large for the format. The message starts with `label` (e.g.
+/// "--skip-image s.bmp"; empty: the path). Commands call it before their work, so a mistyped
+/// --out never costs a finished render.
+void check_image_path(const std::filesystem::path& path, int width = 0, int height = 0,
+                      const std::string& label = "");
 
 /// Reads .exr, .pfm or .png (8-bit sRGB decoded to linear). Throws InputError naming the file.
 Image read_image(const std::filesystem::path& path);
