@@ -185,11 +185,15 @@ void write_stats(const RenderOptions& o, const RenderStats& stats, const Scene& 
   j["load_ms"] = load_ms;
   j["build_ms"] = build_ms;
   j["accel_memory_bytes"] = accel.build_info().memory_bytes;
+  if (o.config.count && !accel.counts_work()) {  // as trace writes it: no zeros posing as counts
+    j["counters"] = nullptr;
+    j["counters_note"] = accel.name() + " has no work counters";
+  }
   if (o.stats == "-") fmt::print("{}\n", j.dump());
   else write_file(o.stats, j.dump() + "\n", "--stats");
 }
 
-void run(RenderOptions& o) {
+void run(const RenderOptions& o) {
   const ThreadLimit limit(o.threads);
   const int n_threads = limit.threads;
   check_before_work(o);
@@ -205,10 +209,15 @@ void run(RenderOptions& o) {
   const auto accel = make_accelerator(o.accel, scene, accel_options);
   const double build_ms = ms_since(t);
 
+  if (o.config.count && !accel->counts_work())
+    fmt::print(stderr, "rayscout: warning: --count: {} has no work counters (none are printed or written to --stats)\n",
+               accel->name());
+  RenderConfig config = o.config;
+  config.count = o.config.count && accel->counts_work();
   const bool show_progress = isatty(STDERR_FILENO);
-  if (show_progress) o.config.on_progress = draw_progress;
+  if (show_progress) config.on_progress = draw_progress;
   RenderStats stats;
-  const Image image = integrator->render(scene, *accel, o.config, &stats);
+  const Image image = integrator->render(scene, *accel, config, &stats);
   if (show_progress) fmt::print(stderr, "\n");
   write_image(image, o.out);
   warn_if_not_finite(image);

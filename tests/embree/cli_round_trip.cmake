@@ -61,3 +61,17 @@ execute_process(COMMAND ${RAYSCOUT} compare-hits ${WORK}/primary_bvh.hits ${WORK
 if(NOT rc EQUAL 2 OR NOT err MATCHES "small.rays: 64 rays")
   message(FATAL_ERROR "compare-hits with a RAYS file of another size returned ${rc}: ${err}")
 endif()
+# render --count on an accelerator that keeps no work counters (Embree) says so, and neither
+# prints a line of zero counts nor writes zeros as its counters into --stats (trace's null).
+execute_process(COMMAND ${RAYSCOUT} render --accel embree --count --width 8 --height 8 --spp 1 --out ${WORK}/count.png
+                        --stats ${WORK}/count.json
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT err MATCHES "--count: embree has no work counters" OR "${out}${err}" MATCHES "work:")
+  message(FATAL_ERROR "render --accel embree --count (exit ${rc}):\n${out}${err}")
+endif()
+file(READ ${WORK}/count.json stats)
+string(JSON counters_type ERROR_VARIABLE json_error TYPE "${stats}" counters)
+string(JSON counters_note ERROR_VARIABLE note_error GET "${stats}" counters_note)
+if(NOT counters_type STREQUAL "NULL" OR note_error OR stats MATCHES "traversal_steps")
+  message(FATAL_ERROR "render --accel embree --count --stats: counters are not null with a note:\n${stats}")
+endif()
