@@ -291,9 +291,7 @@ CommandRegistration registration{[](CLI::App& app) {
     if (manylight->count_all() > 0 && opts->integrator != "manylight")
       fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n",
                  opts->integrator);
-    if (const ManylightRunOptions& ml = manylight_cli_options();
-        opts->integrator == "manylight" && !ml.rmse_log.empty() && ml.reference.empty())
-      fmt::print(stderr, "rayscout: warning: --rmse-log without --reference logs passes and skip rates only (rmse -1)\n");
+    if (opts->integrator == "manylight") warn_unread_manylight_options(*manylight);
     run(*opts);
   });
 }};

@@ -89,6 +89,26 @@ void add_manylight_options(CLI::App& cmd) {
       ->transform(in_range(0.001));
 }
 
+void warn_unread_manylight_options(const CLI::App& group) {
+  const ManylightRunOptions& o = parsed_options();
+  const std::string& visibility = parsed_visibility();
+  const VisibilityMode mode = parse_visibility_mode(visibility);
+  const std::vector<double>& costs = parsed_costs();
+  auto warn = [](const std::string& text) { fmt::print(stderr, "rayscout: warning: {}\n", text); };
+  if (!o.rmse_log.empty() && o.reference.empty())
+    warn("--rmse-log without --reference logs passes and skip rates only (rmse -1)");
+  if (group.count("--passes") > 0 && o.time_budget > 0)
+    warn("--passes is ignored with --time-budget (passes run until the budget is spent)");
+  if (group.count("--epsilon") > 0 && mode != VisibilityMode::Proposed)
+    warn("--epsilon is ignored by --visibility " + visibility + " (only proposed floors (v - r)^2 with it)");
+  if (costs.size() == 2 && mode == VisibilityMode::Exact)
+    warn("--costs is ignored by --visibility exact, which never skips a shadow ray");
+  else if (costs.size() == 2 && costs[0] <= costs[1])  // t_hat of eq. (16) is 0: q = 0 for every sample
+    warn(fmt::format("--costs {:g},{:g}: a sample costs no more with its shadow ray than without it: skipping saves "
+                     "nothing, and --visibility {} traces every sample as exact does (EVAL comes first)",
+                     costs[0], costs[1], visibility));
+}
+
 std::unique_ptr<Integrator> make_manylight_cli_integrator() {
   ManylightRunOptions o = parsed_options();
   o.config.mode = parse_visibility_mode(parsed_visibility());

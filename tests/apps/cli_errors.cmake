@@ -211,6 +211,16 @@ expect(0 "--ao-radius is ignored by --workload shadow" rays --scene cornell --wo
 expect(0 "--rmse-log without --reference logs passes and skip rates only" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 1 --rmse-log ${WORK}/log.csv --out ${WORK}/x.pfm)
 # --count prints the work per ray even without --stats (64 camera and 64 AO rays).
 expect(0 "work: 128 rays, per ray [0-9.]+ traversal steps, [0-9.]+ ray-box tests, [0-9.]+ ray-triangle tests" render --integrator ao --ao-samples 1 --width 8 --height 8 --spp 1 --count --out ${WORK}/x.png)
+# Manylight options the chosen run does not read are reported, not dropped silently; so are
+# costs under which skipping saves nothing (every mode then traces every sample, as exact).
+set(M ${R} --integrator manylight --vpls 20)
+expect(0 "--passes is ignored with --time-budget" ${M} --time-budget 0.01 --passes 3)
+expect(0 "--epsilon is ignored by --visibility veach" ${M} --passes 1 --visibility veach --epsilon 0.2)
+expect(0 "--costs is ignored by --visibility exact" ${M} --passes 1 --visibility exact --costs 0.7,0.25)
+expect(0 "--costs 0.25,0.7: a sample costs no more with its shadow ray than without it: skipping saves nothing"
+       ${M} --passes 1 --costs 0.25,0.7)
+expect_without(0 "wrote" "warning" ${M} --passes 1 --costs 0.7,0.25 --epsilon 0.2 --cpu-clock)
+expect_without(0 "wrote" "warning" ${M} --time-budget 0.01 --visibility conservative --costs 0.7,0.25)
 # Manylight costs: two positive numbers; given, the skipping modes are repeatable (no timing in
 # the skip probabilities), so two runs with the same seed write the same bytes.
 expect(2 "--costs: At least 2 required" ${R} --integrator manylight --costs 0.5)
