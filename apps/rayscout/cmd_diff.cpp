@@ -26,8 +26,10 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("b", opts->b, "reference image")->required();
   cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)");
   cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)")
+      ->capture_default_str()
       ->transform(in_range(0.0f));
-  cmd->add_option("--max-rmse", opts->max_rmse, "exit with status 1 when the RMSE is above this (or NaN)")
+  cmd->add_option("--max-rmse", opts->max_rmse,
+                  "exit with status 1 when the RMSE is above this (or NaN); not given: always exit 0")
       ->transform(in_range(0.0));
   cmd->callback([opts] {
     if (!opts->out.empty()) check_image_path(opts->out, 0, 0, "--out " + opts->out);  // before the work, not after it

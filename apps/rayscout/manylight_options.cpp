@@ -73,10 +73,13 @@ void add_manylight_options(CLI::App& cmd) {
   cmd.add_option("--clamp-distance", c.clamp_distance, "manylight: geometry-term clamp distance (0 = off)")
       ->capture_default_str()
       ->transform(in_range(0.0f));
-  cmd.add_option("--shading-clusters", c.shading_clusters, "manylight: shading-point clusters")
+  cmd.add_option("--shading-clusters", c.shading_clusters,
+                 "manylight: shading-point clusters, rounded up to a power of two, at most the shading points")
       ->capture_default_str()
       ->transform(in_range(1));
-  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters")->capture_default_str()->transform(in_range(1));
+  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters, rounded up to a power of two, at most the VPLs")
+      ->capture_default_str()
+      ->transform(in_range(1));
   cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")
       ->capture_default_str()
       ->transform(in_range(1, kMaxPairSamples));

@@ -132,6 +132,9 @@ expect(2 "--repeat: '0' is not a number >= 1" trace --scene cornell --rays ${WOR
 # Integers are decimal: CLI11 alone reads 010 as 8.
 expect(0 "10x8" render --width 010 --height 8 --out ${WORK}/x.png)
 expect(0 "in \\[1, 32768\\]" render --help)
+# --help shows every option's default, or says that there is none.
+expect(0 "--scale FLOAT:min 0=0 .*--max-rmse FLOAT:min 0 .*not given: always exit 0" diff --help)
+expect(0 "--shading-clusters INT:min 1=512.*shading-point clusters, rounded up to a power of two, at most the shading points" render --help)
 
 # Accelerator options: a value beyond the key's range is an error, never narrowed (2^32 + 2 -> 2).
 set(T trace --scene cornell --rays ${WORK}/ok.rays --repeat 1)
