@@ -1,7 +1,10 @@
 // `rayscout trace`: traces a ray file with one accelerator and prints one JSON line of timings.
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +32,28 @@ struct TraceArgs {
 };
 
 
+// On a terminal, one line on stderr redrawn at each step (\33[K clears its rest): a slow
+// accelerator on a big ray file takes minutes per run. stdout keeps the JSON line alone. The
+// line is ended before anything else is printed, an error message too.
+class ProgressLine {
+ public:
+  void operator()(const std::string& step) {
+    if (!on_) return;
+    fmt::print(stderr, "\rtrace: {}\33[K", step);
+    std::fflush(stderr);
+    open_ = true;
+  }
+  void end() {
+    if (open_) fmt::print(stderr, "\n");
+    open_ = false;
+  }
+  ~ProgressLine() { end(); }
+
+ private:
+  bool on_ = isatty(STDERR_FILENO) != 0;
+  bool open_ = false;
+};
+
 // x rounded to 3 decimals (milliseconds to the microsecond) for the JSON line.
 double round3(double x) { return std::round(x * 1e3) / 1e3; }
 
@@ -42,10 +67,14 @@ void run_trace(const TraceArgs& a) {
                                   NamedFile{a.rays, "the input --rays " + a.rays}});
   const AcceleratorOptions options = AcceleratorOptions::from_list(a.accel_opts);
   check_accelerator(a.accel, options);  // before the scene and rays are read
+  ProgressLine progress;
+  progress("loading the scene and the rays");
   const Scene scene = resolve_scene(a.scene);
   const RayBatch rays = read_rays(a.rays);
+  progress(fmt::format("building {} over {} triangles", a.accel, scene.triangles.size()));
   const auto accel = make_accelerator(a.accel, scene, options);
   const BuildInfo build = accel->build_info();
+  const std::string built = fmt::format("built in {:.2f} s; {} rays: ", build.build_ms * 1e-3, rays.size());
 
   HitBatch hits;
   std::vector<uint8_t> occ;
@@ -53,9 +82,12 @@ void run_trace(const TraceArgs& a) {
     if (a.occluded) accel->occluded(rays, occ, stats);
     else accel->intersect(rays, hits, stats);
   };
+  progress(built + "warm-up run");
   trace_once(nullptr);  // warm-up: page in the structure and the rays
   std::vector<double> times;
   for (int r = 0; r < a.repeat; ++r) {
+    progress(built + fmt::format("run {}/{}", r + 1, a.repeat) +
+             (times.empty() ? "" : fmt::format(", the last took {:.1f} ms", times.back())));
     const auto start = SteadyClock::now();
     trace_once(nullptr);
     times.push_back(ms_since(start));
@@ -85,6 +117,7 @@ void run_trace(const TraceArgs& a) {
   if (a.count) {
     // A separate run: counting must never slow the timed runs.
     TraceStats stats;
+    progress(built + "counting run");
     trace_once(&stats);
     if (!accel->counts_work()) {
       line["counters"] = nullptr;
@@ -99,6 +132,7 @@ void run_trace(const TraceArgs& a) {
                           {"tri_tests_per_ray", per_ray(stats.ray_tri_tests)}};
     }
   }
+  progress.end();
   fmt::print("{}\n", line.dump());
 }
 

@@ -304,3 +304,25 @@ expect(0 "manylight renders through a pinhole: the camera's lens_radius 0.5 \\(d
        render --scene ${WORK}/lens.json --integrator manylight --width 8 --height 8 --vpls 20 --passes 1 --out ${WORK}/x.pfm)
 # A tunable given twice is an error, as a repeated option is, not "the last one wins".
 expect(2 "option 'bins' given twice \\('8' and '9'\\)" render --accel bvh --accel-opt bins=8 --accel-opt bins=9 --width 8 --height 8 --out ${WORK}/x.png)
+# On a terminal, trace shows its progress on stderr (the timed runs of a slow accelerator on a
+# big ray file take minutes); stdout keeps the one JSON line. `script` gives the command a
+# terminal; without it this part is skipped.
+find_program(SCRIPT script)
+if(SCRIPT)
+  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3 --count" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "trace: built in [0-9.]+ s.*run 3/3.*counting run.*\"mrays_per_s\"")
+    message(FATAL_ERROR "trace on a terminal shows no progress (exit ${rc}):\n${out}${err}")
+  endif()
+  # An error ends the progress line before its message.
+  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} trace --scene cornell --rays ${WORK}/cut.rays" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT out MATCHES "loading the scene and the rays[^\n]*\n+rayscout: error: .*cut\\.rays")
+    message(FATAL_ERROR "trace on a terminal: the error is not on a line of its own (exit ${rc}):\n${out}${err}")
+  endif()
+  execute_process(COMMAND ${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT err STREQUAL "")
+    message(FATAL_ERROR "trace without a terminal writes progress to stderr (exit ${rc}):\n${err}")
+  endif()
+endif()
