@@ -112,19 +112,19 @@ CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
   auto* cmd = app.add_subcommand(
       "compare-hits", "Compare two HITS (or two OCCL) files ray by ray; exit 1 when they differ beyond the tolerance");
-  cmd->add_option("A", args->a, "Reference HITS or OCCL file")->required();
-  cmd->add_option("B", args->b, "Candidate file of the same kind")->required();
+  cmd->add_option("A", args->a, "reference HITS or OCCL file")->required();
+  cmd->add_option("B", args->b, "candidate file of the same kind")->required();
   cmd->add_option("--tolerance", args->tolerance,
-                  "Relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
+                  "relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
                   "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms). 0 = bit-identical: same "
                   "triangle (no ties), t, u and v, and no grazing contact excused (as --strict)")
       ->capture_default_str()
       ->transform(in_range(0.0f));
   cmd->add_option("--rays", args->rays,
-                  "The RAYS file both were traced from: judge distances in world space, where float "
+                  "the RAYS file both were traced from: judge distances in world space, where float "
                   "coordinates have their precision (a hit near the origin far from the world origin)");
   cmd->add_option("--edge-eps", args->edge_eps,
-                  "A hit with a barycentric <= this is a grazing (edge/vertex) contact")
+                  "a hit with a barycentric <= this is a grazing (edge/vertex) contact")
       ->capture_default_str()
       ->transform(in_range(0.0f, 1.0f));
   cmd->add_option("--hits-a", args->hits_a,
@@ -132,11 +132,11 @@ CommandRegistration registration{[](CLI::App& app) {
                   "blocker is a grazing contact is not counted");
   cmd->add_option("--hits-b", args->hits_b, "OCCL only: B's closest hits of the same rays");
   cmd->add_option("--max-grazing", args->max_grazing,
-                  "Largest share of the rays whose disagreement a grazing contact may excuse; above it the "
+                  "largest share of the rays whose disagreement a grazing contact may excuse; above it the "
                   "files differ (a tracer reporting t = 0 or u = v = 0 would otherwise excuse itself)")
       ->capture_default_str()
       ->transform(in_range(0.0f, 1.0f));
-  cmd->add_flag("--strict", args->strict, "Count disagreements at grazing contacts as errors too");
+  cmd->add_flag("--strict", args->strict, "count disagreements at grazing contacts as errors too");
   cmd->callback([args] {
     if (!compare_files(*args)) throw CLI::RuntimeError(1);
   });

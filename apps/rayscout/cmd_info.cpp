@@ -61,7 +61,7 @@ void print_info(const std::string& arg) {
 CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Load a scene and print its triangles, bounds, materials, lights and load time");
   auto scene = std::make_shared<std::string>();
-  cmd->add_option("--scene", *scene, "Scene: a .json scene file, a mesh (.obj/.ply/.gltf/.glb), or cornell (default)");
+  add_scene_option(*cmd, *scene, /*required=*/false);
   cmd->callback([scene] { print_info(*scene); });
 }};
 

@@ -60,20 +60,20 @@ void run_rays(const RaysArgs& a) {
 CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<RaysArgs>();
   auto* cmd = app.add_subcommand("rays", "Write a workload's rays to a RAYS file (for trace and other tracers)");
-  cmd->add_option("--scene", args->scene, "Scene (.json or mesh file; 'cornell' = built-in)")->required();
+  add_scene_option(*cmd, args->scene, /*required=*/true);
   cmd->add_option("--workload", args->workload, "secondary rays (shadow, ao, diffuse) start at primary hits; "
                                                 "pixels whose primary ray missed are left out")
       ->capture_default_str()
       ->check(CLI::IsMember(workload_names()));
-  cmd->add_option("--width", args->config.width, "Image width in pixels")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--height", args->config.height, "Image height in pixels")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--spp", args->config.spp, "Camera samples per pixel")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--seed", args->config.seed, "Random seed")->capture_default_str()->transform(in_range<uint64_t>(0));
-  cmd->add_option("--ao-radius", args->config.ao_radius, "AO ray length (0 = 10% of the scene diagonal)")
+  cmd->add_option("--width", args->config.width, "image width in pixels")->capture_default_str()->transform(in_range(1));
+  cmd->add_option("--height", args->config.height, "image height in pixels")->capture_default_str()->transform(in_range(1));
+  cmd->add_option("--spp", args->config.spp, "camera samples per pixel")->capture_default_str()->transform(in_range(1));
+  cmd->add_option("--seed", args->config.seed, "random seed")->capture_default_str()->transform(in_range<uint64_t>(0));
+  cmd->add_option("--ao-radius", args->config.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")
       ->capture_default_str()
       ->transform(in_range(0.0f));
-  cmd->add_option("--accel", args->accel, "Accelerator that finds the primary hits")->capture_default_str();
-  cmd->add_option("--out", args->out, "Output RAYS file")->required();
+  add_accel_options(*cmd, args->accel, "that finds the primary hits");
+  cmd->add_option("--out", args->out, "output RAYS file")->required();
   cmd->callback([args, cmd] {
     if (cmd->count("--ao-radius") > 0 && args->workload != "ao")
       fmt::print(stderr, "rayscout: warning: --ao-radius is ignored by --workload {}\n", args->workload);

@@ -39,7 +39,6 @@ struct RenderOptions {
   RenderConfig config;
 };
 
-
 // One line on stderr, redrawn in place; only on a terminal.
 void draw_progress(const RenderProgress& p) {
   const double done = (double(p.pass) + double(p.bounce + 1) / double(p.max_depth + 1)) / double(p.passes);
@@ -193,13 +192,33 @@ void write_stats(const RenderOptions& o, const RenderStats& stats, const Scene& 
   else write_file(o.stats, j.dump() + "\n", "--stats");
 }
 
+// What was written, where the time went and, with --count, the work per ray.
+void print_summary(const RenderOptions& o, const RenderStats& stats, const Integrator& integrator,
+                   const Accelerator& accel, int n_threads, double load_ms, double build_ms) {
+  // With --stats - stdout carries only the JSON, so that it can be piped into a parser.
+  std::FILE* const summary = o.stats == "-" ? stderr : stdout;
+  fmt::print(summary, "wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
+             o.config.height, o.config.spp, integrator.name(), accel.name(), n_threads);
+  // Integrators that do not time their batches (manylight) report no tracing share.
+  const std::string tracing =
+      stats.rays() == 0 ? std::string()
+                        : fmt::format(" ({:.3f} s tracing {} rays, {:.2f} Mrays/s)", stats.trace_ms * 1e-3,
+                                      stats.rays(), stats.mrays_per_s());
+  fmt::print(summary, "time: {:.3f} s render{}, {:.3f} s scene load, {:.3f} s build\n", stats.total_ms * 1e-3,
+             tracing, load_ms * 1e-3, build_ms * 1e-3);
+  if (const TraceStats w = stats.counters(); w.rays > 0)
+    fmt::print(summary,
+               "work: {} rays, per ray {:.2f} traversal steps, {:.2f} ray-box tests, {:.2f} ray-triangle tests\n",
+               w.rays, double(w.traversal_steps) / double(w.rays), double(w.ray_box_tests) / double(w.rays),
+               double(w.ray_tri_tests) / double(w.rays));
+}
+
 void run(const RenderOptions& o) {
   const ThreadLimit limit(o.threads);
   const int n_threads = limit.threads;
   check_before_work(o);
   const auto integrator = make_integrator(o.integrator);
-  const AcceleratorOptions accel_options = AcceleratorOptions::from_list(o.accel_opts);
-  check_accelerator(o.accel, accel_options);  // before the scene load
+  const AcceleratorOptions accel_options = checked_accel_options(o.accel, o.accel_opts);
 
   auto t = SteadyClock::now();
   const Scene scene = resolve_scene(o.scene);
@@ -221,77 +240,93 @@ void run(const RenderOptions& o) {
   if (show_progress) fmt::print(stderr, "\n");
   write_image(image, o.out);
   warn_if_not_finite(image);
-
-  // With --stats - stdout carries only the JSON, so that it can be piped into a parser.
-  std::FILE* const summary = o.stats == "-" ? stderr : stdout;
-  fmt::print(summary, "wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
-             o.config.height, o.config.spp, integrator->name(), accel->name(), n_threads);
-  // Integrators that do not time their batches (manylight) report no tracing share.
-  const std::string tracing = stats.rays() == 0 ? std::string()
-      : fmt::format(" ({:.3f} s tracing {} rays, {:.2f} Mrays/s)", stats.trace_ms * 1e-3, stats.rays(), stats.mrays_per_s());
-  fmt::print(summary, "time: {:.3f} s render{}, {:.3f} s scene load, {:.3f} s build\n", stats.total_ms * 1e-3, tracing,
-             load_ms * 1e-3, build_ms * 1e-3);
-  if (const TraceStats w = stats.counters(); w.rays > 0)
-    fmt::print(summary, "work: {} rays, per ray {:.2f} traversal steps, {:.2f} ray-box tests, {:.2f} ray-triangle tests\n", w.rays,
-               double(w.traversal_steps) / double(w.rays), double(w.ray_box_tests) / double(w.rays),
-               double(w.ray_tri_tests) / double(w.rays));
+  print_summary(o, stats, *integrator, *accel, n_threads, load_ms, build_ms);
   if (!o.stats.empty()) write_stats(o, stats, scene, *integrator, *accel, n_threads, load_ms, build_ms);
+}
+
+void add_render_options(CLI::App& cmd, RenderOptions& o) {
+  RenderConfig& c = o.config;
+  add_scene_option(cmd, o.scene, /*required=*/false);
+  // Checked when parsed: a misspelt name is a usage error naming the option.
+  cmd.add_option("--integrator", o.integrator, "integrator (listed below)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(integrator_name_list()));
+  cmd.footer(integrator_help());
+  add_accel_options(cmd, o.accel, "to render with", &o.accel_opts);
+  cmd.add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
+  cmd.add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
+  cmd.add_option("--spp", c.spp, "camera samples per pixel (width x height x spp below 2^32)")
+      ->capture_default_str()
+      ->transform(in_range(1, 1 << 16));
+  cmd.add_option("--seed", c.seed,
+                 "random seed (same seed and --max-batch, same image: another batch size can move the last bits of a "
+                 "pixel sum; manylight's skipping modes also need --costs and no --time-budget)")
+      ->capture_default_str()
+      ->transform(in_range<uint64_t>(0));
+  cmd.add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")
+      ->capture_default_str()
+      ->transform(in_range(0));
+  cmd.add_option("--rr-depth", c.rr_depth,
+                 "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)")
+      ->capture_default_str()
+      ->transform(in_range(0));
+  cmd.add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")
+      ->capture_default_str()
+      ->transform(in_range(1));
+  cmd.add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));
+  cmd.add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
+  cmd.add_option("--ray-epsilon", c.ray_epsilon,
+                 "offset of rays leaving a surface, along its normal (0 = 1e-5 x the larger of the scene's diagonal "
+                 "and its largest coordinate)")
+      ->capture_default_str()
+      ->transform(in_range(0.0f));
+  cmd.add_option("--max-batch", c.max_batch_rays,
+                 "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced "
+                 "in passes of whole samples that stay under this; an image with more pixels is traced in bands of "
+                 "rows, one sample per pass (0 = 2^24)")
+      ->capture_default_str()
+      ->transform(in_range(0L));
+  add_threads_option(cmd, o.threads);
+  cmd.add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower); printed, and in --stats");
+  cmd.add_option("--stats", o.stats,
+                 "write JSON stats to this file ('-' = stdout, which then holds only the JSON: the summary lines go to "
+                 "stderr)");
+  cmd.add_option("--out", o.out, "output image: .png, .exr or .pfm")->capture_default_str();
+}
+
+// An option the chosen integrator does not read is reported, not dropped silently.
+void warn_unread_options(const CLI::App& cmd, const CLI::App& manylight, const std::string& integrator) {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> readers = {
+      {"--max-depth", {"direct", "area", "path"}},
+      {"--rr-depth", {"path"}},
+      {"--light-samples", {"area", "path"}},
+      {"--ao-samples", {"ao"}},
+      {"--ao-radius", {"ao"}},
+      // The many-light renderer offsets its rays by its own 1e-4 of the scene diagonal,
+      // makes its own batches, and keeps no traversal counters.
+      {"--ray-epsilon", {"direct", "area", "ao", "path"}},
+      {"--max-batch", {"direct", "area", "ao", "path"}},
+      {"--count", {"direct", "area", "ao", "path"}}};
+  for (const auto& [option, integrators] : readers)
+    if (cmd.count(option) > 0 && std::find(integrators.begin(), integrators.end(), integrator) == integrators.end())
+      fmt::print(stderr, "rayscout: warning: {} is ignored by --integrator {}\n", option, integrator);
+  if (integrator == "manylight") warn_unread_manylight_options(manylight);
+  else if (manylight.count_all() > 0)
+    fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n", integrator);
 }
 
 CommandRegistration registration{[](CLI::App& app) {
   auto opts = std::make_shared<RenderOptions>();
   auto* cmd = app.add_subcommand("render", "Render a scene to an image (PNG, EXR or PFM)");
-  RenderConfig& c = opts->config;
-  cmd->add_option("--scene", opts->scene, "scene file (.json) or mesh; default: built-in Cornell box");
-  // Checked when parsed: a misspelt name is a usage error naming the option.
-  cmd->add_option("--integrator", opts->integrator, "integrator (listed below)")
-      ->capture_default_str()
-      ->check(CLI::IsMember(integrator_name_list()));
-  cmd->footer(integrator_help());
-  cmd->add_option("--accel", opts->accel, "accelerator; see `rayscout accelerators`")->capture_default_str();
-  cmd->add_option("--accel-opt", opts->accel_opts, "accelerator tunable key=value (repeatable)");
-  cmd->add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
-  cmd->add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
-  cmd->add_option("--spp", c.spp, "camera samples per pixel (width x height x spp below 2^32)")->capture_default_str()->transform(in_range(1, 1 << 16));
-  cmd->add_option("--seed", c.seed, "random seed (same seed and --max-batch, same image: another batch size can move the last bits of a pixel sum; manylight's skipping modes also need --costs and no --time-budget)")->capture_default_str()->transform(in_range<uint64_t>(0));
-  cmd->add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")->capture_default_str()->transform(in_range(0));
-  cmd->add_option("--rr-depth", c.rr_depth, "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)")->capture_default_str()->transform(in_range(0));
-  cmd->add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")->capture_default_str()->transform(in_range(0.0f));
-  cmd->add_option("--ray-epsilon", c.ray_epsilon, "offset of rays leaving a surface, along its normal (0 = 1e-5 x the larger of the scene's diagonal and its largest coordinate)")->capture_default_str()->transform(in_range(0.0f));
-  cmd->add_option("--max-batch", c.max_batch_rays, "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced in passes of whole samples that stay under this; an image with more pixels is traced in bands of rows, one sample per pass (0 = 2^24)")->capture_default_str()->transform(in_range(0L));
-  cmd->add_option("--threads", opts->threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
-  cmd->add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower); printed, and in --stats");
-  cmd->add_option("--stats", opts->stats, "write JSON stats to this file ('-' = stdout, which then holds only the JSON: the summary lines go to stderr)");
-  cmd->add_option("--out", opts->out, "output image: .png, .exr or .pfm")->capture_default_str();
-
-  // ---- Integrator-specific options: one option group per integrator module (a warning
-  //      names them when another integrator is chosen) ----
+  add_render_options(*cmd, *opts);
+  // Integrator-specific options: one option group per integrator module (a warning names
+  // them when another integrator is chosen).
   auto* manylight = cmd->add_option_group("manylight", "Options of --integrator manylight");
   add_manylight_options(*manylight);
-  // ---- end of integrator-specific options ----
-
   cmd->callback([opts, cmd, manylight] {
-    // An option the chosen integrator does not read is reported, not dropped silently.
-    static const std::vector<std::pair<std::string, std::vector<std::string>>> readers = {
-        {"--max-depth", {"direct", "area", "path"}},
-        {"--rr-depth", {"path"}},
-        {"--light-samples", {"area", "path"}},
-        {"--ao-samples", {"ao"}},
-        {"--ao-radius", {"ao"}},
-        // The many-light renderer offsets its rays by its own 1e-4 of the scene diagonal,
-        // makes its own batches, and keeps no traversal counters.
-        {"--ray-epsilon", {"direct", "area", "ao", "path"}},
-        {"--max-batch", {"direct", "area", "ao", "path"}},
-        {"--count", {"direct", "area", "ao", "path"}}};
-    for (const auto& [option, integrators] : readers)
-      if (cmd->count(option) > 0 && std::find(integrators.begin(), integrators.end(), opts->integrator) == integrators.end())
-        fmt::print(stderr, "rayscout: warning: {} is ignored by --integrator {}\n", option, opts->integrator);
-    if (manylight->count_all() > 0 && opts->integrator != "manylight")
-      fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n",
-                 opts->integrator);
-    if (opts->integrator == "manylight") warn_unread_manylight_options(*manylight);
+    warn_unread_options(*cmd, *manylight, opts->integrator);
     run(*opts);
   });
 }};

@@ -31,7 +31,6 @@ struct TraceArgs {
   std::vector<std::string> accel_opts;
 };
 
-
 // On a terminal, one line on stderr redrawn at each step (\33[K clears its rest): a slow
 // accelerator on a big ray file takes minutes per run. stdout keeps the JSON line alone. The
 // line is ended before anything else is printed, an error message too.
@@ -65,8 +64,7 @@ void run_trace(const TraceArgs& a) {
   check_distinct_files(std::array{NamedFile{a.out, "--out " + a.out}},
                        std::array{NamedFile{a.scene, "the input --scene " + a.scene},
                                   NamedFile{a.rays, "the input --rays " + a.rays}});
-  const AcceleratorOptions options = AcceleratorOptions::from_list(a.accel_opts);
-  check_accelerator(a.accel, options);  // before the scene and rays are read
+  const AcceleratorOptions options = checked_accel_options(a.accel, a.accel_opts);
   ProgressLine progress;
   progress("loading the scene and the rays");
   const Scene scene = resolve_scene(a.scene);
@@ -139,17 +137,16 @@ void run_trace(const TraceArgs& a) {
 CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<TraceArgs>();
   auto* cmd = app.add_subcommand("trace", "Trace a ray file; print one JSON line of build and trace times");
-  cmd->add_option("--scene", args->scene, "Scene (.json or mesh file; 'cornell' = built-in)")->required();
+  add_scene_option(*cmd, args->scene, /*required=*/true);
   cmd->add_option("--rays", args->rays, "RAYS file (rayscout rays writes one)")->required();
-  cmd->add_option("--accel", args->accel, "Accelerator (rayscout accelerators lists them)")->capture_default_str();
-  cmd->add_flag("--occluded", args->occluded, "Any-hit queries (shadow rays) instead of closest hits");
-  cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
-  cmd->add_option("--repeat", args->repeat, "Timed repetitions after one warm-up; trace_ms is their median")
+  add_accel_options(*cmd, args->accel, "to trace with", &args->accel_opts);
+  cmd->add_flag("--occluded", args->occluded, "any-hit queries (shadow rays) instead of closest hits");
+  add_threads_option(*cmd, args->threads);
+  cmd->add_option("--repeat", args->repeat, "timed repetitions after one warm-up; trace_ms is their median")
       ->capture_default_str()
       ->transform(in_range(1));
-  cmd->add_flag("--count", args->count, "Add exact work counters (from a separate, untimed run)");
-  cmd->add_option("--accel-opt", args->accel_opts, "Accelerator tunable key=value (repeatable)");
-  cmd->add_option("--out", args->out, "Write the hits (HITS file, or OCCL with --occluded)");
+  cmd->add_flag("--count", args->count, "add exact work counters (from a separate, untimed run)");
+  cmd->add_option("--out", args->out, "write the hits (HITS file, or OCCL with --occluded)");
   cmd->callback([args] { run_trace(*args); });
 }};
 

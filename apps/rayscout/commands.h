@@ -1,5 +1,6 @@
 // The rayscout CLI's subcommands. Each cmd_<name>.cpp registers one with a static
-// CommandRegistration, so adding a command never edits main.cpp.
+// CommandRegistration, so adding a command never edits main.cpp; options several commands
+// share are added by one function each (common_options.cpp).
 #pragma once
 
 #include <charconv>
@@ -12,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "rayscout/core/accelerator_options.h"
 #include "rayscout/core/input_error.h"
 
 namespace rayscout::cli {
@@ -26,6 +28,22 @@ std::vector<AddCommand>& command_registry();
 struct CommandRegistration {
   explicit CommandRegistration(AddCommand add) { command_registry().push_back(std::move(add)); }
 };
+
+/// --scene. `required` for commands without a default scene; the others load the built-in
+/// Cornell box when it is left out (resolve_scene("")).
+void add_scene_option(CLI::App& cmd, std::string& scene, bool required);
+
+/// --accel (what the command uses it for: `use`, e.g. "to trace with") and, when accel_opts
+/// is given, --accel-opt. The help lists the accelerators of this build.
+void add_accel_options(CLI::App& cmd, std::string& accel, const std::string& use,
+                       std::vector<std::string>* accel_opts = nullptr);
+
+/// The parsed --accel-opt list, once --accel and it are checked (check_accelerator): commands
+/// call it before they read a scene or ray file, so that a misspelt name or key costs nothing.
+AcceleratorOptions checked_accel_options(const std::string& accel, const std::vector<std::string>& accel_opts);
+
+/// --threads (0 = all cores; see ThreadLimit).
+void add_threads_option(CLI::App& cmd, int& threads);
 
 /// Use with ->transform(in_range(lo, hi)): the option's value must be a number in [lo, hi]
 /// (hi omitted: >= lo, finite). Unlike CLI::Range it rejects NaN and infinity, reads integers

@@ -77,7 +77,8 @@ void add_manylight_options(CLI::App& cmd) {
                  "manylight: shading-point clusters, rounded up to a power of two, at most the shading points")
       ->capture_default_str()
       ->transform(in_range(1));
-  cmd.add_option("--vpl-clusters", c.vpl_clusters, "manylight: VPL clusters, rounded up to a power of two, at most the VPLs")
+  cmd.add_option("--vpl-clusters", c.vpl_clusters,
+                 "manylight: VPL clusters, rounded up to a power of two, at most the VPLs")
       ->capture_default_str()
       ->transform(in_range(1));
   cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")

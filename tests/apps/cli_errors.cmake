@@ -20,7 +20,11 @@ function(expect_without code pattern absent)
 endfunction()
 
 expect(0 "Usage" --help)
-expect(0 "--accel" trace --help)
+# Options several commands share have one help text, which lists the accelerators.
+foreach(command render rays trace)
+  expect(0 "--scene TEXT[ A-Z]*a \\.json scene file .* or cornell, the built-in Cornell box.*--accel TEXT=bvh +accelerator [a-z ]+: brute, dacrt, dacrt-rs, bvh2, bvh, shafts"
+         ${command} --help)
+endforeach()
 expect(0 "^rayscout [0-9]+\\.[0-9]+" --version)
 expect(2 "unknown option '--width' \\(options follow the command" --width 8 render)
 expect(0 "Integrators \\(--integrator\\):.*direct +point lights.*manylight +VPLs" render --help)

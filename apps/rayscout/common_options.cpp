@@ -1,0 +1,39 @@
+// Options several commands share, added by one function each so that their names, checks and
+// help texts agree between commands.
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "rayscout/accelerators.h"
+
+namespace rayscout::cli {
+
+void add_scene_option(CLI::App& cmd, std::string& scene, bool required) {
+  const std::string help = "a .json scene file (docs/scene-format.md), a mesh (.obj, .ply, .gltf, .glb) or cornell, "
+                           "the built-in Cornell box";
+  auto* option = cmd.add_option("--scene", scene, help + (required ? "" : " (the default)"));
+  if (required) option->required();
+}
+
+void add_accel_options(CLI::App& cmd, std::string& accel, const std::string& use,
+                       std::vector<std::string>* accel_opts) {
+  std::string names;
+  for (const auto& a : accelerators()) names += (names.empty() ? "" : ", ") + a.name;
+  cmd.add_option("--accel", accel, "accelerator " + use + ": " + names + " (`rayscout accelerators` describes them)")
+      ->capture_default_str();
+  if (accel_opts)
+    cmd.add_option("--accel-opt", *accel_opts,
+                   "accelerator tunable key=value, repeatable (`rayscout accelerators` names them or their doc)");
+}
+
+AcceleratorOptions checked_accel_options(const std::string& accel, const std::vector<std::string>& accel_opts) {
+  AcceleratorOptions options = AcceleratorOptions::from_list(accel_opts);
+  check_accelerator(accel, options);
+  return options;
+}
+
+void add_threads_option(CLI::App& cmd, int& threads) {
+  cmd.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
+}
+
+}  // namespace rayscout::cli
