@@ -112,6 +112,7 @@ CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<CompareArgs>();
   auto* cmd = app.add_subcommand(
       "compare-hits", "Compare two HITS (or two OCCL) files ray by ray; exit 1 when they differ beyond the tolerance");
+  set_memory_hint(*cmd, "compare smaller files");
   cmd->add_option("A", args->a, "reference HITS or OCCL file")->required();
   cmd->add_option("B", args->b, "candidate file of the same kind")->required();
   cmd->add_option("--tolerance", args->tolerance,

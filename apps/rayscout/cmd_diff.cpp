@@ -22,6 +22,7 @@ struct DiffOptions {
 CommandRegistration registration{[](CLI::App& app) {
   auto opts = std::make_shared<DiffOptions>();
   auto* cmd = app.add_subcommand("diff", "Compare image A with reference B: RMSE, relative MSE, PSNR, max error");
+  set_memory_hint(*cmd, "compare smaller images");
   cmd->add_option("a", opts->a, "image (.png, .exr, .pfm)")->required();
   cmd->add_option("b", opts->b, "reference image")->required();
   cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)");

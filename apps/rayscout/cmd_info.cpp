@@ -61,6 +61,7 @@ void print_info(const std::string& arg) {
 CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Load a scene and print its triangles, bounds, materials, lights and load time");
   auto scene = std::make_shared<std::string>();
+  set_memory_hint(*cmd, "load a smaller scene");
   add_scene_option(*cmd, *scene, /*required=*/false);
   cmd->callback([scene] { print_info(*scene); });
 }};

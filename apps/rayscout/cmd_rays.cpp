@@ -60,6 +60,7 @@ void run_rays(const RaysArgs& a) {
 CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<RaysArgs>();
   auto* cmd = app.add_subcommand("rays", "Write a workload's rays to a RAYS file (for trace and other tracers)");
+  set_memory_hint(*cmd, "lower --width, --height or --spp, or load a smaller scene");
   add_scene_option(*cmd, args->scene, /*required=*/true);
   cmd->add_option("--workload", args->workload, "secondary rays (shadow, ao, diffuse) start at primary hits; "
                                                 "pixels whose primary ray missed are left out")

@@ -321,6 +321,8 @@ CommandRegistration registration{[](CLI::App& app) {
   auto opts = std::make_shared<RenderOptions>();
   auto* cmd = app.add_subcommand("render", "Render a scene to an image (PNG, EXR or PFM)");
   add_render_options(*cmd, *opts);
+  set_memory_hint(*cmd, "lower --width/--height, --spp, --light-samples, --ao-samples or --vpls, bound the camera "
+                        "batch with --max-batch (not manylight), or load a smaller scene");
   // Integrator-specific options: one option group per integrator module (a warning names
   // them when another integrator is chosen).
   auto* manylight = cmd->add_option_group("manylight", "Options of --integrator manylight");

@@ -137,6 +137,7 @@ void run_trace(const TraceArgs& a) {
 CommandRegistration registration{[](CLI::App& app) {
   auto args = std::make_shared<TraceArgs>();
   auto* cmd = app.add_subcommand("trace", "Trace a ray file; print one JSON line of build and trace times");
+  set_memory_hint(*cmd, "trace fewer rays (a smaller --rays file), another --accel, or load a smaller scene");
   add_scene_option(*cmd, args->scene, /*required=*/true);
   cmd->add_option("--rays", args->rays, "RAYS file (rayscout rays writes one)")->required();
   add_accel_options(*cmd, args->accel, "to trace with", &args->accel_opts);

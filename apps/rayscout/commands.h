@@ -29,6 +29,12 @@ struct CommandRegistration {
   explicit CommandRegistration(AddCommand add) { command_registry().push_back(std::move(add)); }
 };
 
+/// What to lower when `cmd` runs out of memory (std::bad_alloc), e.g. "lower --width";
+/// main prints it with the error.
+void set_memory_hint(const CLI::App& cmd, std::string hint);
+/// The hint set for `cmd`, or "".
+std::string memory_hint(const CLI::App& cmd);
+
 /// --scene. `required` for commands without a default scene; the others load the built-in
 /// Cornell box when it is left out (resolve_scene("")).
 void add_scene_option(CLI::App& cmd, std::string& scene, bool required);

@@ -1,6 +1,7 @@
 // rayscout: the command-line front end. Parses options, wires modules, prints results.
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <new>
 #include <string>
 
@@ -14,6 +15,20 @@ namespace rayscout::cli {
 std::vector<AddCommand>& command_registry() {
   static std::vector<AddCommand> commands;
   return commands;
+}
+
+namespace {
+std::map<const CLI::App*, std::string>& memory_hints() {
+  static std::map<const CLI::App*, std::string> hints;
+  return hints;
+}
+}  // namespace
+
+void set_memory_hint(const CLI::App& cmd, std::string hint) { memory_hints()[&cmd] = std::move(hint); }
+
+std::string memory_hint(const CLI::App& cmd) {
+  const auto it = memory_hints().find(&cmd);
+  return it == memory_hints().end() ? std::string() : it->second;
 }
 }  // namespace rayscout::cli
 
@@ -54,8 +69,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    fmt::print(stderr, "rayscout: error: out of memory (lower --width/--height, --spp, --light-samples, --ao-samples "
-                       "or --vpls, bound the camera batch with --max-batch (not manylight), or load a smaller scene)\n");
+    std::string hint;  // the command's own options, not another command's
+    for (const CLI::App* sub : app.get_subcommands()) hint = rayscout::cli::memory_hint(*sub);
+    fmt::print(stderr, "rayscout: error: out of memory{}\n", hint.empty() ? "" : " (" + hint + ")");
     return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "rayscout: error: {}\n", e.what());

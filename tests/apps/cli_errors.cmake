@@ -330,3 +330,24 @@ if(SCRIPT)
     message(FATAL_ERROR "trace without a terminal writes progress to stderr (exit ${rc}):\n${err}")
   endif()
 endif()
+# Out of memory, a command names what to lower among its own options (trace used to advise
+# render's --width, --spp and --vpls). A RAYS and a HITS header claiming 8M records, followed by
+# a sparse body, ask for 256 MB and 128 MB under a 200 MB address-space limit; --threads 1 keeps
+# the worker threads' stacks out of it. Sanitizers reserve terabytes of address space: skipped.
+if(NOT SANITIZE AND EXISTS /bin/sh)
+  execute_process(COMMAND /usr/bin/python3 -c "import struct,sys
+for path, kind, size in ((sys.argv[2], b'RAYS', 32), (sys.argv[3], b'HITS', 16)):
+    f = open(path, 'wb'); f.write(kind + open(sys.argv[1], 'rb').read(16)[4:8] + struct.pack('<Q', 8 << 20))
+    f.truncate(16 + size * (8 << 20))" ${WORK}/ok.rays ${WORK}/huge.rays ${WORK}/huge.hits RESULT_VARIABLE rc)
+  execute_process(COMMAND /bin/sh -c "ulimit -v 200000 && exec \"$0\" \"$@\"" ${RAYSCOUT} trace --threads 1 --scene cornell
+                          --rays ${WORK}/huge.rays RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 1 OR NOT err MATCHES "out of memory \\(trace fewer rays" OR err MATCHES "--vpls")
+    message(FATAL_ERROR "trace out of memory (exit ${rc}):\n${out}${err}")
+  endif()
+  execute_process(COMMAND /bin/sh -c "ulimit -v 200000 && exec \"$0\" \"$@\"" ${RAYSCOUT} compare-hits
+                          ${WORK}/huge.hits ${WORK}/huge.hits RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 1 OR NOT err MATCHES "out of memory \\(compare smaller files" OR err MATCHES "--vpls")
+    message(FATAL_ERROR "compare-hits out of memory (exit ${rc}):\n${out}${err}")
+  endif()
+  file(REMOVE ${WORK}/huge.rays ${WORK}/huge.hits)
+endif()
