@@ -119,6 +119,11 @@ void check_before_work(const RenderOptions& o) {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(ml.reference, ec))
         throw InputError("--reference " + ml.reference + ": no such file");
+      // Read here too (the integrator reads it again), so that a reference of another size or
+      // a broken file is found before the scene load and the build, not after them.
+      if (const Image ref = read_image(ml.reference); ref.width != o.config.width || ref.height != o.config.height)
+        throw InputError(fmt::format("--reference {}: {}x{} but rendering {}x{}", ml.reference, ref.width, ref.height,
+                                     o.config.width, o.config.height));
     }
   }
   const NamedFile outputs[] = {{o.out, "--out " + o.out},

@@ -210,6 +210,12 @@ expect(2 "524288 cluster pairs \\(--shading-clusters x --vpl-clusters\\) at ~40 
 expect(2 "--rmse-log .*log.txt: the file name must end in .json or .csv" render --integrator manylight --rmse-log ${WORK}/log.txt --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "--reference .*x.png: must be an .exr or .pfm image" render --integrator manylight --reference ${WORK}/x.png --width 8 --height 8 --out ${WORK}/y.png)
 expect(2 "--reference .*none.exr: no such file" render --integrator manylight --reference ${WORK}/none.exr --width 8 --height 8 --out ${WORK}/y.png)
+# A reference of another size, or not an image, is found before the scene (missing here) is read.
+expect(2 "--reference .*b6\\.pfm: 8x6 but rendering 8x8" render --integrator manylight --scene ${WORK}/missing.obj
+       --reference ${WORK}/b6.pfm --width 8 --height 8 --out ${WORK}/y.png)
+file(WRITE ${WORK}/junk.pfm "PF\n8 8\n")
+expect(2 "junk\\.pfm" render --integrator manylight --scene ${WORK}/missing.obj --reference ${WORK}/junk.pfm
+       --width 8 --height 8 --out ${WORK}/y.png)
 # Options of another integrator are not silently dropped.
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
 expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
