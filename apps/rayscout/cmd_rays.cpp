@@ -53,6 +53,9 @@ void run_rays(const RaysArgs& a) {
   const auto accel = make_accelerator(a.accel, scene);
   const RayBatch rays = make_workload(scene, *accel, workload, a.config);
   write_rays(a.out, rays);
+  if (rays.empty())
+    fmt::print(stderr, "rayscout: warning: no {} rays: every primary ray missed the scene (where does the camera look?)\n",
+               workload_name(workload));
   fmt::print("wrote {} {} rays ({}x{}, {} spp, seed {}) to {} in {:.0f} ms\n", rays.size(), workload_name(workload),
              a.config.width, a.config.height, a.config.spp, a.config.seed, a.out, ms_since(start));
 }

@@ -220,6 +220,11 @@ expect(2 "junk\\.pfm" render --integrator manylight --scene ${WORK}/missing.obj 
 expect(0 "manylight options given are ignored by --integrator direct" render --width 8 --height 8 --vpls 5 --out ${WORK}/x.png)
 expect(0 "--ao-radius is ignored by --integrator path" render --integrator path --width 8 --height 8 --max-depth 2 --ao-radius 1 --out ${WORK}/x.png)
 expect(0 "--count is ignored by --integrator manylight" render --integrator manylight --width 8 --height 8 --vpls 50 --count --out ${WORK}/x.png)
+# A secondary workload of a camera that sees nothing is empty: said, not a silent file of 0 rays.
+file(WRITE ${WORK}/away.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
+  "lights": [{"type": "point", "position": [0.5, 3, 3], "intensity": 1}], "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 10]}}]=])
+expect(0 "warning: no diffuse rays: every primary ray missed the scene" rays --scene ${WORK}/away.json --workload diffuse
+       --width 8 --height 8 --out ${WORK}/away.rays)
 expect(0 "--ao-radius is ignored by --workload shadow" rays --scene cornell --workload shadow --width 8 --height 8 --ao-radius 1 --out ${WORK}/s.rays)
 expect(0 "--rmse-log without --reference logs passes and skip rates only" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 1 --rmse-log ${WORK}/log.csv --out ${WORK}/x.pfm)
 # --count prints the work per ray even without --stats (64 camera and 64 AO rays).
