@@ -39,17 +39,40 @@ struct RenderOptions {
   RenderConfig config;
 };
 
-// One line on stderr, redrawn in place; only on a terminal.
-void draw_progress(const RenderProgress& p) {
-  const double done = (double(p.pass) + double(p.bounce + 1) / double(p.max_depth + 1)) / double(p.passes);
-  const int width = 24, filled = int(done * width + 0.5);
-  const double left = done > 0 ? p.elapsed_s * (1.0 - done) / done : 0.0;
-  const std::string bounce = p.max_depth > 0 ? fmt::format(" bounce {}/{}", p.bounce, p.max_depth) : "";
-  fmt::print(stderr, "\r[{}{}] pass {}/{}{}  {:.2f} Mrays traced  {:.1f} s  ~{:.1f} s left   ",
-             std::string(filled, '#'), std::string(width - filled, '.'), p.pass + 1, p.passes, bounce,
-             double(p.rays_traced) * 1e-6, p.elapsed_s, left);
-  std::fflush(stderr);
-}
+// The progress line on stderr, redrawn in place after every traced batch (only on a
+// terminal). The time left is extrapolated from whole passes, a pass being done when the next
+// one starts or its last possible bounce is traced (manylight reports each pass once, done):
+// the bounces of a pass take unequal times (bounce 0 is most of the work, and bounce
+// max_depth is reached only through mirrors), so the bar's share of a pass per bounce is no
+// clock.
+class ProgressBar {
+ public:
+  void draw(const RenderProgress& p) {
+    if (p.pass != pass_) record_done(p.pass, p.elapsed_s);
+    if (p.bounce >= p.max_depth) record_done(p.pass + 1, p.elapsed_s);
+    pass_ = p.pass;
+    const double done = (double(p.pass) + double(p.bounce + 1) / double(p.max_depth + 1)) / double(p.passes);
+    const int width = 24, filled = std::clamp(int(done * width + 0.5), 0, width);
+    const std::string bounce = p.max_depth > 0 ? fmt::format(" bounce {}/{}", p.bounce, p.max_depth) : "";
+    const std::string left =
+        done_passes_ > 0
+            ? fmt::format("  ~{:.1f} s left", std::max(0.0, done_at_s_ / done_passes_ * p.passes - p.elapsed_s))
+            : "";
+    fmt::print(stderr, "\r[{}{}] pass {}/{}{}  {:.2f} Mrays traced  {:.1f} s{}\33[K", std::string(filled, '#'),
+               std::string(width - filled, '.'), p.pass + 1, p.passes, bounce, double(p.rays_traced) * 1e-6,
+               p.elapsed_s, left);
+    std::fflush(stderr);
+  }
+
+ private:
+  void record_done(int passes, double at_s) {
+    done_passes_ = passes;
+    done_at_s_ = at_s;
+  }
+  int pass_ = 0;
+  int done_passes_ = 0;    // passes known to be done, ...
+  double done_at_s_ = 0;  // ... at this time
+};
 
 // Film and image hold 12 bytes a pixel each, a pass ~200 bytes a camera ray and ~100 bytes for
 // each occlusion ray a camera ray's hit sends in the same batch (ao: --ao-samples; area and
@@ -239,7 +262,7 @@ void run(const RenderOptions& o) {
   RenderConfig config = o.config;
   config.count = o.config.count && accel->counts_work();
   const bool show_progress = isatty(STDERR_FILENO);
-  if (show_progress) config.on_progress = draw_progress;
+  if (show_progress) config.on_progress = [bar = std::make_shared<ProgressBar>()](const RenderProgress& p) { bar->draw(p); };
   RenderStats stats;
   const Image image = integrator->render(scene, *accel, config, &stats);
   if (show_progress) fmt::print(stderr, "\n");

@@ -335,6 +335,14 @@ if(SCRIPT)
   if(NOT rc EQUAL 2 OR NOT out MATCHES "loading the scene and the rays[^\n]*\n+rayscout: error: .*cut\\.rays")
     message(FATAL_ERROR "trace on a terminal: the error is not on a line of its own (exit ${rc}):\n${out}${err}")
   endif()
+  # render's time left comes from whole passes: none during the first (a single-pass direct
+  # render of a scene without mirrors ended at "~3 s left" for 1 s of work: its bounce 0 was
+  # counted as a quarter of the pass), then one for each later pass.
+  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} render --integrator path --width 32 --height 32 --spp 4 --max-batch 1024 --out ${WORK}/bar.png" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR out MATCHES "pass 1/4[^\r]*left" OR NOT out MATCHES "pass 4/4[^\r]*~[0-9.]+ s left")
+    message(FATAL_ERROR "render's progress on a terminal (exit ${rc}):\n${out}${err}")
+  endif()
   execute_process(COMMAND ${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT err STREQUAL "")
