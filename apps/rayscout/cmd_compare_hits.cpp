@@ -31,61 +31,70 @@ bool grazing_within_bound(size_t grazing, size_t rays, const CompareArgs& args) 
   return false;
 }
 
-// Returns true when the files agree within the tolerance.
-bool compare_files(const CompareArgs& args) {
-  const ResultFile fa = read_results(args.a), fb = read_results(args.b);
-  if (fa.kind != fb.kind) throw InputError(args.a + " and " + args.b + ": one is a HITS file, the other an OCCL file");
-  const bool occl = fa.kind == RayFileKind::Occlusion;
-  if (!occl && (!args.hits_a.empty() || !args.hits_b.empty()))
-    throw InputError("--hits-a and --hits-b are for OCCL files; " + args.a + " is a HITS file");
-  if (args.hits_a.empty() != args.hits_b.empty()) throw InputError("--hits-a and --hits-b go together");
+// What every comparison shares: the config (with the rays of --rays) and the record count
+// that every file must hold, A's or the RAYS file's.
+struct Comparison {
+  const CompareArgs& args;
   HitCompareConfig cfg;
-  cfg.rel_tol = args.tolerance;
-  cfg.allow_grazing = !args.strict;
-  cfg.edge_eps = args.edge_eps;
   RayBatch rays;
-  if (!args.rays.empty()) {
-    rays = read_rays(args.rays);
-    cfg.rays = &rays;
+  size_t n = 0;
+  std::string counted;  // what n counts, e.g. "a.hits: 64 hits"
+
+  Comparison(const Comparison&) = delete;  // cfg.rays points into rays
+  Comparison(const CompareArgs& a, const ResultFile& fa) : args(a) {
+    cfg.rel_tol = a.tolerance;
+    cfg.allow_grazing = !a.strict;
+    cfg.edge_eps = a.edge_eps;
+    const bool occl = fa.kind == RayFileKind::Occlusion;
+    if (!a.rays.empty()) {
+      rays = read_rays(a.rays);
+      cfg.rays = &rays;
+    }
+    n = cfg.rays ? rays.size() : occl ? fa.occluded.size() : fa.hits.size();
+    counted = (cfg.rays ? a.rays : a.a) + ": " + std::to_string(n) + (cfg.rays ? " rays" : occl ? " results" : " hits");
   }
 
-  // Every file of a comparison describes the same rays, as many as A (or the RAYS file).
-  const size_t n = cfg.rays ? rays.size() : occl ? fa.occluded.size() : fa.hits.size();
-  const std::string& first = cfg.rays ? args.rays : args.a;
-  auto check_size = [&](size_t size, const std::string& file, const char* what) {
-    if (size != n)
-      throw InputError(first + ": " + std::to_string(n) + (cfg.rays ? " rays" : occl ? " results" : " hits") + ", but " + file +
-                       " holds " + std::to_string(size) + " " + what);
-  };
-  if (occl) {
-    HitBatch ha, hb;
-    if (!args.hits_a.empty()) {
-      ha = read_hits(args.hits_a);
-      hb = read_hits(args.hits_b);
-    }
-    const bool with_hits = !args.hits_a.empty();
-    const std::vector<uint8_t>&oa = fa.occluded, &ob = fb.occluded;
-    check_size(oa.size(), args.a, "results");
-    check_size(ob.size(), args.b, "results");
-    if (with_hits) {
-      check_size(ha.size(), args.hits_a, "hits");
-      check_size(hb.size(), args.hits_b, "hits");
-    }
-    const OcclusionDiff d = compare_occlusion(oa, ob, cfg, with_hits ? &ha : nullptr, with_hits ? &hb : nullptr);
-    fmt::print("rays:                  {}\n", d.rays);
-    fmt::print("occluded:              {} in A, {} in B\n", d.occluded_ref, d.occluded_got);
-    fmt::print("disagreements:         {}\n", d.differ);
-    if (with_hits && cfg.excuses_grazing())
-      fmt::print("grazing contacts:      {} (the occluded side's closest hit is grazing; not counted)\n", d.grazing);
-    if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
-    const bool ok = grazing_within_bound(d.grazing, d.rays, args) && d.ok();
-    fmt::print("result:                {}\n", ok ? "OK" : "DIFFERENT");
-    return ok;
+  // Every file of a comparison describes the same rays.
+  void check_size(size_t size, const std::string& file, const char* what) const {
+    if (size != n) throw InputError(counted + ", but " + file + " holds " + std::to_string(size) + " " + what);
   }
+};
+
+// Two OCCL files; with --hits-a/--hits-b, disagreements whose blocker is grazing are excused.
+bool compare_occlusion_files(const Comparison& c, const ResultFile& fa, const ResultFile& fb) {
+  const CompareArgs& args = c.args;
+  const bool with_hits = !args.hits_a.empty();
+  HitBatch ha, hb;
+  if (with_hits) {
+    ha = read_hits(args.hits_a);
+    hb = read_hits(args.hits_b);
+  }
+  c.check_size(fa.occluded.size(), args.a, "results");
+  c.check_size(fb.occluded.size(), args.b, "results");
+  if (with_hits) {
+    c.check_size(ha.size(), args.hits_a, "hits");
+    c.check_size(hb.size(), args.hits_b, "hits");
+  }
+  const OcclusionDiff d =
+      compare_occlusion(fa.occluded, fb.occluded, c.cfg, with_hits ? &ha : nullptr, with_hits ? &hb : nullptr);
+  fmt::print("rays:                  {}\n", d.rays);
+  fmt::print("occluded:              {} in A, {} in B\n", d.occluded_ref, d.occluded_got);
+  fmt::print("disagreements:         {}\n", d.differ);
+  if (with_hits && c.cfg.excuses_grazing())
+    fmt::print("grazing contacts:      {} (the occluded side's closest hit is grazing; not counted)\n", d.grazing);
+  if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
+  const bool ok = grazing_within_bound(d.grazing, d.rays, args) && d.ok();
+  fmt::print("result:                {}\n", ok ? "OK" : "DIFFERENT");
+  return ok;
+}
+
+// Two HITS files: hit or miss, triangle, t (and u, v at tolerance 0).
+bool compare_hit_files(const Comparison& c, const ResultFile& fa, const ResultFile& fb) {
+  const CompareArgs& args = c.args;
   const HitBatch &ha = fa.hits, &hb = fb.hits;
-  check_size(ha.size(), args.a, "hits");
-  check_size(hb.size(), args.b, "hits");
-  const HitDiff d = compare_hits(ha, hb, cfg);
+  c.check_size(ha.size(), args.a, "hits");
+  c.check_size(hb.size(), args.b, "hits");
+  const HitDiff d = compare_hits(ha, hb, c.cfg);
   size_t hits_a = 0, hits_b = 0;
   for (uint32_t p : ha.prim) hits_a += p != kInvalidId;
   for (uint32_t p : hb.prim) hits_b += p != kInvalidId;
@@ -97,15 +106,29 @@ bool compare_files(const CompareArgs& args) {
   else
     fmt::print("different triangle:    {} (true ties excluded: {})\n", d.other_prim, d.ties);
   fmt::print("grazing contacts:      {}{}\n", d.grazing,
-             !cfg.excuses_grazing() ? "" : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", cfg.edge_eps));
+             !c.cfg.excuses_grazing()
+                 ? ""
+                 : fmt::format(" (edge/vertex within {:g} barycentric or t ~ 0; not counted)", c.cfg.edge_eps));
   fmt::print("t beyond tolerance:    {}\n", d.t_mismatch);
   if (args.tolerance == 0) fmt::print("u, v not identical:    {}\n", d.uv_mismatch);
   fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} ({})\n", d.max_rel_diff, d.p99_rel_diff,
-             cfg.rays ? "world space: |dt| |d| / max(1, |o|, |hit point|)" : "|dt| / max(1, t_A)");
+             c.cfg.rays ? "world space: |dt| |d| / max(1, |o|, |hit point|)" : "|dt| / max(1, t_A)");
   if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
   const bool ok = grazing_within_bound(d.grazing, d.rays, args) && d.ok();
   fmt::print("result:                {} (tolerance {:g})\n", ok ? "OK" : "DIFFERENT", args.tolerance);
   return ok;
+}
+
+// Returns true when the files agree within the tolerance.
+bool compare_files(const CompareArgs& args) {
+  const ResultFile fa = read_results(args.a), fb = read_results(args.b);
+  if (fa.kind != fb.kind) throw InputError(args.a + " and " + args.b + ": one is a HITS file, the other an OCCL file");
+  const bool occl = fa.kind == RayFileKind::Occlusion;
+  if (!occl && (!args.hits_a.empty() || !args.hits_b.empty()))
+    throw InputError("--hits-a and --hits-b are for OCCL files; " + args.a + " is a HITS file");
+  if (args.hits_a.empty() != args.hits_b.empty()) throw InputError("--hits-a and --hits-b go together");
+  const Comparison c(args, fa);
+  return occl ? compare_occlusion_files(c, fa, fb) : compare_hit_files(c, fa, fb);
 }
 
 CommandRegistration registration{[](CLI::App& app) {
