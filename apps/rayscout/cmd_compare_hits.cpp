@@ -19,6 +19,7 @@ struct CompareArgs {
   float edge_eps = 1e-4f;
   float max_grazing = 0.01f;
   bool strict = false;
+  std::vector<std::string> hit_options;  // those given of the options that judge closest hits
 };
 
 // The excuse for a grazing contact rests on a claimed hit, possibly the candidate's own: a
@@ -127,6 +128,14 @@ bool compare_files(const CompareArgs& args) {
   if (!occl && (!args.hits_a.empty() || !args.hits_b.empty()))
     throw InputError("--hits-a and --hits-b are for OCCL files; " + args.a + " is a HITS file");
   if (args.hits_a.empty() != args.hits_b.empty()) throw InputError("--hits-a and --hits-b go together");
+  if (occl && args.hits_a.empty() && !args.hit_options.empty()) {
+    std::string names;
+    for (const std::string& o : args.hit_options) names += (names.empty() ? "" : ", ") + o;
+    fmt::print(stderr,
+               "rayscout: warning: {} {} ignored comparing OCCL files without --hits-a and --hits-b (they judge "
+               "closest hits)\n",
+               names, args.hit_options.size() == 1 ? "is" : "are");
+  }
   const Comparison c(args, fa);
   return occl ? compare_occlusion_files(c, fa, fb) : compare_hit_files(c, fa, fb);
 }
@@ -161,7 +170,9 @@ CommandRegistration registration{[](CLI::App& app) {
       ->capture_default_str()
       ->transform(in_range(0.0f, 1.0f));
   cmd->add_flag("--strict", args->strict, "count disagreements at grazing contacts as errors too");
-  cmd->callback([args] {
+  cmd->callback([args, cmd] {
+    for (const char* option : {"--tolerance", "--edge-eps", "--max-grazing", "--strict"})
+      if (cmd->count(option) > 0) args->hit_options.push_back(option);
     if (!compare_files(*args)) throw CLI::RuntimeError(1);
   });
 }};

@@ -76,6 +76,12 @@ expect(2 "--hits-a and --hits-b are for OCCL files" compare-hits ${WORK}/p.hits 
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --occluded --out ${WORK}/p.occl)
 expect(2 "small\\.hits holds 16 hits" compare-hits ${WORK}/p.occl ${WORK}/p.occl --hits-a ${WORK}/p.hits --hits-b ${WORK}/small.hits)
 expect(2 "a RAYS file, expected a HITS or OCCL file" compare-hits ${WORK}/ok.rays ${WORK}/p.hits)
+# Two OCCL files are compared flag by flag; the distance and grazing options only judge the
+# closest hits of --hits-a/--hits-b: without them they are said to be ignored.
+expect(0 "warning: --tolerance, --strict are ignored comparing OCCL files without --hits-a and --hits-b"
+       compare-hits ${WORK}/p.occl ${WORK}/p.occl --tolerance 0 --strict)
+expect_without(0 "result: +OK" "warning" compare-hits ${WORK}/p.occl ${WORK}/p.occl --tolerance 0 --strict
+               --hits-a ${WORK}/p.hits --hits-b ${WORK}/p.hits)
 
 # Option values out of range: exit 2 naming the option and the value, before any work (never a
 # hang, a wrapped unsigned value or a silent fallback to the default).
