@@ -1,6 +1,4 @@
 // `rayscout render`: renders a scene with an integrator on an accelerator and writes the image.
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "progress_line.h"
 #include "integrators.h"
 #include "manylight_options.h"
 #include "thread_limit.h"
@@ -39,15 +38,14 @@ struct RenderOptions {
   RenderConfig config;
 };
 
-// The progress line on stderr, redrawn in place after every traced batch (only on a
-// terminal). The time left is extrapolated from whole passes, a pass being done when the next
-// one starts or its last possible bounce is traced (manylight reports each pass once, done):
-// the bounces of a pass take unequal times (bounce 0 is most of the work, and bounce
-// max_depth is reached only through mirrors), so the bar's share of a pass per bounce is no
-// clock.
+// The text of the progress line after every traced batch. The time left is extrapolated
+// from whole passes, a pass being done when the next one starts or its last possible bounce
+// is traced (manylight reports each pass once, done): the bounces of a pass take unequal
+// times (bounce 0 is most of the work, and bounce max_depth is reached only through mirrors),
+// so the bar's share of a pass per bounce is no clock.
 class ProgressBar {
  public:
-  void draw(const RenderProgress& p) {
+  std::string text(const RenderProgress& p) {
     if (p.pass != pass_) record_done(p.pass, p.elapsed_s);
     if (p.bounce >= p.max_depth) record_done(p.pass + 1, p.elapsed_s);
     pass_ = p.pass;
@@ -58,10 +56,9 @@ class ProgressBar {
         done_passes_ > 0
             ? fmt::format("  ~{:.1f} s left", std::max(0.0, done_at_s_ / done_passes_ * p.passes - p.elapsed_s))
             : "";
-    fmt::print(stderr, "\r[{}{}] pass {}/{}{}  {:.2f} Mrays traced  {:.1f} s{}\33[K", std::string(filled, '#'),
-               std::string(width - filled, '.'), p.pass + 1, p.passes, bounce, double(p.rays_traced) * 1e-6,
-               p.elapsed_s, left);
-    std::fflush(stderr);
+    return fmt::format("[{}{}] pass {}/{}{}  {:.2f} Mrays traced  {:.1f} s{}", std::string(filled, '#'),
+                       std::string(width - filled, '.'), p.pass + 1, p.passes, bounce, double(p.rays_traced) * 1e-6,
+                       p.elapsed_s, left);
   }
 
  private:
@@ -261,11 +258,14 @@ void run(const RenderOptions& o) {
                accel->name());
   RenderConfig config = o.config;
   config.count = o.config.count && accel->counts_work();
-  const bool show_progress = isatty(STDERR_FILENO);
-  if (show_progress) config.on_progress = [bar = std::make_shared<ProgressBar>()](const RenderProgress& p) { bar->draw(p); };
+  ProgressLine progress;
+  if (progress.on())
+    config.on_progress = [&progress, bar = std::make_shared<ProgressBar>()](const RenderProgress& p) {
+      progress.draw(bar->text(p));
+    };
   RenderStats stats;
   const Image image = integrator->render(scene, *accel, config, &stats);
-  if (show_progress) fmt::print(stderr, "\n");
+  progress.end();
   write_image(image, o.out);
   warn_if_not_finite(image);
   print_summary(o, stats, *integrator, *accel, n_threads, load_ms, build_ms);

@@ -1,10 +1,7 @@
 // `rayscout trace`: traces a ray file with one accelerator and prints one JSON line of timings.
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "progress_line.h"
 #include "thread_limit.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/median.h"
@@ -31,28 +29,6 @@ struct TraceArgs {
   std::vector<std::string> accel_opts;
 };
 
-// On a terminal, one line on stderr redrawn at each step (\33[K clears its rest): a slow
-// accelerator on a big ray file takes minutes per run. stdout keeps the JSON line alone. The
-// line is ended before anything else is printed, an error message too.
-class ProgressLine {
- public:
-  void operator()(const std::string& step) {
-    if (!on_) return;
-    fmt::print(stderr, "\rtrace: {}\33[K", step);
-    std::fflush(stderr);
-    open_ = true;
-  }
-  void end() {
-    if (open_) fmt::print(stderr, "\n");
-    open_ = false;
-  }
-  ~ProgressLine() { end(); }
-
- private:
-  bool on_ = isatty(STDERR_FILENO) != 0;
-  bool open_ = false;
-};
-
 // x rounded to 3 decimals (milliseconds to the microsecond) for the JSON line.
 double round3(double x) { return std::round(x * 1e3) / 1e3; }
 
@@ -65,14 +41,15 @@ void run_trace(const TraceArgs& a) {
                        std::array{NamedFile{a.scene, "the input --scene " + a.scene},
                                   NamedFile{a.rays, "the input --rays " + a.rays}});
   const AcceleratorOptions options = checked_accel_options(a.accel, a.accel_opts);
+  // A slow accelerator on a big ray file takes minutes per run.
   ProgressLine progress;
-  progress("loading the scene and the rays");
+  progress.draw("trace: loading the scene and the rays");
   const Scene scene = resolve_scene(a.scene);
   const RayBatch rays = read_rays(a.rays);
-  progress(fmt::format("building {} over {} triangles", a.accel, scene.triangles.size()));
+  progress.draw(fmt::format("trace: building {} over {} triangles", a.accel, scene.triangles.size()));
   const auto accel = make_accelerator(a.accel, scene, options);
   const BuildInfo build = accel->build_info();
-  const std::string built = fmt::format("built in {:.2f} s; {} rays: ", build.build_ms * 1e-3, rays.size());
+  const std::string built = fmt::format("trace: built in {:.2f} s; {} rays: ", build.build_ms * 1e-3, rays.size());
 
   HitBatch hits;
   std::vector<uint8_t> occ;
@@ -80,12 +57,12 @@ void run_trace(const TraceArgs& a) {
     if (a.occluded) accel->occluded(rays, occ, stats);
     else accel->intersect(rays, hits, stats);
   };
-  progress(built + "warm-up run");
+  progress.draw(built + "warm-up run");
   trace_once(nullptr);  // warm-up: page in the structure and the rays
   std::vector<double> times;
   for (int r = 0; r < a.repeat; ++r) {
-    progress(built + fmt::format("run {}/{}", r + 1, a.repeat) +
-             (times.empty() ? "" : fmt::format(", the last took {:.1f} ms", times.back())));
+    progress.draw(built + fmt::format("run {}/{}", r + 1, a.repeat) +
+                  (times.empty() ? "" : fmt::format(", the last took {:.1f} ms", times.back())));
     const auto start = SteadyClock::now();
     trace_once(nullptr);
     times.push_back(ms_since(start));
@@ -115,7 +92,7 @@ void run_trace(const TraceArgs& a) {
   if (a.count) {
     // A separate run: counting must never slow the timed runs.
     TraceStats stats;
-    progress(built + "counting run");
+    progress.draw(built + "counting run");
     trace_once(&stats);
     if (!accel->counts_work()) {
       line["counters"] = nullptr;
