@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include "commands.h"
+#include "rayscout/core/file_extension.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/image/image.h"
@@ -37,6 +38,13 @@ CommandRegistration registration{[](CLI::App& app) {
     check_distinct_files(std::array{NamedFile{opts->out, "--out " + opts->out}},
                          std::array{NamedFile{opts->a, "image A " + opts->a}, NamedFile{opts->b, "reference B " + opts->b}});
     const Image a = read_image(opts->a), b = read_image(opts->b);
+    // The same render as .png and as .pfm differed by an RMSE of 1.6 (its light, 17, became 1).
+    const bool png_a = lower_extension(opts->a) == ".png", png_b = lower_extension(opts->b) == ".png";
+    if (png_a != png_b)
+      fmt::print(stderr,
+                 "rayscout: warning: {} is a PNG (8-bit sRGB, clamped to [0, 1]) and {} is not: the metrics measure "
+                 "the clamping too; compare .exr or .pfm images\n",
+                 png_a ? opts->a : opts->b, png_a ? opts->b : opts->a);
     if (a.width != b.width || a.height != b.height)
       throw InputError(fmt::format("{} and {}: images differ in size: {}x{} vs {}x{}", opts->a, opts->b, a.width,
                                    a.height, b.width, b.height));

@@ -179,6 +179,11 @@ expect(0 "" render --width 1 --height 1 --out ${WORK}/ref1.pfm)
 expect(1 "nonfinite 3 channel values.*not a number: fails --max-rmse" diff ${WORK}/nan1.pfm ${WORK}/ref1.pfm --max-rmse 0.01)
 expect(0 "wrote" diff ${WORK}/nan1.pfm ${WORK}/ref1.pfm --out ${WORK}/nan-diff.png)
 expect(2 "--scale: 'nan' is not a number" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --scale nan)
+# A PNG holds clamped 8-bit sRGB: against a float image the metrics measure the clamping too.
+expect(0 "" render --width 8 --height 8 --out ${WORK}/a8.png)
+expect(0 "warning: .*a8\\.png is a PNG \\(8-bit sRGB, clamped to \\[0, 1\\]\\) and .*a8\\.pfm is not"
+       diff ${WORK}/a8.png ${WORK}/a8.pfm)
+expect_without(0 "rmse" "warning" diff ${WORK}/a8.png ${WORK}/a8.png)
 # Output paths are checked before any work: a missing folder, a directory, an unknown format.
 expect(2 "folder .*no-such-dir does not exist" render --width 8 --height 8 --out ${WORK}/no-such-dir/x.png)
 expect(2 "a8.pfm/x.png: .*a8.pfm is a file, not a folder" render --width 8 --height 8 --out ${WORK}/a8.pfm/x.png)
