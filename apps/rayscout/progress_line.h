@@ -10,9 +10,10 @@
 
 namespace rayscout::cli {
 
-/// Draws only on a terminal (stdout and pipes stay clean). The line is ended before anything
-/// else is printed: by end(), or when it goes out of scope, so that an error message unwinding
-/// past it starts on a line of its own.
+/// Draws only on a terminal (stdout and pipes stay clean). The line is cleared when the work
+/// ends, by end() or when it goes out of scope, so that what is printed next (the summary, an
+/// error message unwinding past it) starts the line, and a script running many commands
+/// leaves no progress lines behind.
 class ProgressLine {
  public:
   /// Replaces the line with `text` (\33[K clears the rest of the previous one).
@@ -22,8 +23,11 @@ class ProgressLine {
     std::fflush(stderr);
     open_ = true;
   }
+  // Clearing instead of ending with a newline also leaves no empty line when someone else
+  // ended the line already (the many-light integrator does, before its summary).
   void end() {
-    if (open_) fmt::print(stderr, "\n");
+    if (open_) fmt::print(stderr, "\r\33[K");
+    std::fflush(stderr);
     open_ = false;
   }
   /// Whether lines are drawn (stderr is a terminal).

@@ -340,11 +340,18 @@ if(SCRIPT)
   if(NOT rc EQUAL 0 OR NOT out MATCHES "trace: built in [0-9.]+ s.*run 3/3.*counting run.*\"mrays_per_s\"")
     message(FATAL_ERROR "trace on a terminal shows no progress (exit ${rc}):\n${out}${err}")
   endif()
-  # An error ends the progress line before its message.
+  # The progress line is cleared when the work ends, and before an error message, which then
+  # starts the line (a script running trace per ray set keeps a clean terminal).
   execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} trace --scene cornell --rays ${WORK}/cut.rays" /dev/null
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 2 OR NOT out MATCHES "loading the scene and the rays[^\n]*\n+rayscout: error: .*cut\\.rays")
-    message(FATAL_ERROR "trace on a terminal: the error is not on a line of its own (exit ${rc}):\n${out}${err}")
+  if(NOT rc EQUAL 2 OR NOT out MATCHES "loading the scene and the rays[^\r]*\r.\\[Krayscout: error: .*cut\\.rays")
+    message(FATAL_ERROR "trace on a terminal: the error does not start a cleared line (exit ${rc}):\n${out}${err}")
+  endif()
+  # manylight ends the line itself before its summary: no empty line follows it.
+  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} render --integrator manylight --width 8 --height 8 --vpls 20 --passes 2 --out ${WORK}/bar.png" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "pass 2/2" OR out MATCHES "\n\r?\n")
+    message(FATAL_ERROR "render --integrator manylight on a terminal prints an empty line (exit ${rc}):\n${out}${err}")
   endif()
   # render's time left comes from whole passes: none during the first (a single-pass direct
   # render of a scene without mirrors ended at "~3 s left" for 1 s of work: its bounce 0 was
