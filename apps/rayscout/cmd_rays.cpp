@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include "commands.h"
+#include "progress_line.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/machine_memory.h"
 #include "rayscout/core/output_path.h"
@@ -46,13 +47,20 @@ void run_rays(const RaysArgs& a) {
   check_memory(a.config, workload);
   check_accelerator(a.accel);
   const auto start = SteadyClock::now();
+  ProgressLine progress;
+  progress.draw("rays: loading the scene");
   const Scene scene = resolve_scene(a.scene);
   if (workload == Workload::Shadow && scene.point_lights.size() > 1)
     check_memory(a.config, workload, scene.point_lights.size());
   // Secondary workloads start at the primary hits, found with this accelerator.
+  progress.draw(fmt::format("rays: building {} over {} triangles", a.accel, scene.triangles.size()));
   const auto accel = make_accelerator(a.accel, scene);
+  progress.draw(fmt::format("rays: making the {} rays of {}x{} pixels at {} spp", workload_name(workload),
+                            a.config.width, a.config.height, a.config.spp));
   const RayBatch rays = make_workload(scene, *accel, workload, a.config);
+  progress.draw(fmt::format("rays: writing {} rays", rays.size()));
   write_rays(a.out, rays);
+  progress.end();
   if (rays.empty())
     fmt::print(stderr, "rayscout: warning: no {} rays: every primary ray missed the scene (where does the camera look?)\n",
                workload_name(workload));

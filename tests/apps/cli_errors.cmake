@@ -340,6 +340,11 @@ if(SCRIPT)
   if(NOT rc EQUAL 0 OR NOT out MATCHES "trace: built in [0-9.]+ s.*run 3/3.*counting run.*\"mrays_per_s\"")
     message(FATAL_ERROR "trace on a terminal shows no progress (exit ${rc}):\n${out}${err}")
   endif()
+  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} rays --scene cornell --workload diffuse --width 8 --height 8 --out ${WORK}/bar.rays" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "rays: building bvh over 32 triangles.*rays: making the diffuse rays of 8x8 pixels at 1 spp.*wrote")
+    message(FATAL_ERROR "rays on a terminal shows no progress (exit ${rc}):\n${out}${err}")
+  endif()
   # The progress line is cleared when the work ends, and before an error message, which then
   # starts the line (a script running trace per ray set keeps a clean terminal).
   execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} trace --scene cornell --rays ${WORK}/cut.rays" /dev/null
