@@ -245,20 +245,28 @@ void run(const RenderOptions& o) {
   const auto integrator = make_integrator(o.integrator);
   const AcceleratorOptions accel_options = checked_accel_options(o.accel, o.accel_opts);
 
+  // The progress line is cleared before each warning, so that a warning starts its line.
+  ProgressLine progress;
+  progress.draw("render: loading the scene");
   auto t = SteadyClock::now();
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
+  progress.end();
   check_after_load(o, scene);
+  progress.draw(fmt::format("render: building {} over {} triangles", o.accel, scene.triangles.size()));
   t = SteadyClock::now();
   const auto accel = make_accelerator(o.accel, scene, accel_options);
   const double build_ms = ms_since(t);
+  progress.end();
 
   if (o.config.count && !accel->counts_work())
     fmt::print(stderr, "rayscout: warning: --count: {} has no work counters (none are printed or written to --stats)\n",
                accel->name());
   RenderConfig config = o.config;
   config.count = o.config.count && accel->counts_work();
-  ProgressLine progress;
+  progress.draw(o.integrator == "manylight" ? "render: manylight preprocess (VPLs, clusters, their visibility) and "
+                                              "calibration"
+                                            : "render: the first batch");
   if (progress.on())
     config.on_progress = [&progress, bar = std::make_shared<ProgressBar>()](const RenderProgress& p) {
       progress.draw(bar->text(p));

@@ -363,7 +363,8 @@ if(SCRIPT)
   # counted as a quarter of the pass), then one for each later pass.
   execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} render --integrator path --width 32 --height 32 --spp 4 --max-batch 1024 --out ${WORK}/bar.png" /dev/null
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0 OR out MATCHES "pass 1/4[^\r]*left" OR NOT out MATCHES "pass 4/4[^\r]*~[0-9.]+ s left")
+  if(NOT rc EQUAL 0 OR out MATCHES "pass 1/4[^\r]*left" OR NOT out MATCHES "pass 4/4[^\r]*~[0-9.]+ s left"
+     OR NOT out MATCHES "render: loading the scene.*render: building bvh over 32 triangles")
     message(FATAL_ERROR "render's progress on a terminal (exit ${rc}):\n${out}${err}")
   endif()
   execute_process(COMMAND ${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3
