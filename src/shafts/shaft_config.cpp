@@ -2,6 +2,7 @@
 #include "rayscout/shafts/shaft_config.h"
 
 #include <climits>
+#include <sstream>
 #include <string>
 
 namespace rayscout {
@@ -9,6 +10,12 @@ namespace rayscout {
 namespace {
 
 [[noreturn]] void bad(const std::string& what) { throw InputError("shafts option " + what); }
+
+std::string format_value(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 
 }  // namespace
 
@@ -18,11 +25,22 @@ void ShaftConfig::validate() const {
       bad(std::string(key) + " must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " +
           std::to_string(value) + ")");
   };
+  // Written so that NaN fails too.
+  auto real_range = [](const char* key, double value, double lo, double hi) {
+    if (!(value >= lo && value <= hi))
+      bad(std::string(key) + " must be in [" + format_value(lo) + ", " + format_value(hi) + "] (got " +
+          format_value(value) + ")");
+  };
+  real_range("budget_mib", budget_mib, 0.0, 4096.0);
+  if (!(budget_rel > 0 && budget_rel <= 64)) bad("budget_rel must be in (0, 64] (got " + format_value(budget_rel) + ")");
+  range("voxels", voxels, 0, 1L << 28);
   range("dir_res", dir_res, 1, 64);
+  real_range("min_prob", min_prob, -1.0, 1.0);
   range("max_list", max_list, 1, 31);  // the length is packed into 5 bits
   range("walk_levels", walk_levels, 1, 4);
   range("near_retries", near_retries, 0, 16);
-  if (!(budget_rel > 0)) bad("budget_rel must be > 0");
+  range("retries", retries, 0, 1000);
+  range("prepass_width", prepass_width, 1, 1 << 14);
   if (samples) range("samples", *samples, 1, 1000);
   if (stratified && samples && *samples > 256) bad("samples must be <= 256 with stratified=1");
   if (!(coverage > 0 && coverage <= 1)) bad("coverage must be in (0, 1]");

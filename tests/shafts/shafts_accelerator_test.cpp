@@ -1,6 +1,8 @@
 // ShaftsAccelerator: conservative lists, borders, outside origins, dedup, budget, real scenes.
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <limits>
 #include <random>
 #include <set>
 #include <tuple>
@@ -346,6 +348,39 @@ TEST(ShaftsOptions, BadValuesAreInputErrors) {
   ShaftConfig zero_samples;
   zero_samples.samples = 0;
   EXPECT_THROW(zero_samples.resolved(2), InputError);
+  // Every documented range, NaN included (found by review: a NaN min_prob opened every node,
+  // an infinite budget_rel sized the grid by size_t(inf), prepass_width 0 listed nothing).
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<const char*, std::function<void(ShaftConfig&)>>> out_of_range = {
+      {"min_prob NaN", [&](ShaftConfig& c) { c.min_prob = nan; }},
+      {"min_prob 1.5", [](ShaftConfig& c) { c.min_prob = 1.5; }},
+      {"budget_mib -1", [](ShaftConfig& c) { c.budget_mib = -1.0; }},
+      {"budget_mib NaN", [&](ShaftConfig& c) { c.budget_mib = nan; }},
+      {"budget_mib 5000", [](ShaftConfig& c) { c.budget_mib = 5000.0; }},
+      {"budget_rel inf", [](ShaftConfig& c) { c.budget_rel = kInfinity; }},
+      {"budget_rel 65", [](ShaftConfig& c) { c.budget_rel = 65.0; }},
+      {"voxels -1", [](ShaftConfig& c) { c.voxels = -1; }},
+      {"voxels 2^28+1", [](ShaftConfig& c) { c.voxels = (1L << 28) + 1; }},
+      {"retries -1", [](ShaftConfig& c) { c.retries = -1; }},
+      {"retries 1001", [](ShaftConfig& c) { c.retries = 1001; }},
+      {"prepass_width 0", [](ShaftConfig& c) { c.prepass_width = 0; }},
+      {"prepass_width 16385", [](ShaftConfig& c) { c.prepass_width = 16385; }},
+  };
+  for (const auto& [what, set] : out_of_range) {
+    ShaftConfig c;
+    set(c);
+    EXPECT_THROW(c.resolved(2), InputError) << what;
+  }
+  ShaftConfig at_limits;
+  at_limits.min_prob = 1.0;
+  at_limits.budget_mib = 4096.0;
+  at_limits.budget_rel = 64.0;
+  at_limits.voxels = 1L << 28;
+  at_limits.retries = 1000;
+  at_limits.prepass_width = 16384;
+  EXPECT_NO_THROW(at_limits.resolved(2));
+  at_limits.min_prob = -1.0;  // automatic
+  EXPECT_NO_THROW(at_limits.resolved(2));
   // The Bvh2-only keys are not read for the wide BVH, so the registry reports them.
   const Scene scene = testing::scene_from_triangles(testing::grid(2));
   for (const char* key : {"walk_levels=2", "wide_sampling=0"}) {
