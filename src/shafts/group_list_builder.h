@@ -1,22 +1,63 @@
-// GroupListBuilder: Algorithm 1 of Hendrich et al. 2019 for several shafts of one voxel in one
-// tree walk (same lists as one walk per shaft, see the class comment).
+// GroupListBuilder (private): Algorithm 1 of Hendrich et al. 2019 (candidate lists), k-ary,
+// for one shaft or for a group of shafts of one voxel in one tree walk, and the overflow policy
+// around it.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
 
-#include "candidate_list.h"
+#include "rayscout/shafts/tree_view.h"
+#include "shaft.h"
 
 namespace rayscout::detail {
 
+/// Sample rays of shafts with their real closest-hit distances (occlusion counts), as
+/// structure of arrays so that the box test over all of them vectorises.
+struct ShaftSamples {
+  std::vector<float> ox, oy, oz, ix, iy, iz, hit_t;
+  void resize(size_t n) {
+    for (auto* v : {&ox, &oy, &oz, &ix, &iy, &iz, &hit_t}) v->resize(n);
+  }
+  size_t size() const { return hit_t.size(); }
+  /// Lets every ray count as hitting at reach at the latest (retry_overflow's clamp).
+  void clamp_hits(float reach) {
+    for (float& t : hit_t) t = std::min(t, reach);
+  }
+};
+
+/// 1 when a sample ray (origin o, inverse direction i, real hit at hit_t) enters box b before
+/// its hit, else 0: a plain slab test, for hitProbability, an estimate rather than a culling
+/// decision. Branch-free, so loops over many sample rays vectorise.
+inline int sample_enters(const Bounds3& b, float ox, float oy, float oz, float ix, float iy, float iz, float hit_t) {
+  const float x0 = (b.lo.x - ox) * ix, x1 = (b.hi.x - ox) * ix;
+  const float y0 = (b.lo.y - oy) * iy, y1 = (b.hi.y - oy) * iy;
+  const float z0 = (b.lo.z - oz) * iz, z1 = (b.hi.z - oz) * iz;
+  const float tn = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+  const float tf = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::min(std::max(z0, z1), hit_t));
+  return tn <= tf ? 1 : 0;
+}
+
+/// cullNodeSubtree's answer when no descendant overlaps the shaft.
+inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
+
+/// Grows a voxel by a margin far above the rounding of sample origins: a node box that
+/// contains it overlaps every shaft of the voxel, and every sample ray starts inside it
+/// (hit probability exactly 1).
+inline Bounds3 voxel_margin_box(const Bounds3& v) {
+  const Vec3 m = v.diagonal() * (1.0f / 1024.0f) + max(abs(v.lo), abs(v.hi)) * (1.0f / 1048576.0f);
+  return Bounds3{v.lo - m, v.hi + m};
+}
+
 /// Candidate lists of up to 64 shafts of one voxel whose cells lie in one rectangle of a cube
-/// face (the group cone `group`, which contains every member's cone). A DFS over the tree
-/// carries the set of members for which a node is still open; each member sees exactly the
-/// nodes, tests and order its own Algorithm 1 would, so its list is the one
-/// CandidateListBuilder builds, provided every member orders children the same way (Bvh2: the
-/// members' centre directions agree on which components are > 0; a k-ary tree is ordered by the group
+/// face (the group cone `group`, which contains every member's cone); a single shaft is a
+/// group of one (the budget pilots). A DFS over the tree carries the set of members for which
+/// a node is still open; each member sees exactly the nodes, tests and order its own
+/// Algorithm 1 would (tests/shafts/group_list_builder_test.cpp checks this against a literal
+/// transcription), provided every member orders children the same way (Bvh2: the members'
+/// centre directions agree on which components are > 0; a k-ary tree is ordered by the group
 /// cone's centre direction, which may order a member's list differently). What is shared:
 /// the walk down to the voxel's ancestors, one node load per visit, one group overlap test
 /// that rejects a node for all members at once, and the hit probability of all members as one
@@ -79,7 +120,7 @@ class GroupListBuilder {
     uint64_t live = active;
     auto& stack = s_.stack;
     stack.clear();
-    stack.push(tree_.root, active);
+    stack.push(tree_.root, active);  // line 1
     const bool shortcut = min_prob <= 1.0;
     while (!stack.empty()) {
       const auto [node, mask_in] = stack.pop();
@@ -87,6 +128,7 @@ class GroupListBuilder {
       if (!mask) continue;
       const Bounds3& box = tree_.bounds[node];
       const bool leaf = tree_.is_leaf(node);
+      // An ancestor of the voxel passes lines 5 and 8 for certain (voxel_margin_box).
       if (shortcut && !leaf && box.contains(inner_)) {
         push_children_far_first(node, mask);
         continue;
@@ -95,34 +137,46 @@ class GroupListBuilder {
       // Members and group share the voxel, hence the box difference.
       const Shaft::BoxDiff diff = group_.diff(box);
       if (std::popcount(mask) > 1 && !group_.overlaps(diff)) continue;
-      uint64_t stop;
+      uint64_t stop;  // members for which the node ends here: lines 16-18 (inner) or 20 (leaf)
       if (leaf) {
-        stop = overlapping(diff, mask);
+        stop = overlapping(diff, mask);  // line 5
       } else if (need_ > 0) {
         // A member whose sample rays enter the box (at least one does) overlaps it for
         // certain: the padded shaft holds every point within far more than the slab test's
         // rounding of a sample ray, and the float overlap test keeps every box the exact test
         // keeps. So only the others take the overlap test; same decisions as Algorithm 1.
-        const uint64_t open = expanding(box, mask);
-        stop = overlapping(diff, mask & ~open);
+        const uint64_t open = expanding(box, mask);  // lines 7-8
+        stop = overlapping(diff, mask & ~open);      // line 5
         if (open) push_children_far_first(node, open);
       } else {
-        const uint64_t over = overlapping(diff, mask);
-        const uint64_t open = expanding(box, over);
+        const uint64_t over = overlapping(diff, mask);  // line 5
+        const uint64_t open = expanding(box, over);     // lines 7-8
         stop = over & ~open;
         if (open) push_children_far_first(node, open);
       }
       if (!stop) continue;
-      if (!leaf) cull_subtrees(node, stop);
+      if (!leaf) cull_subtrees(node, stop);  // line 16
       for (uint64_t m = stop; m; m &= m - 1) {
         const int i = std::countr_zero(m);
         const uint32_t entry = leaf ? node : culled_[i];
-        if (entry == kNoNode) continue;
-        lists[i].push_back(entry);
+        if (entry == kNoNode) continue;  // line 17
+        lists[i].push_back(entry);       // lines 18, 20
         if (int(lists[i].size()) > max_len) live &= ~(uint64_t(1) << i);
       }
     }
     return live;
+  }
+
+  /// The list of each member in `members` whose list still overflows after retry_overflow:
+  /// the single node cullNodeSubtree(root), or nothing when the shaft reaches no geometry.
+  /// One member at a time, so each takes its own overlap tests, as its own shaft would.
+  void fallback(uint64_t members, std::vector<uint32_t>* lists) {
+    for (uint64_t f = members; f; f &= f - 1) {
+      const int i = std::countr_zero(f);
+      cull_subtrees(tree_.root, uint64_t(1) << i);
+      lists[i].clear();
+      if (culled_[i] != kNoNode) lists[i].push_back(culled_[i]);
+    }
   }
 
  private:
@@ -138,8 +192,9 @@ class GroupListBuilder {
     return over;
   }
 
-  /// cullNodeSubtree(node) for every member in mask, into culled_ (detail::cull_subtree;
-  /// a child's box difference is computed once for all members).
+  /// cullNodeSubtree(node) for every member in mask, into culled_: descend while exactly one
+  /// child overlaps the member's shaft; that descendant, or kNoNode when no child overlaps (a
+  /// leaf is its own answer). A child's box difference is computed once for all members.
   void cull_subtrees(uint32_t node, uint64_t mask) {
     auto& cull_stack = s_.cull_stack;
     cull_stack.clear();
@@ -174,8 +229,9 @@ class GroupListBuilder {
     }
   }
 
-  /// Members in `mask` whose hit probability of box is >= min_prob (hitProbability of
-  /// CandidateListBuilder, evaluated for all sample rays in one loop).
+  /// Members in `mask` whose hit probability of box is >= min_prob (getHitProbability: the
+  /// fraction of a member's sample rays that enter the box before their hit), evaluated for
+  /// all sample rays in one loop.
   uint64_t expanding(const Bounds3& b, uint64_t mask) {
     const float* __restrict ox = samples_.ox.data(); const float* __restrict oy = samples_.oy.data();
     const float* __restrict oz = samples_.oz.data(); const float* __restrict ix = samples_.ix.data();
@@ -197,6 +253,8 @@ class GroupListBuilder {
     return open;
   }
 
+  /// Lines 9-14: the children go on the stack so that the nearest along the shaft's centre
+  /// direction is popped first (Bvh2: by the split axis; k-ary: by box centre).
   void push_children_far_first(uint32_t node, uint64_t mask) {
     const auto kids = tree_.children(node);
     const Vec3& dir = group_.center_dir();
@@ -225,7 +283,32 @@ class GroupListBuilder {
   Scratch own_;
   Scratch& s_;
   uint32_t culled_[kMaxGroup];
-  Bounds3 inner_;
+  Bounds3 inner_;  ///< the voxel grown by voxel_margin_box
 };
+
+/// Distance, in voxel diagonals, of the first clamp of the overflow policy. Starting at 8
+/// gives the same steps saved on the bench scenes (docs/history/shafts.md, session 29).
+inline constexpr float kFirstReach = 4.0f;
+
+/// What a list build does on overflow, for one shaft (budget pilots) and for a group (the
+/// build) alike: first near_retries rebuilds at min_prob with the sample rays' hit distances
+/// clamped to kFirstReach voxel diagonals, then half that, and so on (ShaftConfig::
+/// near_retries, ours); then the paper's raised thresholds (sec. 4.3) min_prob + (i+1)/20 for
+/// i < retries, distances still clamped. `clamp(reach)` clamps the distances;
+/// `rebuild(min_prob, clamped)` rebuilds the lists that overflowed and returns whether all fit
+/// now (clamped: a rebuild of the first kind). Returns whether all fit (else the caller falls
+/// back to cullNodeSubtree(root), GroupListBuilder::fallback).
+template <class Rebuild, class Clamp>
+bool retry_overflow(int near_retries, int retries, double min_prob, float voxel_diagonal, Rebuild rebuild,
+                    Clamp clamp) {
+  float reach = kFirstReach * voxel_diagonal;
+  for (int i = 0; i < near_retries; ++i, reach *= 0.5f) {
+    clamp(reach);
+    if (rebuild(min_prob, true)) return true;
+  }
+  for (int i = 0; i < retries; ++i)
+    if (rebuild(min_prob + double(i + 1) / 20.0, false)) return true;
+  return false;
+}
 
 }  // namespace rayscout::detail

@@ -42,12 +42,6 @@ class Shaft {
   /// Moves the shaft to another voxel of the same grid (the cone, and so the axes, stay):
   /// cheaper than constructing it again.
   void set_voxel(const ShaftGrid& grid, uint32_t voxel);
-  /// A copy moved to another voxel.
-  Shaft at_voxel(const ShaftGrid& grid, uint32_t voxel) const {
-    Shaft s = *this;
-    s.set_voxel(grid, voxel);
-    return s;
-  }
 
   /// A box minus the (padded) voxel, B (-) V = [B.lo - V.hi, B.hi - V.lo], in float; the same
   /// for every shaft of one voxel, so a caller testing many shafts computes it once.

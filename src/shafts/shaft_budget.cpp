@@ -8,7 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "candidate_list.h"
+#include "group_list_builder.h"
 #include "rayscout/core/stopwatch.h"
 #include "shaft_samples.h"
 #include "shaft_selection.h"
@@ -22,25 +22,26 @@ using detail::Selection;
 /// The budget search stays below the 2^32 shafts a collection can address.
 constexpr double kMaxShafts = 0.9 * 4294967296.0;
 
-/// Builds the list (node indices) of one shaft on its own (budget pilots): Algorithm 1, the
-/// build's overflow policy (retry_overflow; it may clamp samples' distances), then the
-/// cullNodeSubtree(root) fallback.
+/// Builds the list (node indices) of one shaft on its own (budget pilots): Algorithm 1 (a
+/// group of one), the build's overflow policy (retry_overflow; it may clamp samples'
+/// distances), then the cullNodeSubtree(root) fallback.
 void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, const ShaftCollection::TraceFn& trace,
-               const detail::VoxelSurfaces* surfaces, const ShaftConfig& config,
-               detail::ShaftSamples& samples, std::vector<uint32_t>& list) {
+               const detail::VoxelSurfaces* surfaces, const ShaftConfig& config, detail::ShaftSamples& samples,
+               detail::GroupListBuilder::Scratch& scratch, std::vector<uint32_t>& list) {
   list.clear();
   if (tree.size() == 0) return;
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples.value()));
   detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell,
                             surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
-  detail::CandidateListBuilder builder(tree, shaft, samples);
-  const bool ok = builder.build(config.min_prob, config.max_list, list) ||
+  const Shaft* const member = &shaft;
+  detail::GroupListBuilder builder(tree, shaft, {&member, 1}, samples, config.samples.value(), scratch);
+  auto fits = [&](double min_prob) { return builder.build(min_prob, config.max_list, 1, &list) == 1; };
+  const bool ok = fits(config.min_prob) ||
                   detail::retry_overflow(
                       config.near_retries, config.retries, config.min_prob, length(shaft.voxel().diagonal()),
-                      [&](double p, bool) { return builder.build(p, config.max_list, list); },
-                      [&](float reach) { samples.clamp_hits(reach); });
-  if (!ok) detail::fallback_list(tree, shaft, list);
+                      [&](double p, bool) { return fits(p); }, [&](float reach) { samples.clamp_hits(reach); });
+  if (!ok) builder.fallback(1, &list);
 }
 
 }  // namespace
@@ -91,11 +92,12 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     std::vector<size_t> lengths(pilots, 0);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pilots, 8), [&](const auto& range) {
       detail::ShaftSamples samples;
+      detail::GroupListBuilder::Scratch scratch;
       std::vector<uint32_t> list;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const uint64_t id = ids[i * ids.size() / pilots];
         build_one(tree, grid, {uint32_t(id / grid.cells_per_voxel()), uint32_t(id % grid.cells_per_voxel())},
-                  trace, surfaces ? &*surfaces : nullptr, config, samples, list);
+                  trace, surfaces ? &*surfaces : nullptr, config, samples, scratch, list);
         lengths[i] = list.size();
       }
     });

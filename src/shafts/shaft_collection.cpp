@@ -146,11 +146,8 @@ class VoxelListMaker {
                 return failed == 0;
               },
               [&](float reach) { samples_.clamp_hits(reach); });
-        for (uint64_t f = failed; f; f &= f - 1) {
-          const int m = std::countr_zero(f);
-          ++vl.fallbacks;
-          detail::fallback_list(tree, members_[m]->at_voxel(c_.grid, voxel), lists_[m]);
-        }
+        vl.fallbacks += size_t(std::popcount(failed));
+        builder.fallback(failed, lists_.data());
       }
       for (size_t m = 0; m < members_.size(); ++m) {
         std::vector<uint32_t>& list = lists_[m];

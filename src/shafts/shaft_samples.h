@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "candidate_list.h"
+#include "group_list_builder.h"
 #include "rayscout/core/random.h"
 #include "rayscout/shafts/shaft_collection.h"
 #include "shaft.h"

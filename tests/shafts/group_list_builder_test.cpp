@@ -1,7 +1,9 @@
 // GroupListBuilder: one tree walk for a group of shafts gives each member the list its own
-// Algorithm 1 gives (Bvh2), including cullNodeSubtree entries and overflowing members.
+// Algorithm 1 gives (Bvh2), including cullNodeSubtree entries and overflowing members; a
+// group of one (the budget pilots) gives that list too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "generated_scenes.h"
@@ -10,6 +12,90 @@
 
 namespace rayscout {
 namespace {
+
+/// Algorithm 1 of Hendrich et al. 2019 for one shaft, transcribed line by line (k-ary: children
+/// ordered by the split axis for Bvh2, else by box centre along the shaft's centre direction),
+/// with the one shortcut the builder takes too: a node whose box contains the voxel (grown by
+/// voxel_margin_box) passes lines 5 and 8 for certain. The reference GroupListBuilder must match.
+class Algorithm1 {
+ public:
+  Algorithm1(const TreeView& tree, const Shaft& shaft, const detail::ShaftSamples& samples)
+      : tree_(tree), shaft_(shaft), samples_(samples), inner_(detail::voxel_margin_box(shaft.voxel())) {}
+
+  /// Fills out with node indices, near first; false (out incomplete) once longer than max_len.
+  bool build(double min_prob, int max_len, std::vector<uint32_t>& out) const {
+    out.clear();
+    std::vector<uint32_t> stack{tree_.root};  // line 1
+    while (!stack.empty()) {                   // line 2
+      uint32_t node = stack.back();            // lines 3-4
+      stack.pop_back();
+      if (min_prob <= 1.0 && !tree_.is_leaf(node) && tree_.bounds[node].contains(inner_)) {
+        push_children_far_first(node, stack);
+        continue;
+      }
+      if (!shaft_.overlaps(tree_.bounds[node])) continue;  // line 5
+      if (!tree_.is_leaf(node)) {                          // line 6
+        if (hit_probability(node) >= min_prob) {           // lines 7-8
+          push_children_far_first(node, stack);            // lines 9-14
+          continue;
+        }
+        node = cull_subtree(node);     // line 16
+        if (node == detail::kNoNode) continue;  // line 17
+      }
+      out.push_back(node);  // lines 18, 20
+      if (int(out.size()) > max_len) return false;
+    }
+    return true;
+  }
+
+  /// cullNodeSubtree: descend while exactly one child overlaps the shaft.
+  uint32_t cull_subtree(uint32_t node) const {
+    for (;;) {
+      if (tree_.is_leaf(node)) return node;
+      uint32_t only = detail::kNoNode;
+      int overlapping = 0;
+      for (uint32_t c : tree_.children(node))
+        if (shaft_.overlaps(tree_.bounds[c])) {
+          only = c;
+          if (++overlapping > 1) return node;
+        }
+      if (overlapping == 0) return detail::kNoNode;
+      node = only;
+    }
+  }
+
+ private:
+  /// getHitProbability: the fraction of sample rays that enter the node's box before their hit.
+  double hit_probability(uint32_t node) const {
+    int hits = 0;
+    for (size_t i = 0; i < samples_.size(); ++i)
+      hits += detail::sample_enters(tree_.bounds[node], samples_.ox[i], samples_.oy[i], samples_.oz[i], samples_.ix[i],
+                                    samples_.iy[i], samples_.iz[i], samples_.hit_t[i]);
+    return double(hits) / double(samples_.size());
+  }
+
+  void push_children_far_first(uint32_t node, std::vector<uint32_t>& stack) const {
+    const auto kids = tree_.children(node);
+    const Vec3& dir = shaft_.center_dir();
+    if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
+      const bool left_near = dir[tree_.split_axis[node]] > 0.0f;  // line 9
+      stack.push_back(left_near ? kids[1] : kids[0]);
+      stack.push_back(left_near ? kids[0] : kids[1]);
+      return;
+    }
+    std::vector<uint32_t> order(kids.begin(), kids.end());
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      const float da = dot(tree_.bounds[a].center(), dir), db = dot(tree_.bounds[b].center(), dir);
+      return da > db || (da == db && a > b);  // farthest first on the stack
+    });
+    stack.insert(stack.end(), order.begin(), order.end());
+  }
+
+  const TreeView& tree_;
+  const Shaft& shaft_;
+  const detail::ShaftSamples& samples_;
+  Bounds3 inner_;
+};
 
 TEST(GroupListBuilder, MembersGetTheirOwnAlgorithm1Lists) {
   const std::vector<Triangle> tris = testing::random_soup(2000, 5);
@@ -69,12 +155,29 @@ TEST(GroupListBuilder, MembersGetTheirOwnAlgorithm1Lists) {
           one.ix[k] = samples.ix[i]; one.iy[k] = samples.iy[i]; one.iz[k] = samples.iz[i];
           one.hit_t[k] = samples.hit_t[i];
         }
-        detail::CandidateListBuilder b(tree, members[m], one);
+        const Algorithm1 reference(tree, members[m], one);
         std::vector<uint32_t> ref;
-        const bool fits = b.build(min_prob, max_len, ref);
+        const bool fits = reference.build(min_prob, max_len, ref);
+        // A group of one, placed in the voxel (what the budget pilots build).
+        const Shaft* const alone_ptr = &members[m];
+        detail::GroupListBuilder alone(tree, members[m], {&alone_ptr, 1}, one, per);
+        std::vector<uint32_t> alone_list;
+        ASSERT_EQ(fits, alone.build(min_prob, max_len, 1, &alone_list) == 1) << "d " << d << " trial " << trial;
         ASSERT_EQ(fits, bool(ok >> m & 1)) << "d " << d << " trial " << trial << " member " << m;
-        if (!fits) { ++overflowed; continue; }
+        if (!fits) {
+          ++overflowed;
+          // The fallback of an overflowing member: cullNodeSubtree(root), alone or in the group.
+          const uint32_t root_cull = reference.cull_subtree(tree.root);
+          const std::vector<uint32_t> want =
+              root_cull == detail::kNoNode ? std::vector<uint32_t>{} : std::vector<uint32_t>{root_cull};
+          gb.fallback(uint64_t(1) << m, lists.data());
+          alone.fallback(1, &alone_list);
+          EXPECT_EQ(want, lists[m]) << "d " << d << " trial " << trial << " member " << m;
+          EXPECT_EQ(want, alone_list) << "d " << d << " trial " << trial << " member " << m;
+          continue;
+        }
         EXPECT_EQ(ref, lists[m]) << "d " << d << " trial " << trial << " member " << m;
+        EXPECT_EQ(ref, alone_list) << "d " << d << " trial " << trial << " member " << m;
         ++compared;
         entries += ref.size();
       }
