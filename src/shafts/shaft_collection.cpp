@@ -1,6 +1,6 @@
-// ShaftCollection: parallel list construction of one grid (build_grid) and deduplication and
-// packing (pack). The budget search: shaft_budget.cpp; selection: shaft_selection.cpp;
-// sample rays: shaft_samples.cpp.
+// ShaftCollection::build_grid: the lists of one grid, made in parallel voxel by voxel
+// (make_lists, VoxelListMaker), then deduplicated and packed (pack). The budget search:
+// shaft_budget.cpp; selection: shaft_selection.cpp; sample rays: shaft_samples.cpp.
 #include "rayscout/shafts/shaft_collection.h"
 
 #include <algorithm>
@@ -42,8 +42,9 @@ namespace {
 using detail::PooledSample;
 using detail::Selection;
 
-/// Cells of one cube face rectangle built together (GroupListBuilder): the members' centre
-/// directions agree on the sign of every component, at most 8 x 8 cells.
+/// Cells of one cube face rectangle built together (GroupListBuilder), at most 8 x 8: for a
+/// Bvh2 (split_by_sign) the members' centre directions also agree on the sign of every
+/// component, so that they order children the same way (Algorithm 1 lines 9-14).
 struct CellGroup {
   std::vector<uint32_t> cells;
   ShaftGrid::CellRange range;
@@ -83,89 +84,121 @@ std::vector<CellGroup> cell_groups(const ShaftGrid& grid, bool split_by_sign) {
   return groups;
 }
 
+/// The cones of a grid's shafts, the same in every voxel: made once at voxel 0, moved to each
+/// voxel (Shaft::set_voxel) or used for their axes alone.
+struct GridCones {
+  std::vector<Shaft> cell;         ///< one per direction cell
+  std::vector<CellGroup> groups;   ///< the cells built together
+  std::vector<Shaft> group;        ///< one per group: the union of its cells
+  GridCones(const ShaftGrid& grid, bool split_by_sign) : groups(cell_groups(grid, split_by_sign)) {
+    for (uint32_t c = 0; c < grid.cells_per_voxel(); ++c) cell.emplace_back(grid, ShaftCoord{0, c});
+    for (const CellGroup& g : groups) group.emplace_back(grid, 0, g.range);
+  }
+};
+
+/// The sample rays of one listed voxel in a cell-major pool: cell c's config.samples rays
+/// start at first + c * stride.
+struct VoxelSamples {
+  const PooledSample* first;
+  size_t stride;
+  const PooledSample* of_cell(uint32_t cell) const { return first + size_t(cell) * stride; }
+};
+
 /// Algorithm 1 for every selected shaft of one listed voxel, a cell group at a time
-/// (GroupListBuilder), with the raised thresholds on overflow and the cullNodeSubtree(root)
+/// (GroupListBuilder), with the overflow policy (retry_overflow) and the cullNodeSubtree(root)
 /// fallback. One per task: it owns the task's scratch.
 class VoxelListMaker {
  public:
   struct Context {
-    const TreeView& tree;
+    const TreeView& tree;  ///< not empty
     const ShaftGrid& grid;
     const ShaftConfig& config;  ///< resolved (min_prob filled in)
-    const std::vector<CellGroup>& groups;
-    const std::vector<Shaft>& group_shafts;  ///< one group cone per group, at voxel 0
-    const std::vector<Shaft>& cell_shafts;   ///< one cone per cell, at voxel 0
-    const std::vector<uint8_t>& shaft_selected;
+    const GridCones& cones;
+    const std::vector<uint8_t>& shaft_selected;  ///< Selection::shaft_selected
   };
   explicit VoxelListMaker(const Context& c) : c_(c), lists_(detail::GroupListBuilder::kMaxGroup) {}
 
-  /// The lists of voxel into vl; samples_of(cell) points at the cell's config.samples
-  /// sample rays of this voxel.
-  template <class SamplesOf>
-  void make(uint32_t voxel, SamplesOf&& samples_of, detail::VoxelLists& vl) {
-    const TreeView& tree = c_.tree;
+  /// The lists of `voxel` into vl.
+  void make(uint32_t voxel, const VoxelSamples& samples, detail::VoxelLists& vl) {
     const uint32_t cells = c_.grid.cells_per_voxel();
-    const size_t per = size_t(c_.config.samples.value());
     vl.status.assign(cells, detail::VoxelLists::kNoList);
     vl.len.assign(cells, 0);
     vl.begin.assign(cells, 0);
-    for (size_t gi = 0; gi < c_.groups.size(); ++gi) {
-      members_.clear();
-      member_cells_.clear();
-      for (uint32_t cell : c_.groups[gi].cells) {
-        if (!c_.shaft_selected.empty() && !c_.shaft_selected[uint64_t(voxel) * cells + cell]) continue;
-        members_.push_back(&c_.cell_shafts[cell]);  // cones only (GroupListBuilder)
-        member_cells_.push_back(cell);
-      }
+    for (size_t gi = 0; gi < c_.cones.groups.size(); ++gi) {
+      select_members(voxel, c_.cones.groups[gi]);
       if (members_.empty()) continue;
-      Shaft group = c_.group_shafts[gi];
+      gather_samples(samples);
+      Shaft group = c_.cones.group[gi];
       group.set_voxel(c_.grid, voxel);
-      samples_.resize(members_.size() * per);
-      // Without a tree there is nothing to walk, and no samples were traced.
-      for (size_t m = 0; m < members_.size() && tree.size() > 0; ++m) {
-        const PooledSample* from = samples_of(member_cells_[m]);
-        for (size_t k = 0; k < per; ++k) {
-          const size_t i = m * per + k;
-          samples_.ox[i] = from[k].org[0]; samples_.oy[i] = from[k].org[1]; samples_.oz[i] = from[k].org[2];
-          samples_.ix[i] = from[k].inv_dir[0]; samples_.iy[i] = from[k].inv_dir[1]; samples_.iz[i] = from[k].inv_dir[2];
-          samples_.hit_t[i] = from[k].hit_t;
-        }
-      }
-      const uint64_t all = members_.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members_.size()) - 1;
-      if (tree.size() > 0) {
-        detail::GroupListBuilder builder(tree, group, members_, samples_, int(per), scratch_);
-        uint64_t failed = all & ~builder.build(c_.config.min_prob, c_.config.max_list, all, lists_.data());
-        // Overflowing members retry together (retry_overflow: clamped distances, then raised
-        // thresholds), then fall back to cullNodeSubtree(root).
-        if (failed)
-          detail::retry_overflow(
-              c_.config.near_retries, c_.config.retries, c_.config.min_prob, length(group.voxel().diagonal()),
-              [&](double p, bool clamped) {
-                (clamped ? vl.near_retries : vl.retries) += size_t(std::popcount(failed));
-                failed &= ~builder.build(p, c_.config.max_list, failed, lists_.data());
-                return failed == 0;
-              },
-              [&](float reach) { samples_.clamp_hits(reach); });
-        vl.fallbacks += size_t(std::popcount(failed));
-        builder.fallback(failed, lists_.data());
-      }
-      for (size_t m = 0; m < members_.size(); ++m) {
-        std::vector<uint32_t>& list = lists_[m];
-        if (tree.size() == 0) list.clear();
-        const uint32_t cell = member_cells_[m];
-        if (list.empty()) {
-          vl.status[cell] = detail::VoxelLists::kReachesNothing;
-          continue;
-        }
-        vl.status[cell] = detail::VoxelLists::kList;
-        vl.len[cell] = uint8_t(list.size());
-        vl.begin[cell] = uint32_t(vl.data.size());
-        vl.data.insert(vl.data.end(), list.begin(), list.end());
-      }
+      build_member_lists(group, vl);
+      store_member_lists(vl);
     }
   }
 
  private:
+  /// The group's selected cells: members_ (their cones) and member_cells_.
+  void select_members(uint32_t voxel, const CellGroup& g) {
+    const uint64_t first_shaft = uint64_t(voxel) * c_.grid.cells_per_voxel();
+    members_.clear();
+    member_cells_.clear();
+    for (uint32_t cell : g.cells) {
+      if (!c_.shaft_selected.empty() && !c_.shaft_selected[first_shaft + cell]) continue;
+      members_.push_back(&c_.cones.cell[cell]);  // cones only (GroupListBuilder)
+      member_cells_.push_back(cell);
+    }
+  }
+
+  /// The members' sample rays, member after member, into samples_ (GroupListBuilder's layout).
+  void gather_samples(const VoxelSamples& samples) {
+    const size_t per = size_t(c_.config.samples.value());
+    samples_.resize(members_.size() * per);
+    for (size_t m = 0; m < members_.size(); ++m) {
+      const PooledSample* from = samples.of_cell(member_cells_[m]);
+      for (size_t k = 0; k < per; ++k) {
+        const size_t i = m * per + k;
+        samples_.ox[i] = from[k].org[0]; samples_.oy[i] = from[k].org[1]; samples_.oz[i] = from[k].org[2];
+        samples_.ix[i] = from[k].inv_dir[0]; samples_.iy[i] = from[k].inv_dir[1]; samples_.iz[i] = from[k].inv_dir[2];
+        samples_.hit_t[i] = from[k].hit_t;
+      }
+    }
+  }
+
+  /// Algorithm 1 for every member into lists_; the members whose list overflows are rebuilt
+  /// together by retry_overflow, and those still too long get cullNodeSubtree(root).
+  void build_member_lists(const Shaft& group, detail::VoxelLists& vl) {
+    const ShaftConfig& config = c_.config;
+    detail::GroupListBuilder builder(c_.tree, group, members_, samples_, config.samples.value(), scratch_);
+    const uint64_t all = members_.size() == 64 ? ~uint64_t(0) : (uint64_t(1) << members_.size()) - 1;
+    uint64_t failed = all & ~builder.build(config.min_prob, config.max_list, all, lists_.data());
+    if (failed)
+      detail::retry_overflow(
+          config.near_retries, config.retries, config.min_prob, length(group.voxel().diagonal()),
+          [&](double p, bool clamped) {
+            (clamped ? vl.near_retries : vl.retries) += size_t(std::popcount(failed));
+            failed &= ~builder.build(p, config.max_list, failed, lists_.data());
+            return failed == 0;
+          },
+          [&](float reach) { samples_.clamp_hits(reach); });
+    vl.fallbacks += size_t(std::popcount(failed));
+    builder.fallback(failed, lists_.data());
+  }
+
+  /// The members' lists into vl: an empty list marks a shaft that reaches no geometry.
+  void store_member_lists(detail::VoxelLists& vl) const {
+    for (size_t m = 0; m < members_.size(); ++m) {
+      const std::vector<uint32_t>& list = lists_[m];
+      const uint32_t cell = member_cells_[m];
+      if (list.empty()) {
+        vl.status[cell] = detail::VoxelLists::kReachesNothing;
+        continue;
+      }
+      vl.status[cell] = detail::VoxelLists::kList;
+      vl.len[cell] = uint8_t(list.size());
+      vl.begin[cell] = uint32_t(vl.data.size());
+      vl.data.insert(vl.data.end(), list.begin(), list.end());
+    }
+  }
+
   const Context& c_;
   detail::ShaftSamples samples_;
   std::vector<const Shaft*> members_;
@@ -196,21 +229,32 @@ std::string ShaftStats::summary() const {
 
 namespace {
 
-// Identical lists are stored once: open addressing over the lists' contents, sized for every
-// listed shaft at load <= 1/2. A slot holds a list's hash and its packed entry (offset << 5 |
-// length) plus 1, 0 = free, side by side: one cache miss per probe (the table is ~8 MiB).
+/// FNV-1a over a list's node references.
+uint32_t hash_list(const TreeView& tree, const uint32_t* nodes, uint32_t len) {
+  uint64_t h = 1469598103934665603ull ^ len;
+  for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
+  return uint32_t(h ^ (h >> 32));
+}
+
+/// Identical lists are stored once (paper sec. 4.4): open addressing over the lists' contents,
+/// at load <= 1/2. A slot holds a list's hash and its packed entry (offset << 5 | length) plus
+/// 1, 0 = free, side by side: one cache miss per probe. The lists come in packing order, whose
+/// hashes are known up front, so the probe of the list kAhead lists later is prefetched (the
+/// probes are random accesses into a table of several MiB).
 class ListDedup {
  public:
-  explicit ListDedup(size_t lists) {
+  /// hashes: hash_list of every list in packing order.
+  explicit ListDedup(std::vector<uint32_t> hashes) : hashes_(std::move(hashes)) {
     size_t capacity = 1024;
-    while (capacity < 2 * lists) capacity *= 2;
+    while (capacity < 2 * hashes_.size()) capacity *= 2;
     slots_.resize(capacity);
     mask_ = capacity - 1;
   }
-  void prefetch(uint32_t hash) const { __builtin_prefetch(&slots_[hash & mask_]); }
-  // The offset of an earlier list equal to area[offset, offset + len); else remembers this
-  // one and returns nothing.
-  std::optional<uint32_t> find_or_add(uint32_t hash, const std::vector<uint32_t>& area, uint32_t offset, uint32_t len) {
+  /// The offset of an earlier list equal to the next list in packing order, area[offset,
+  /// offset + len); else remembers that one and returns nothing.
+  std::optional<uint32_t> find_or_add_next(const std::vector<uint32_t>& area, uint32_t offset, uint32_t len) {
+    if (next_ + kAhead < hashes_.size()) __builtin_prefetch(&slots_[hashes_[next_ + kAhead] & mask_]);
+    const uint32_t hash = hashes_[next_++];
     size_t slot = hash & mask_;
     for (; slots_[slot].list != 0; slot = (slot + 1) & mask_) {
       if (slots_[slot].hash != hash) continue;
@@ -223,56 +267,135 @@ class ListDedup {
   }
 
  private:
+  static constexpr size_t kAhead = 8;
   struct Slot {
     uint32_t hash = 0, list = 0;
   };
+  std::vector<uint32_t> hashes_;
+  size_t next_ = 0;
   std::vector<Slot> slots_;
   size_t mask_ = 0;
 };
 
-// FNV-1a over a list's node references.
-uint32_t hash_list(const TreeView& tree, const uint32_t* nodes, uint32_t len) {
-  uint64_t h = 1469598103934665603ull ^ len;
-  for (uint32_t i = 0; i < len; ++i) h = (h ^ tree.ref[nodes[i]]) * 1099511628211ull;
-  return uint32_t(h ^ (h >> 32));
+/// The hashes of every list of `lists`, in packing order (listed voxel, then cell).
+std::vector<uint32_t> hashes_in_packing_order(const TreeView& tree, const std::vector<detail::VoxelLists>& lists) {
+  std::vector<uint32_t> hashes;
+  for (const detail::VoxelLists& vl : lists)
+    for (uint32_t cell = 0; cell < vl.status.size(); ++cell)
+      if (vl.status[cell] == detail::VoxelLists::kList)
+        hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
+  return hashes;
 }
+
+/// The quantised boxes of tree nodes, each encoded once, on first use; none without a codec.
+class EntryBoxes {
+ public:
+  EntryBoxes(const TreeView& tree, const detail::EntryBoxCodec* codec)
+      : tree_(tree), codec_(codec), boxes_(codec ? tree.size() : 0), encoded_(boxes_.size(), 0) {}
+  bool stored() const { return codec_ != nullptr; }
+  const detail::QBox& of(uint32_t node) {
+    if (!encoded_[node]) {
+      boxes_[node] = codec_->encode(tree_.bounds[node]);
+      encoded_[node] = 1;
+    }
+    return boxes_[node];
+  }
+
+ private:
+  const TreeView& tree_;
+  const detail::EntryBoxCodec* codec_;
+  std::vector<detail::QBox> boxes_;
+  std::vector<uint8_t> encoded_;
+};
+
+/// Fills the list area (ShaftCollection::lists_): per unique list its node references, then
+/// (with an entry-box codec) its entry-box rows, 6 len bytes padded to a word.
+class ListAreaWriter {
+ public:
+  ListAreaWriter(const TreeView& tree, const detail::EntryBoxCodec* codec, bool dedup,
+                 const std::vector<detail::VoxelLists>& lists, std::vector<uint32_t>& area)
+      : tree_(tree),
+        area_(area),
+        dedup_(dedup),
+        twins_(dedup ? hashes_in_packing_order(tree, lists) : std::vector<uint32_t>{}),
+        boxes_(tree, codec) {
+    size_t total_entries = 0;
+    for (const detail::VoxelLists& vl : lists) total_entries += vl.data.size();
+    area_.clear();
+    area_.reserve(total_entries * (codec ? 3 : 1) + 2);
+  }
+
+  /// Where the list nodes[0, len) starts in the area (its packed entry's offset): an equal
+  /// earlier list's start, or the end of the area, where it is appended. Call in packing order.
+  uint32_t add(const uint32_t* nodes, uint32_t len) {
+    // Append the list, then take it back if an equal one is stored already.
+    const uint32_t offset = uint32_t(area_.size());
+    for (uint32_t k = 0; k < len; ++k) area_.push_back(tree_.ref[nodes[k]]);
+    if (dedup_)
+      if (const std::optional<uint32_t> twin = twins_.find_or_add_next(area_, offset, len)) {
+        area_.resize(offset);
+        saved_bytes_ += words(len) * sizeof(uint32_t);
+        return *twin;
+      }
+    if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
+    ++unique_;
+    if (boxes_.stored()) append_rows(nodes, len, offset);
+    return offset;
+  }
+  /// Ends the area: the padding the SIMD rows read past the last list.
+  void finish() {
+    if (boxes_.stored()) area_.resize(area_.size() + 2, 0);  // SIMD rows read 8 bytes
+    area_.shrink_to_fit();
+  }
+  size_t unique_lists() const { return unique_; }
+  size_t saved_bytes() const { return saved_bytes_; }
+
+ private:
+  /// 4-byte words a stored list of len entries takes: its ids, then its rows padded to a word.
+  size_t words(uint32_t len) const { return len + (boxes_.stored() ? (6 * size_t(len) + 3) / 4 : 0); }
+
+  /// The list's entry-box rows (layout: Candidates::boxes), after its ids: one cache line
+  /// serves both.
+  void append_rows(const uint32_t* nodes, uint32_t len, uint32_t offset) {
+    uint8_t rows[6 * 31];
+    for (uint32_t k = 0; k < len; ++k) {
+      const detail::QBox& q = boxes_.of(nodes[k]);
+      for (int row = 0; row < 3; ++row) {
+        rows[size_t(row) * len + k] = q.lo[row];
+        rows[size_t(row + 3) * len + k] = q.hi[row];
+      }
+    }
+    const size_t at_rows = area_.size();
+    area_.resize(offset + words(len), 0);
+    std::memcpy(area_.data() + at_rows, rows, 6 * size_t(len));
+  }
+
+  const TreeView& tree_;
+  std::vector<uint32_t>& area_;
+  bool dedup_;
+  ListDedup twins_;  ///< empty without dedup
+  EntryBoxes boxes_;
+  size_t unique_ = 0, saved_bytes_ = 0;
+};
 
 }  // namespace
 
 void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& listed,
-                           const std::vector<detail::VoxelLists>& out, bool dedup) {
+                           const std::vector<detail::VoxelLists>& lists, bool dedup) {
   const uint32_t cells = grid_.cells_per_voxel();
-  const size_t nvox = grid_.voxel_count();
   ShaftStats& st = stats_;
   st.res = grid_.res();
   st.dir_res = grid_.dir_res();
-  st.voxels = nvox;
-  st.shafts = nvox * cells;
+  st.voxels = grid_.voxel_count();
+  st.shafts = st.voxels * cells;
   st.listed_voxels = listed.size();
   st.length_histogram.assign(32, 0);
-  voxel_base_.assign(nvox, kNoVoxel);
+  voxel_base_.assign(st.voxels, kNoVoxel);
   entries_.assign(listed.size() * cells, 0);
-  ListDedup table(dedup ? listed.size() * cells : 0);
-  // Hashes of every list in packing order first, so that the probe of the list kAhead lists
-  // later can be prefetched (the probes are random accesses into a table of several MiB).
-  std::vector<uint32_t> hashes;
-  size_t total_entries = 0;
-  for (const detail::VoxelLists& vl : out) {
-    total_entries += vl.data.size();
-    if (!dedup) continue;
-    for (uint32_t cell = 0; cell < cells; ++cell)
-      if (vl.status[cell] == detail::VoxelLists::kList)
-        hashes.push_back(hash_list(tree, vl.data.data() + vl.begin[cell], vl.len[cell]));
-  }
-  constexpr size_t kAhead = 8;
-  size_t next_hash = 0;
-  // Entry boxes are quantised once per tree node.
-  std::vector<detail::QBox> qboxes(boxed() ? tree.size() : 0);
-  std::vector<uint8_t> quantised(qboxes.size(), 0);
-  lists_.reserve(total_entries * (boxed() ? 3 : 1) + 2);
-  size_t total_len = 0, nonempty = 0, unique = 0;
+  ListAreaWriter area(tree, entry_codec_.get(), dedup, lists, lists_);
+  size_t total_len = 0, nonempty = 0;
   for (size_t li = 0; li < listed.size(); ++li) {
-    const detail::VoxelLists& vl = out[li];
+    const detail::VoxelLists& vl = lists[li];
     const uint32_t base = uint32_t(li * cells);
     voxel_base_[listed[li]] = base;
     st.near_retries += vl.near_retries;
@@ -287,54 +410,127 @@ void ShaftCollection::pack(const TreeView& tree, const std::vector<uint32_t>& li
         continue;
       }
       const uint32_t len = vl.len[cell];
-      const uint32_t* nodes = vl.data.data() + vl.begin[cell];
-      // Append the list, then take it back if an equal one is stored already.
-      const uint32_t offset = uint32_t(lists_.size());
-      for (uint32_t k = 0; k < len; ++k) lists_.push_back(tree.ref[nodes[k]]);
-      std::optional<uint32_t> twin;
-      if (dedup) {
-        if (next_hash + kAhead < hashes.size()) table.prefetch(hashes[next_hash + kAhead]);
-        twin = table.find_or_add(hashes[next_hash++], lists_, offset, len);
-      }
-      if (twin) {
-        lists_.resize(offset);
-        st.dedup_saved_bytes += list_words(len) * sizeof(uint32_t);
-      } else {
-        if (offset >= (1u << 27)) throw InputError("shafts: list area exceeds 2^27 entries; lower the resolution");
-        ++unique;
-        if (boxed()) {
-          // The rows follow the list's ids in the same area: one cache line serves both.
-          uint8_t rows[6 * 31];
-          for (uint32_t k = 0; k < len; ++k) {
-            const uint32_t node = nodes[k];
-            if (!quantised[node]) {
-              qboxes[node] = entry_codec_->encode(tree.bounds[node]);
-              quantised[node] = 1;
-            }
-            for (int row = 0; row < 3; ++row) {
-              rows[size_t(row) * len + k] = qboxes[node].lo[row];
-              rows[size_t(row + 3) * len + k] = qboxes[node].hi[row];
-            }
-          }
-          const size_t at_rows = lists_.size();
-          lists_.resize(offset + list_words(len), 0);
-          std::memcpy(lists_.data() + at_rows, rows, 6 * size_t(len));
-        }
-      }
-      entries_[base + cell] = (twin.value_or(offset) << 5) | len;
+      entries_[base + cell] = (area.add(vl.data.data() + vl.begin[cell], len) << 5) | len;
       ++st.length_histogram[len];
       total_len += len;
       ++nonempty;
       st.max_list = std::max(st.max_list, int(len));
     }
   }
-  if (boxed()) lists_.resize(lists_.size() + 2, 0);  // SIMD rows read 8 bytes
-  lists_.shrink_to_fit();
-  st.unique_lists = unique;
+  area.finish();
+  st.unique_lists = area.unique_lists();
+  st.dedup_saved_bytes = area.saved_bytes();
   st.mean_list = nonempty ? double(total_len) / double(nonempty) : 0.0;
   st.lookup_bytes = (voxel_base_.size() + entries_.size()) * sizeof(uint32_t);
   st.list_bytes = lists_.size() * sizeof(uint32_t);  // ids (and entry-box rows)
 }
+
+namespace {
+
+/// "RXxRYxRZ voxels x N direction cells", for messages.
+std::string grid_name(const ShaftGrid& grid) {
+  return std::to_string(grid.res()[0]) + "x" + std::to_string(grid.res()[1]) + "x" + std::to_string(grid.res()[2]) +
+         " voxels x " + std::to_string(grid.cells_per_voxel()) + " direction cells";
+}
+
+/// A grid of 2^32 shafts or more cannot be addressed (ShaftCoord, the entry table).
+void require_addressable(const ShaftGrid& grid) {
+  const size_t shafts = grid.voxel_count() * grid.cells_per_voxel();
+  if (shafts >= (size_t(1) << 32) - 64)
+    throw InputError("shafts: a grid of " + grid_name(grid) + " is " + std::to_string(shafts) +
+                     " shafts, more than 2^32; lower voxels or dir_res");
+}
+
+/// Refuses a grid the machine cannot build. What the build holds at once, a lower bound (the
+/// lists themselves are not counted): the shared sample rays, each voxel's lists before
+/// packing, the entry and dedup tables, the voxel tables. It can be 10-30x the collection
+/// (Cornell box, shafts-wide, budget_mib=512: 8.1 GB estimated, 10.1 GB measured, for 0.41 GB).
+void require_build_memory(const ShaftGrid& grid, size_t listed_voxels, const ShaftConfig& config) {
+  const double listed_shafts = double(listed_voxels) * grid.cells_per_voxel();
+  const double shared_bytes = config.reuse_rays.value() ? double(config.samples.value() * sizeof(PooledSample) + 2) : 0.0;
+  require_memory(listed_shafts * (shared_bytes + 30.0) + double(listed_voxels) * sizeof(detail::VoxelLists) +
+                     5.0 * double(grid.voxel_count()),
+                 "shafts: building a grid of " + grid_name(grid) + " (" + std::to_string(listed_voxels) +
+                     " voxels listed; budget_mib, budget_rel or voxels decide the grid) needs");
+}
+
+/// Without a tree there is no geometry: every selected shaft reaches nothing.
+void mark_unreachable(const ShaftGrid& grid, const std::vector<uint32_t>& listed, const Selection& sel,
+                      std::vector<detail::VoxelLists>& lists) {
+  const uint32_t cells = grid.cells_per_voxel();
+  for (size_t li = 0; li < listed.size(); ++li) {
+    detail::VoxelLists& vl = lists[li];
+    vl.status.assign(cells, detail::VoxelLists::kNoList);
+    vl.len.assign(cells, 0);
+    vl.begin.assign(cells, 0);
+    for (uint32_t cell = 0; cell < cells; ++cell)
+      if (sel.shaft_selected.empty() || sel.shaft_selected[uint64_t(listed[li]) * cells + cell])
+        vl.status[cell] = detail::VoxelLists::kReachesNothing;
+  }
+}
+
+/// What make_lists reports of the sample rays: the time spent tracing them (summed over the
+/// tasks when traced per chunk) and, when shared along their paths, how many were traced.
+struct SampleFigures {
+  double ms = 0.0;
+  size_t traced = 0;
+};
+
+/// Algorithm 1 for every selected shaft of the listed voxels (tree not empty), in parallel:
+/// the lists of listed[li] into lists[li]. Their sample rays are traced first for all voxels
+/// (shared along their paths, reuse_rays) or per chunk of kChunk voxels just before their walks.
+SampleFigures make_lists(const TreeView& tree, const ShaftGrid& grid, std::span<const Triangle> tris,
+                         const ShaftCollection::TraceFn& trace, const ShaftConfig& config, const Selection& sel,
+                         const std::vector<uint32_t>& listed, std::vector<detail::VoxelLists>& lists) {
+  SampleFigures figures;
+  const uint32_t cells = grid.cells_per_voxel();
+  const size_t per = size_t(config.samples.value());
+  // Bvh2 lists keep their per-shaft order only when the members agree on the child order
+  // (centre-direction signs); k-ary trees are ordered by the group direction anyway.
+  const GridCones cones(grid, tree.split_order);
+  std::optional<detail::VoxelSurfaces> surfaces;
+  if (config.origins == SampleOrigins::Surface) surfaces.emplace(grid, tris, listed);
+  const detail::VoxelSurfaces* origins = surfaces ? &*surfaces : nullptr;
+
+  std::vector<PooledSample> shared;
+  const auto t_samples = SteadyClock::now();
+  if (config.reuse_rays.value()) {
+    std::vector<int32_t> listed_index(grid.voxel_count(), -1);
+    for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
+    shared.resize(listed.size() * cells * per);
+    std::vector<uint16_t> count(listed.size() * cells, 0);  // samples <= 1000
+    figures.traced = detail::shared_samples(grid, listed, listed_index, sel.shaft_selected, cones.cell, origins, trace,
+                                            config, shared, count);
+    figures.ms = ms_since(t_samples);
+  }
+  const bool chunked = !config.reuse_rays.value();
+  std::atomic<int64_t> chunk_trace_ns{0};
+  constexpr size_t kChunk = 32;
+  const VoxelListMaker::Context context{tree, grid, config, cones, sel.shaft_selected};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), kChunk / 2), [&](const auto& range) {
+    VoxelListMaker maker(context);
+    std::vector<PooledSample> chunk;
+    size_t chunk_begin = 0, chunk_end = 0;
+    for (size_t li = range.begin(); li != range.end(); ++li) {
+      if (chunked && li >= chunk_end) {
+        const auto t0 = SteadyClock::now();
+        chunk_begin = li;
+        chunk_end = std::min(range.end(), li + kChunk);
+        detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, sel.shaft_selected, origins, trace, config,
+                                   chunk);
+        chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(SteadyClock::now() - t0).count();
+      }
+      // Both pools are cell-major: [cell][listed voxel][sample].
+      const VoxelSamples samples = chunked ? VoxelSamples{chunk.data() + (li - chunk_begin) * per, (chunk_end - chunk_begin) * per}
+                                           : VoxelSamples{shared.data() + li * per, listed.size() * per};
+      maker.make(listed[li], samples, lists[li]);
+    }
+  });
+  if (chunked) figures.ms = double(chunk_trace_ns.load()) * 1e-6;
+  return figures;
+}
+
+}  // namespace
 
 ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGrid& grid,
                                             std::span<const Triangle> tris, const TraceFn& trace,
@@ -344,92 +540,27 @@ ShaftCollection ShaftCollection::build_grid(const TreeView& tree, const ShaftGri
   ShaftCollection col;
   col.grid_ = grid;
   if (config.entry_boxes.value()) col.entry_codec_ = std::make_shared<const detail::EntryBoxCodec>(grid.box());
-  const uint32_t cells = grid.cells_per_voxel();
-  const size_t nvox = grid.voxel_count();
-  const std::string grid_name = std::to_string(grid.res()[0]) + "x" + std::to_string(grid.res()[1]) + "x" +
-                                std::to_string(grid.res()[2]) + " voxels x " + std::to_string(cells) + " direction cells";
-  if (nvox * cells >= (size_t(1) << 32) - 64)
-    throw InputError("shafts: a grid of " + grid_name + " is " + std::to_string(nvox * cells) +
-                     " shafts, more than 2^32; lower voxels or dir_res");
-
-  Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
-  const double select_ms = ms_since(t_start);
-  const auto t_lists = SteadyClock::now();
-  std::vector<uint8_t>& voxel_listed = sel.voxel_listed;
-  std::vector<uint8_t>& shaft_selected = sel.shaft_selected;
+  require_addressable(grid);
+  const Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
   std::vector<uint32_t> listed;
-  for (uint32_t v = 0; v < nvox; ++v)
-    if (voxel_listed[v]) listed.push_back(v);
-  const size_t per = size_t(config.samples.value());
-  // What the build holds at once, a lower bound (the lists themselves are not counted): the
-  // shared sample rays, each voxel's lists before packing, the entry and dedup tables, the
-  // voxel tables. It can be 10-30x the collection (Cornell box, shafts-wide, budget_mib=512:
-  // 8.1 GB estimated, 10.1 GB measured, for 0.41 GB), so a grid the machine cannot build is
-  // refused up front.
-  const double listed_shafts = double(listed.size()) * cells;
-  require_memory(listed_shafts * ((config.reuse_rays.value() ? double(per * sizeof(PooledSample) + 2) : 0.0) + 30.0) +
-                     double(listed.size()) * sizeof(detail::VoxelLists) + 5.0 * double(nvox),
-                 "shafts: building a grid of " + grid_name + " (" + std::to_string(listed.size()) +
-                     " voxels listed; budget_mib, budget_rel or voxels decide the grid) needs");
+  for (uint32_t v = 0; v < grid.voxel_count(); ++v)
+    if (sel.voxel_listed[v]) listed.push_back(v);
+  const double select_ms = ms_since(t_start);
 
-  std::vector<detail::VoxelLists> out(listed.size());  // per listed voxel, its lists before packing
-
-  // Cones are the same in every voxel: made once, moved to each voxel.
-  std::vector<Shaft> cell_shafts;
-  for (uint32_t cell = 0; cell < cells; ++cell) cell_shafts.emplace_back(grid, ShaftCoord{0, cell});
-  // Bvh2 lists keep their per-shaft order only when the members agree on the child order
-  // (centre-direction signs); k-ary trees are ordered by the group direction anyway.
-  const std::vector<CellGroup> groups = cell_groups(grid, tree.split_order);
-  std::vector<Shaft> group_shafts;
-  for (const CellGroup& g : groups) group_shafts.emplace_back(grid, 0, g.range);
-  const std::optional<detail::VoxelSurfaces> surfaces =
-      config.origins == SampleOrigins::Surface && tree.size() > 0
-          ? std::optional<detail::VoxelSurfaces>(std::in_place, grid, tris, listed)
-          : std::nullopt;
-  const detail::VoxelSurfaces* origins = surfaces ? &*surfaces : nullptr;
-  std::vector<PooledSample> pool;
-  const auto t_samples = SteadyClock::now();
-  if (config.reuse_rays.value() && tree.size() > 0) {
-    std::vector<int32_t> listed_index(nvox, -1);
-    for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
-    pool.resize(listed.size() * cells * per);
-    std::vector<uint16_t> count(listed.size() * cells, 0);  // samples <= 1000
-    col.stats_.traced_samples =
-        detail::shared_samples(grid, listed, listed_index, shaft_selected, cell_shafts, origins, trace, config,
-                               pool, count);
+  const auto t_lists = SteadyClock::now();
+  require_build_memory(grid, listed.size(), config);
+  std::vector<detail::VoxelLists> lists(listed.size());  // per listed voxel, its lists before packing
+  if (tree.size() == 0) {
+    mark_unreachable(grid, listed, sel, lists);
+  } else {
+    const SampleFigures samples = make_lists(tree, grid, tris, trace, config, sel, listed, lists);
+    col.stats_.samples_ms = samples.ms;
+    col.stats_.traced_samples = samples.traced;
   }
-  const bool chunked = pool.empty() && tree.size() > 0;
-  std::atomic<int64_t> chunk_trace_ns{0};
-  col.stats_.samples_ms = ms_since(t_samples);
-
-  // Chunks of up to kChunk listed voxels: their sample rays are traced cell-major first.
-  constexpr size_t kChunk = 32;
-  const VoxelListMaker::Context context{tree, grid, config, groups, group_shafts, cell_shafts, shaft_selected};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, listed.size(), kChunk / 2), [&](const auto& range) {
-    VoxelListMaker maker(context);
-    std::vector<PooledSample> chunk_pool;
-    size_t chunk_begin = 0, chunk_end = 0;
-    for (size_t li = range.begin(); li != range.end(); ++li) {
-      if (chunked && li >= chunk_end) {
-        const auto t0 = SteadyClock::now();
-        chunk_begin = li;
-        chunk_end = std::min(range.end(), li + kChunk);
-        detail::cell_major_samples(grid, listed, chunk_begin, chunk_end, shaft_selected, origins, trace, config,
-                                   chunk_pool);
-        chunk_trace_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(SteadyClock::now() - t0).count();
-      }
-      auto samples_of = [&](uint32_t cell) {
-        return chunked ? chunk_pool.data() + (cell * (chunk_end - chunk_begin) + (li - chunk_begin)) * per
-                       : pool.data() + (cell * listed.size() + li) * per;
-      };
-      maker.make(listed[li], samples_of, out[li]);
-    }
-  });
-
   const double lists_ms = ms_since(t_lists);
-  if (chunked) col.stats_.samples_ms = double(chunk_trace_ns.load()) * 1e-6;
+
   const auto t_pack = SteadyClock::now();
-  col.pack(tree, listed, out, config.dedup);
+  col.pack(tree, listed, lists, config.dedup);
   ShaftStats& st = col.stats_;
   st.select_ms = select_ms;
   st.lists_ms = lists_ms;

@@ -326,6 +326,26 @@ TEST(ShaftsBinary, CullingHoldsFarFromTheWorldOrigin) {
   EXPECT_GT(saved[1], 0.7 * saved[0]) << "at the origin " << saved[0] << ", at 1e5 " << saved[1];
 }
 
+// A tree without nodes has no geometry: the selected shafts (here by pre-pass rays, which an
+// empty tree does not stop) are listed as reaching nothing, and their rays miss at once.
+TEST(ShaftCollection, EmptyTreeListsReachNothing) {
+  const TreeView tree = TreeView::from_bvh2(Bvh2::build(std::vector<Triangle>{}));
+  ASSERT_EQ(tree.size(), 0u);
+  RayBatch prepass;
+  for (int i = 0; i < 8; ++i) prepass.push_back(Ray{Vec3{0.1f + 0.1f * float(i)}, 0.0f, {1.0f, 0.2f, 0.3f}, kInfinity});
+  for (const ShaftSelect select : {ShaftSelect::Camera, ShaftSelect::CameraVoxels}) {
+    ShaftConfig c = fine_config(27, 2);
+    c.select = select;
+    const ShaftCollection col = ShaftCollection::build(tree, Bounds3{Vec3{0.0f}, Vec3{1.0f}}, 0, {},
+                                                       [](const Ray&) { return kInfinity; }, prepass, c);
+    const ShaftStats& st = col.stats();
+    EXPECT_GT(st.listed_shafts, 0u);
+    EXPECT_EQ(st.empty_lists, st.listed_shafts);
+    EXPECT_EQ(st.unique_lists, 0u);
+    for (size_t i = 0; i < prepass.size(); ++i) EXPECT_TRUE(col.lookup(prepass[i]).reaches_nothing) << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Shafts, ShaftsBoth, ::testing::Values(Base::Binary, Base::Wide),
                          [](const auto& info) { return info.param == Base::Binary ? "binary" : "wide"; });
 

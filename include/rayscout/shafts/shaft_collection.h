@@ -81,10 +81,6 @@ class ShaftCollection {
   static ShaftCollection build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
                                std::span<const Triangle> tris, const TraceFn& trace,
                                const RayBatch& sample_rays, const ShaftConfig& config);
-  /// Builds for a fixed grid (no budget loop). Used by build() and tests.
-  static ShaftCollection build_grid(const TreeView& tree, const ShaftGrid& grid,
-                                    std::span<const Triangle> tris, const TraceFn& trace,
-                                    const RayBatch& sample_rays, const ShaftConfig& config);
 
   /// The ray's candidates (Algorithm "traversal", sec. 4.5).
   Candidates lookup(const Ray& ray) const {
@@ -115,13 +111,15 @@ class ShaftCollection {
   size_t memory_bytes() const { return stats_.memory_bytes(); }
 
  private:
-  bool boxed() const { return entry_codec_ != nullptr; }
-  /// 4-byte words a stored list of len entries takes: its ids, then (boxed()) its entry-box
-  /// rows padded to a word.
-  size_t list_words(uint32_t len) const { return len + (boxed() ? (6 * size_t(len) + 3) / 4 : 0); }
-  /// Packs the lists of the listed voxels (serial, so offsets do not depend on the thread
-  /// count): lookup tables, deduplicated list area, entry boxes, and the figures in stats_.
-  void pack(const TreeView& tree, const std::vector<uint32_t>& listed, const std::vector<detail::VoxelLists>& out,
+  /// Builds for a fixed grid (build() without the budget search; config.voxels > 0 gives
+  /// such a build too).
+  static ShaftCollection build_grid(const TreeView& tree, const ShaftGrid& grid,
+                                    std::span<const Triangle> tris, const TraceFn& trace,
+                                    const RayBatch& sample_rays, const ShaftConfig& config);
+  /// Packs lists[i], the lists of voxel listed[i] (serial, so offsets do not depend on the
+  /// thread count): lookup tables, deduplicated list area, entry boxes, and the figures in
+  /// stats_.
+  void pack(const TreeView& tree, const std::vector<uint32_t>& listed, const std::vector<detail::VoxelLists>& lists,
             bool dedup);
 
   ShaftGrid grid_;
@@ -130,8 +128,9 @@ class ShaftCollection {
   std::shared_ptr<const detail::EntryBoxCodec> entry_codec_;
   std::vector<uint32_t> voxel_base_;
   std::vector<uint32_t> entries_;
-  /// The list area: per unique list its node references, then (boxed()) its entry-box rows
-  /// (6 len bytes, padded to 4; layout: Candidates::boxes), so a lookup touches one region.
+  /// The list area: per unique list its node references, then (with entry boxes) its
+  /// entry-box rows (6 len bytes, padded to 4; layout: Candidates::boxes), so a lookup
+  /// touches one region.
   std::vector<uint32_t> lists_;
   ShaftStats stats_;
 };
