@@ -44,6 +44,98 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   if (!ok) builder.fallback(1, &list);
 }
 
+/// What every grid of the budget search is built from (ShaftCollection::build's arguments).
+struct BuildInputs {
+  const TreeView& tree;
+  const Bounds3& box;
+  std::span<const Triangle> tris;
+  const ShaftCollection::TraceFn& trace;
+  const RayBatch& sample_rays;
+  const ShaftConfig& config;  ///< resolved
+};
+
+/// The ids (voxel * cells + cell) of the shafts a grid's selection lists, in id order.
+std::vector<uint64_t> selected_shafts(const ShaftGrid& grid, const Selection& sel) {
+  std::vector<uint64_t> ids;
+  for (uint32_t v = 0; v < grid.voxel_count(); ++v) {
+    if (!sel.voxel_listed[v]) continue;
+    for (uint32_t c = 0; c < grid.cells_per_voxel(); ++c) {
+      const uint64_t id = uint64_t(v) * grid.cells_per_voxel() + c;
+      if (sel.shaft_selected.empty() || sel.shaft_selected[id]) ids.push_back(id);
+    }
+  }
+  return ids;
+}
+
+/// Mean list length of up to 192 pilot shafts taken at an even stride from ids, each built on
+/// its own (build_one).
+double mean_pilot_length(const BuildInputs& in, const ShaftGrid& grid, const std::vector<uint64_t>& ids) {
+  const uint32_t cells = grid.cells_per_voxel();
+  const size_t pilots = std::min<size_t>(192, ids.size());
+  if (pilots == 0) return 0.0;
+  auto pilot = [&](size_t i) { return ids[i * ids.size() / pilots]; };
+  std::optional<detail::VoxelSurfaces> surfaces;
+  if (in.config.origins == SampleOrigins::Surface && in.tree.size() > 0) {
+    std::vector<uint32_t> voxels;
+    for (size_t i = 0; i < pilots; ++i) voxels.push_back(uint32_t(pilot(i) / cells));
+    voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+    surfaces.emplace(grid, in.tris, voxels);
+  }
+  std::vector<size_t> lengths(pilots, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pilots, 8), [&](const auto& range) {
+    detail::ShaftSamples samples;
+    detail::GroupListBuilder::Scratch scratch;
+    std::vector<uint32_t> list;
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      build_one(in.tree, grid, {uint32_t(pilot(i) / cells), uint32_t(pilot(i) % cells)}, in.trace,
+                surfaces ? &*surfaces : nullptr, in.config, samples, scratch, list);
+      lengths[i] = list.size();
+    }
+  });
+  double sum = 0.0;
+  for (size_t l : lengths) sum += double(l);
+  return sum / double(pilots);
+}
+
+/// Predicted memory of a grid of about n voxels: the voxel table, the entry tables of the
+/// listed voxels and lists of the pilots' mean length (4 bytes an entry, 10 with entry
+/// boxes), dedup assumed to save 5 %.
+double predicted_bytes(const BuildInputs& in, double n) {
+  const ShaftGrid grid(in.box, ShaftGrid::cubical_resolution(in.box, n), in.config.dir_res);
+  const Selection sel = detail::select_shafts(grid, in.tris, in.sample_rays, in.config);
+  const double mean = mean_pilot_length(in, grid, selected_shafts(grid, sel));
+  const size_t listed_voxels = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1));
+  return 4.0 * double(grid.voxel_count()) + 4.0 * double(listed_voxels) * grid.cells_per_voxel() +
+         (in.config.entry_boxes.value() ? 10.0 : 4.0) * 0.95 * mean * double(sel.shafts);
+}
+
+/// The voxel count to build for the budget: a secant search in log-log space for the count
+/// whose predicted memory is 80-97 % of the budget, at most 8 predictions (two usually settle
+/// it; the build's rounds only correct a miss). Memory grows like n (entry tables) when most
+/// voxels are listed and like n^(2/3) for surfaces: the first step assumes exponent 1.2, later
+/// steps measure it. The grid quantises n, so every step predicts the grid actually built; if
+/// none lands in the band, the largest count predicted within 97 % is kept.
+double pilot_voxel_count(const BuildInputs& in, size_t budget) {
+  const double cells = 6.0 * in.config.dir_res * in.config.dir_res;
+  double n = 4096, prev_n = 0, prev_mem = 0, feasible_n = 1;
+  for (int it = 0; it < 8; ++it) {
+    const double real_n = double(ShaftGrid(in.box, ShaftGrid::cubical_resolution(in.box, n), 1).voxel_count());
+    const double mem = std::max(1.0, predicted_bytes(in, n));
+    if (mem <= 0.97 * double(budget)) {
+      feasible_n = std::max(feasible_n, n);
+      if (mem >= 0.8 * double(budget)) return n;
+    }
+    double slope = 1.2;
+    if (prev_n > 0 && std::fabs(std::log(real_n / prev_n)) > 1e-3)
+      slope = std::clamp(std::log(mem / prev_mem) / std::log(real_n / prev_n), 0.5, 1.5);
+    prev_n = real_n;
+    prev_mem = mem;
+    n = std::clamp(real_n * std::pow(0.9 * double(budget) / mem, 1.0 / slope), real_n / 64.0, real_n * 64.0);
+    n = std::clamp(n, 1.0, kMaxShafts / cells);
+  }
+  return feasible_n;
+}
+
 }  // namespace
 
 ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
@@ -61,82 +153,20 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
     col.stats_.build_ms = ms_since(t_start);
     return col;
   };
-  if (config.voxels > 0) {
-    const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, double(config.voxels)), config.dir_res);
-    return finish(build_grid(tree, grid, tris, trace, sample_rays, config), 1);
-  }
-  const double cells = 6.0 * config.dir_res * config.dir_res;
-  // Predicted memory of a grid of about n voxels: the voxel table, entry tables of the listed
-  // voxels and lists whose mean length a pilot of up to 192 random listed shafts measures
-  // (dedup assumed to save 5 %). Two pilot iterations settle the resolution before the one
-  // real build; the loop below only corrects a miss.
-  auto predict = [&](double n) {
-    const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, n), config.dir_res);
-    const Selection sel = detail::select_shafts(grid, tris, sample_rays, config);
-    std::vector<uint64_t> ids;
-    for (uint32_t v = 0; v < grid.voxel_count(); ++v) {
-      if (!sel.voxel_listed[v]) continue;
-      for (uint32_t c = 0; c < grid.cells_per_voxel(); ++c) {
-        const uint64_t id = uint64_t(v) * grid.cells_per_voxel() + c;
-        if (sel.shaft_selected.empty() || sel.shaft_selected[id]) ids.push_back(id);
-      }
-    }
-    const size_t pilots = std::min<size_t>(192, ids.size());
-    std::optional<detail::VoxelSurfaces> surfaces;
-    if (config.origins == SampleOrigins::Surface && tree.size() > 0) {
-      std::vector<uint32_t> voxels;
-      for (size_t i = 0; i < pilots; ++i) voxels.push_back(uint32_t(ids[i * ids.size() / pilots] / grid.cells_per_voxel()));
-      voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
-      surfaces.emplace(grid, tris, voxels);
-    }
-    std::vector<size_t> lengths(pilots, 0);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pilots, 8), [&](const auto& range) {
-      detail::ShaftSamples samples;
-      detail::GroupListBuilder::Scratch scratch;
-      std::vector<uint32_t> list;
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const uint64_t id = ids[i * ids.size() / pilots];
-        build_one(tree, grid, {uint32_t(id / grid.cells_per_voxel()), uint32_t(id % grid.cells_per_voxel())},
-                  trace, surfaces ? &*surfaces : nullptr, config, samples, scratch, list);
-        lengths[i] = list.size();
-      }
-    });
-    double mean = 0.0;
-    for (size_t l : lengths) mean += double(l);
-    mean = pilots ? mean / double(pilots) : 0.0;
-    const size_t listed_voxels = size_t(std::count(sel.voxel_listed.begin(), sel.voxel_listed.end(), 1));
-    return 4.0 * double(grid.voxel_count()) + 4.0 * double(listed_voxels) * cells +
-           (config.entry_boxes.value() ? 10.0 : 4.0) * 0.95 * mean * double(sel.shafts);
+  auto grid_of = [&](double voxels, int dir_res) {
+    return ShaftGrid(box, ShaftGrid::cubical_resolution(box, voxels), dir_res);
   };
-  // Secant search in log-log space for the voxel count whose predicted memory is 80-97 % of
-  // the budget. Memory grows like n (entry tables) when most voxels are listed and like n^(2/3)
-  // for surfaces: the first step assumes exponent 1.2, later steps measure it. The grid
-  // quantises n, so every step predicts the grid actually built; the largest grid predicted
-  // within budget is kept.
-  double n = 4096, prev_n = 0, prev_mem = 0, feasible_n = 1;
-  bool settled = false;
-  for (int it = 0; it < 8 && !settled; ++it) {
-    const double real_n = double(ShaftGrid(box, ShaftGrid::cubical_resolution(box, n), 1).voxel_count());
-    const double mem = std::max(1.0, predict(n));
-    if (mem <= 0.97 * double(budget)) {
-      feasible_n = std::max(feasible_n, n);
-      settled = mem >= 0.8 * double(budget);
-      if (settled) break;
-    }
-    double slope = 1.2;
-    if (prev_n > 0 && std::fabs(std::log(real_n / prev_n)) > 1e-3)
-      slope = std::clamp(std::log(mem / prev_mem) / std::log(real_n / prev_n), 0.5, 1.5);
-    prev_n = real_n;
-    prev_mem = mem;
-    n = std::clamp(real_n * std::pow(0.9 * double(budget) / mem, 1.0 / slope), real_n / 64.0, real_n * 64.0);
-    n = std::clamp(n, 1.0, kMaxShafts / cells);
-  }
-  if (!settled) n = feasible_n;
+  if (config.voxels > 0)
+    return finish(build_grid(tree, grid_of(double(config.voxels), config.dir_res), tris, trace, sample_rays, config), 1);
+  double n = pilot_voxel_count({tree, box, tris, trace, sample_rays, config}, budget);
   pilot_ms = ms_since(t_start);
+  // Build rounds: the first build is usually within budget; one over it is rebuilt coarser,
+  // one far under it (the pilots misjudged) once finer.
+  const double cells = 6.0 * config.dir_res * config.dir_res;
   ShaftCollection best;
   bool have_best = false;
   for (int round = 1; round <= 6; ++round) {
-    const ShaftGrid grid(box, ShaftGrid::cubical_resolution(box, n), config.dir_res);
+    const ShaftGrid grid = grid_of(n, config.dir_res);
     ShaftCollection col = build_grid(tree, grid, tris, trace, sample_rays, config);
     const double mem = double(col.memory_bytes());
     if (mem <= double(budget)) {
@@ -145,8 +175,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
         best = std::move(col);
         have_best = true;
         n = std::min(n * std::pow(0.9 * double(budget) / std::max(mem, 1.0), 1.2), kMaxShafts / cells);
-        if (ShaftGrid(box, ShaftGrid::cubical_resolution(box, n), 1).voxel_count() == grid.voxel_count())
-          return finish(std::move(best), round);  // already the largest grid
+        if (grid_of(n, 1).voxel_count() == grid.voxel_count()) return finish(std::move(best), round);  // already the largest grid
         continue;
       }
       return finish(std::move(col), round);
@@ -157,8 +186,7 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
                  double(grid.voxel_count()) * std::pow(0.9 * double(budget) / mem, 1.5));
     n = std::max(1.0, n);
   }
-  const ShaftGrid grid(box, {1, 1, 1}, config.dir_res);
-  return finish(build_grid(tree, grid, tris, trace, sample_rays, config), 7);
+  return finish(build_grid(tree, ShaftGrid(box, {1, 1, 1}, config.dir_res), tris, trace, sample_rays, config), 7);
 }
 
 }  // namespace rayscout
