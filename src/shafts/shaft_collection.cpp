@@ -499,8 +499,8 @@ SampleFigures make_lists(const TreeView& tree, const ShaftGrid& grid, std::span<
     for (size_t li = 0; li < listed.size(); ++li) listed_index[listed[li]] = int32_t(li);
     shared.resize(listed.size() * cells * per);
     std::vector<uint16_t> count(listed.size() * cells, 0);  // samples <= 1000
-    figures.traced = detail::shared_samples(grid, listed, listed_index, sel.shaft_selected, cones.cell, origins, trace,
-                                            config, shared, count);
+    figures.traced = detail::shared_samples(grid, listed, listed_index, sel.shaft_selected, origins, trace, config, shared,
+                                            count);
     figures.ms = ms_since(t_samples);
   }
   const bool chunked = !config.reuse_rays.value();

@@ -75,8 +75,8 @@ void trace_own_samples(const Bounds3& voxel, const ShaftGrid::CellRange& cell, u
   }
 }
 
-/// One sample ray in the shared pool (one record: deposits land at random places, and one
-/// cache line per deposit beats seven).
+/// One sample ray in a pool (shared or a chunk's), one record: shared deposits land at random
+/// places, and one cache line per deposit beats seven.
 struct PooledSample {
   float org[3], inv_dir[3], hit_t;
 };
@@ -90,8 +90,7 @@ struct PooledSample {
 /// Returns the number of rays traced.
 size_t shared_samples(const ShaftGrid& grid, const std::vector<uint32_t>& listed,
                       const std::vector<int32_t>& listed_index, const std::vector<uint8_t>& shaft_selected,
-                      const std::vector<Shaft>& cell_shafts, const VoxelSurfaces* surfaces,
-                      const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
+                      const VoxelSurfaces* surfaces, const ShaftCollection::TraceFn& trace, const ShaftConfig& config,
                       std::vector<PooledSample>& pool, std::vector<uint16_t>& count);
 
 /// The own sample rays (trace_own_samples) of every selected shaft of listed voxels

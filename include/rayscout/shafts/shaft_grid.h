@@ -46,6 +46,8 @@ class ShaftGrid {
   size_t voxel_count() const { return size_t(res_[0]) * res_[1] * res_[2]; }
   uint32_t cells_per_voxel() const { return uint32_t(6 * dir_res_ * dir_res_); }
 
+  /// Edge lengths of a voxel, (box.hi - box.lo) / res per axis.
+  const Vec3& voxel_size() const { return size_; }
   /// Box of a voxel (exact grid planes lo + i * size, the last one ends at box.hi).
   Bounds3 voxel_box(uint32_t voxel) const;
   /// Layer along `axis` (0..res[axis]-1, clamped) of the voxels holding coordinate p; the
