@@ -84,10 +84,10 @@ class GroupListBuilder {
   /// Working memory of a builder; one per task range, reused across its groups (a fresh
   /// builder per group spent measurable time in allocations).
   struct Scratch {
-    std::vector<int32_t> hit;  ///< per sample ray: enters the current box before its hit
-    Stack stack, cull_stack;
-    std::vector<uint64_t> over;
-    std::vector<uint32_t> order;
+    std::vector<int32_t> hit;    ///< per sample ray: enters the current box before its hit
+    Stack stack, cull_stack;     ///< Algorithm 1's DFS; cullNodeSubtree's descent
+    std::vector<uint64_t> over;  ///< per child of the node being culled: members it overlaps
+    std::vector<uint32_t> order; ///< children sorted far first
   };
 
   /// members[i] uses samples [i s, (i + 1) s) of `samples`, s = samples_per_shaft. Only the
@@ -96,15 +96,15 @@ class GroupListBuilder {
   /// scratch (borrowed, may be shared by consecutive builders of one thread) holds the stacks.
   GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft* const> members,
                    const ShaftSamples& samples, int samples_per_shaft, Scratch& scratch)
-      : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft), s_(scratch) {
-    inner_ = voxel_margin_box(group.voxel());
-    s_.hit.resize(samples.size());
+      : tree_(tree), group_(group), members_(members), samples_(samples), per_(samples_per_shaft), scratch_(scratch) {
+    grown_voxel_ = voxel_margin_box(group.voxel());
+    scratch_.hit.resize(samples.size());
   }
   /// The same with its own scratch.
   GroupListBuilder(const TreeView& tree, const Shaft& group, std::span<const Shaft* const> members,
                    const ShaftSamples& samples, int samples_per_shaft)
       : GroupListBuilder(tree, group, members, samples, samples_per_shaft, own_) {}
-  // s_ may point at own_: a copy would share the source's scratch.
+  // scratch_ may point at own_: a copy would share the source's scratch.
   GroupListBuilder(const GroupListBuilder&) = delete;
   GroupListBuilder& operator=(const GroupListBuilder&) = delete;
 
@@ -118,7 +118,7 @@ class GroupListBuilder {
     while (need_ < per_ && double(need_) / double(per_) < min_prob) ++need_;
     if (per_ > 0 && double(need_) / double(per_) < min_prob) need_ = per_ + 1;
     uint64_t live = active;
-    auto& stack = s_.stack;
+    auto& stack = scratch_.stack;
     stack.clear();
     stack.push(tree_.root, active);  // line 1
     const bool shortcut = min_prob <= 1.0;
@@ -129,7 +129,7 @@ class GroupListBuilder {
       const Bounds3& box = tree_.bounds[node];
       const bool leaf = tree_.is_leaf(node);
       // An ancestor of the voxel passes lines 5 and 8 for certain (voxel_margin_box).
-      if (shortcut && !leaf && box.contains(inner_)) {
+      if (shortcut && !leaf && box.contains(grown_voxel_)) {
         push_children_far_first(node, mask);
         continue;
       }
@@ -196,7 +196,7 @@ class GroupListBuilder {
   /// child overlaps the member's shaft; that descendant, or kNoNode when no child overlaps (a
   /// leaf is its own answer). A child's box difference is computed once for all members.
   void cull_subtrees(uint32_t node, uint64_t mask) {
-    auto& cull_stack = s_.cull_stack;
+    auto& cull_stack = scratch_.cull_stack;
     cull_stack.clear();
     cull_stack.push(node, mask);
     while (!cull_stack.empty()) {
@@ -208,8 +208,8 @@ class GroupListBuilder {
       const auto kids = tree_.children(n);
       const size_t nkids = kids.size();
       uint64_t once = 0, twice = 0;  // members with >= 1 / >= 2 overlapping children
-      s_.over.resize(nkids);
-      uint64_t* over = s_.over.data();
+      scratch_.over.resize(nkids);
+      uint64_t* over = scratch_.over.data();
       for (size_t c = 0; c < nkids; ++c) {
         const Bounds3& box = tree_.bounds[kids[c]];
         uint64_t o = 0;
@@ -240,7 +240,7 @@ class GroupListBuilder {
     // All members' sample rays in one vectorised loop (members outside `mask` are computed
     // too: cheaper than a gather), then a count per member.
     const size_t n = samples_.size();
-    int32_t* __restrict hit = s_.hit.data();
+    int32_t* __restrict hit = scratch_.hit.data();
     for (size_t i = 0; i < n; ++i) hit[i] = sample_enters(b, ox[i], oy[i], oz[i], ix[i], iy[i], iz[i], ht[i]);
     uint64_t open = 0;
     for (uint64_t m = mask; m; m &= m - 1) {
@@ -261,17 +261,17 @@ class GroupListBuilder {
     if (tree_.split_axis[node] >= 0 && kids.size() == 2) {
       // Members agree on the sign of every centre component (the caller groups them so).
       const bool left_near = members_[0]->center_dir()[tree_.split_axis[node]] > 0.0f;
-      s_.stack.push(left_near ? kids[1] : kids[0], mask);
-      s_.stack.push(left_near ? kids[0] : kids[1], mask);
+      scratch_.stack.push(left_near ? kids[1] : kids[0], mask);
+      scratch_.stack.push(left_near ? kids[0] : kids[1], mask);
       return;
     }
-    auto& order = s_.order;
+    auto& order = scratch_.order;
     order.assign(kids.begin(), kids.end());
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
       const float da = dot(tree_.bounds[a].center(), dir), db = dot(tree_.bounds[b].center(), dir);
       return da > db || (da == db && a > b);  // farthest first on the stack
     });
-    for (uint32_t c : order) s_.stack.push(c, mask);
+    for (uint32_t c : order) scratch_.stack.push(c, mask);
   }
 
   const TreeView& tree_;
@@ -281,9 +281,9 @@ class GroupListBuilder {
   int per_;
   int need_ = 0;  ///< sample rays that must enter a box for its node to be expanded
   Scratch own_;
-  Scratch& s_;
+  Scratch& scratch_;
   uint32_t culled_[kMaxGroup];
-  Bounds3 inner_;  ///< the voxel grown by voxel_margin_box
+  Bounds3 grown_voxel_;  ///< the voxel grown by voxel_margin_box
 };
 
 /// Distance, in voxel diagonals, of the first clamp of the overflow policy. Starting at 8

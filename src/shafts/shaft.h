@@ -129,8 +129,8 @@ class Shaft {
   alignas(64) float pos_[3][kAxes] = {}, neg_[3][kAxes] = {};
   float tol_ = 0.0f;
   int rows_ = 1;  ///< rows of kRow axis slots holding the used axes
-  /// n with cone . n >= 0; at most 3 faces + 12 bevels + 4 sides (fixed storage: one shaft
-  /// is made per list, so heap allocations showed in the build profile).
+  /// n with cone . n >= 0; at most 3 faces + 12 bevels + 4 sides (fixed storage: shafts are
+  /// copied per group and voxel, and heap allocations showed in the build profile).
   std::array<std::array<double, 3>, 19> axes_{};
   int axis_count_ = 0;
   Bounds3 voxel_;

@@ -33,7 +33,9 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   const Shaft shaft(grid, coord);
   samples.resize(size_t(config.samples.value()));
   detail::trace_own_samples(shaft.voxel(), shaft.cell(), uint64_t(coord.voxel) * grid.cells_per_voxel() + coord.cell,
-                            surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) { detail::store_sample(samples, s, ray.org, ray.dir, hit_t); });
+                            surfaces, coord.voxel, trace, config, [&](size_t s, const Ray& ray, float hit_t) {
+                              detail::store_sample(samples, s, ray.org, ray.dir, hit_t);
+                            });
   const Shaft* const member = &shaft;
   detail::GroupListBuilder builder(tree, shaft, {&member, 1}, samples, config.samples.value(), scratch);
   auto fits = [&](double min_prob) { return builder.build(min_prob, config.max_list, 1, &list) == 1; };
@@ -156,8 +158,10 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
   auto grid_of = [&](double voxels, int dir_res) {
     return ShaftGrid(box, ShaftGrid::cubical_resolution(box, voxels), dir_res);
   };
-  if (config.voxels > 0)
-    return finish(build_grid(tree, grid_of(double(config.voxels), config.dir_res), tris, trace, sample_rays, config), 1);
+  if (config.voxels > 0) {
+    const ShaftGrid grid = grid_of(double(config.voxels), config.dir_res);
+    return finish(build_grid(tree, grid, tris, trace, sample_rays, config), 1);
+  }
   double n = pilot_voxel_count({tree, box, tris, trace, sample_rays, config}, budget);
   pilot_ms = ms_since(t_start);
   // Build rounds: the first build is usually within budget; one over it is rebuilt coarser,
@@ -175,7 +179,8 @@ ShaftCollection ShaftCollection::build(const TreeView& tree, const Bounds3& box,
         best = std::move(col);
         have_best = true;
         n = std::min(n * std::pow(0.9 * double(budget) / std::max(mem, 1.0), 1.2), kMaxShafts / cells);
-        if (grid_of(n, 1).voxel_count() == grid.voxel_count()) return finish(std::move(best), round);  // already the largest grid
+        if (grid_of(n, 1).voxel_count() == grid.voxel_count())
+          return finish(std::move(best), round);  // already the largest grid
         continue;
       }
       return finish(std::move(col), round);

@@ -32,7 +32,8 @@ void ShaftConfig::validate() const {
           format_value(value) + ")");
   };
   real_range("budget_mib", budget_mib, 0.0, 4096.0);
-  if (!(budget_rel > 0 && budget_rel <= 64)) bad("budget_rel must be in (0, 64] (got " + format_value(budget_rel) + ")");
+  if (!(budget_rel > 0 && budget_rel <= 64))
+    bad("budget_rel must be in (0, 64] (got " + format_value(budget_rel) + ")");
   range("voxels", voxels, 0, 1L << 28);
   range("dir_res", dir_res, 1, 64);
   real_range("min_prob", min_prob, -1.0, 1.0);

@@ -27,7 +27,6 @@ class VoxelSurfaces {
   bool sample(uint32_t voxel, const float rnd[3], Vec3& p) const;
   /// tmin of a sample ray from a surface point: its own triangle must not count as its hit.
   float epsilon() const { return epsilon_; }
-  bool empty() const { return pieces_.empty(); }
 
  private:
   /// Index of voxel in voxels_, or -1.

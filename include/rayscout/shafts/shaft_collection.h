@@ -75,9 +75,11 @@ class ShaftCollection {
   /// Traces a ray from the root to its closest hit t (infinity on a miss); must be thread-safe.
   using TraceFn = std::function<float(const Ray&)>;
 
-  /// Builds over tree (the lists hold tree.ref values) for the scene box `box`. memory of
-  /// the BVH sets the relative budget; sample_rays (may be empty) are the pre-pass rays
-  /// for select=camera and camera-voxels. Parallel (oneTBB); same result for any thread count.
+  /// Builds over tree (the lists hold tree.ref values) for the scene box `box`; the grid's
+  /// resolution comes from config.voxels or the budget (budget_rel times bvh_bytes, or
+  /// budget_mib). trace gives a sample ray's closest hit distance; sample_rays (may be empty)
+  /// are the pre-pass rays for select=camera and camera-voxels. Parallel (oneTBB); same
+  /// result for any thread count.
   static ShaftCollection build(const TreeView& tree, const Bounds3& box, size_t bvh_bytes,
                                std::span<const Triangle> tris, const TraceFn& trace,
                                const RayBatch& sample_rays, const ShaftConfig& config);

@@ -76,14 +76,14 @@ struct ShaftConfig {
   /// hits, faster); off = trace them with the binary BVH.
   bool wide_sampling = true;
   /// Store a 6-byte quantised box per list entry; the traversal then box-tests the entries,
-  /// drops the missed ones and visits the rest near first, skipping those beyond the current
-  /// hit. Needed for the wide BVH, whose start entries are entered without a box test.
+  /// drops the missed ones and seeds one traversal with the rest (nearest first for a closest
+  /// hit). Needed for the wide BVH, whose start entries are entered without a box test.
   /// Unset (default) = on for shafts-wide, off for shafts (Bvh2 tests its start entries itself).
   std::optional<bool> entry_boxes;
   /// shafts (Bvh2): Algorithm 1 walks the Bvh2 collapsed by this many levels per step (1 =
   /// the binary tree itself; 2 = 4-ary, 3 = 8-ary view of the same nodes), 1..4.
   int walk_levels = 1;
-  /// Store identical lists once (paper sec. 4.1); off = every list on its own, to measure what
+  /// Store identical lists once (paper sec. 4.4); off = every list on its own, to measure what
   /// deduplication saves.
   bool dedup = true;
   /// Seed of the sample rays (the result is the same for any thread count).
