@@ -565,7 +565,8 @@ TEST(ShaftsOptions, ManySharedSampleRaysPerShaft) {
 }
 
 // Rays a checker may throw at it: far origins (root fallback), origins on the scene box,
-// directions with -0, tiny or huge components, short and negative-length intervals, large tmin.
+// directions with -0, tiny or huge components, short and negative-length intervals, one-point
+// segments (tmin == tmax) at a hit and before it, large tmin.
 TEST(ShaftsExtremeRays, MatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1000, 41));
   const Bounds3 b = scene.bounds();
@@ -590,10 +591,25 @@ TEST(ShaftsExtremeRays, MatchBruteForce) {
     if (i % 11 == 3) { r.tmin = 1.0f; r.tmax = 0.5f; }
     rays.push_back(r);
   }
+  // One-point segments (tmin == tmax) exactly at a hit, and before it.
+  const auto [first, first_occ] = testing::brute_force(scene.triangles, rays);
+  const size_t plain = rays.size();
+  for (size_t i = 0; i < plain; ++i)
+    if (first.prim[i] != kInvalidId && rays[i].tmin == 0.0f) {
+      Ray r = rays[i];
+      r.tmin = r.tmax = first.t[i];
+      rays.push_back(r);
+      r.tmin = r.tmax = 0.5f * first.t[i];
+      rays.push_back(r);
+    }
   const auto [ref, oref] = testing::brute_force(scene.triangles, rays);
-  size_t hits = 0;
-  for (uint32_t p : ref.prim) hits += p != kInvalidId;
+  size_t hits = 0, point_hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    hits += ref.prim[i] != kInvalidId;
+    point_hits += i >= plain && ref.prim[i] != kInvalidId;
+  }
   EXPECT_GT(hits, rays.size() / 5);
+  EXPECT_GT(point_hits, (rays.size() - plain) / 4) << "a one-point segment at its hit should hit";
   for (Base base : {Base::Binary, Base::Wide}) {
     const ShaftsAccelerator acc(scene, base, fine_config(700, 3));
     HitBatch got;
