@@ -58,8 +58,9 @@ struct ShaftStats {
 struct Candidates {
   std::span<const uint32_t> list;
   /// Boxes of the list entries (collections built with entry_boxes), quantised outward to
-  /// 1/255 of the grid box per axis (ShaftCollection::entry_codec()) and laid out per list as 6 byte rows: lo.x of every entry, then lo.y, lo.z, hi.x, hi.y, hi.z.
-  /// At least 8 readable bytes follow every row (SIMD loads).
+  /// 1/255 of the grid box per axis (ShaftCollection::entry_codec()) and laid out per list as
+  /// 6 byte rows: lo.x of every entry, then lo.y, lo.z, hi.x, hi.y, hi.z. At least 8 readable
+  /// bytes follow every row (SIMD loads).
   const uint8_t* boxes = nullptr;
   bool reaches_nothing = false;  ///< the shaft provably reaches no geometry: the ray misses
 };
@@ -69,8 +70,8 @@ struct Candidates {
 /// list), and one concatenated area of 4-byte node references. Identical lists share storage.
 class ShaftCollection {
  public:
-  static constexpr uint32_t kNoVoxel = 0xFFFFFFFFu;
-  static constexpr uint32_t kEmptyList = 0xFFFFFFE0u;  ///< length 0, offset all ones
+  static constexpr uint32_t kNoVoxel = 0xFFFFFFFFu;    ///< voxel table: the voxel has no entries
+  static constexpr uint32_t kEmptyList = 0xFFFFFFE0u;  ///< entry: reaches nothing (length 0, offset all ones)
 
   /// Traces a ray from the root to its closest hit t (infinity on a miss); must be thread-safe.
   using TraceFn = std::function<float(const Ray&)>;
@@ -90,6 +91,7 @@ class ShaftCollection {
     if (!grid_.classify(ray, c)) return {};
     return lookup(c);
   }
+  /// The candidates of a classified shaft.
   Candidates lookup(ShaftCoord c) const {
     const uint32_t base = voxel_base_[c.voxel];
     if (base == kNoVoxel) return {};

@@ -56,7 +56,8 @@ class ShaftGrid {
     if (!(size_[axis] > 0.0f)) return 0;
     return std::clamp(int(std::floor((p - box_.lo[axis]) / size_[axis])), 0, res_[axis] - 1);
   }
-  /// Voxel of integer coordinates.
+  /// Voxel of integer coordinates (int arithmetic: below 2^31 voxels, which every grid a
+  /// ShaftCollection builds is, as it refuses 2^32 shafts).
   uint32_t voxel_id(int x, int y, int z) const { return uint32_t(x + res_[0] * (y + res_[1] * z)); }
   /// The x, y, z of a voxel id (voxel_id's inverse).
   std::array<int, 3> voxel_coords(uint32_t voxel) const {
