@@ -19,7 +19,7 @@
 namespace rayscout {
 
 namespace detail {
-struct VoxelLists;     // one voxel's lists before packing (shaft_collection.cpp)
+struct VoxelLists;     // one voxel's lists before packing (src/shafts/voxel_lists.h)
 class EntryBoxCodec;   // quantisation of the entry boxes (src/shafts/entry_box_codec.h)
 }  // namespace detail
 
