@@ -1,6 +1,8 @@
 // make_workload: sizes, ordering, determinism and ray validity of the papers' ray sets.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/input_error.h"
@@ -72,6 +74,41 @@ TEST(Workloads, ShadowRaysEndBeforeThePointLight) {
     EXPECT_NEAR(length(r.org + r.dir * r.tmax - scene.point_lights[0].position), eps, 1e-5f);
     EXPECT_EQ(r.tmin, 0.0f);
     EXPECT_EQ(r.org.z, eps);  // off the grid (z = 0) by the offset, on the light's side
+  }
+}
+
+// A floor (normals +z) seen from below: AO and diffuse rays leave on the viewer's side (-z),
+// cosine-distributed (E[cos] = 2/3; uniform would give 1/2), AO rays ao_radius long (10 % of
+// the diagonal unless configured), diffuse rays unbounded. Each check catches a planted bug
+// the test above passes: the geometric normal for the hemisphere, or an AO ray without its end.
+TEST(Workloads, AoAndDiffuseRaysAreCosineDistributedOnTheViewersSide) {
+  Scene scene = testing::scene_from_triangles(testing::grid(4));
+  scene.camera.eye = {0.5f, 0.5f, -1.0f};
+  scene.camera.look_at = {0.5f, 0.5f, 0.0f};
+  scene.camera.fov_deg = 40;  // the floor fills the view
+  const auto accel = make_accelerator("brute", scene);
+  const WorkloadConfig cfg{.width = 32, .height = 32, .spp = 1, .seed = 3};
+  const float diagonal = length(scene.bounds().diagonal());
+  for (const Workload w : {Workload::Ao, Workload::Diffuse}) {
+    for (const float radius : {0.0f, 0.25f}) {
+      WorkloadConfig c = cfg;
+      c.ao_radius = radius;
+      const RayBatch rays = make_workload(scene, *accel, w, c);
+      ASSERT_EQ(rays.size(), 32u * 32u) << workload_name(w) << ": the camera sees the floor in every pixel";
+      double sum_cos = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        const Ray r = rays[i];
+        ASSERT_NEAR(length(r.dir), 1.0f, 1e-5f);
+        ASSERT_LT(r.dir.z, 0.0f) << workload_name(w) << " ray " << i << " leaves on the far side of the floor";
+        EXPECT_LT(r.org.z, 0.0f) << "offset towards the camera";
+        const float want_tmax = w == Workload::Diffuse ? kInfinity : radius > 0 ? radius : 0.1f * diagonal;
+        ASSERT_FLOAT_EQ(r.tmax, want_tmax) << workload_name(w) << " ray " << i;
+        sum_cos += -r.dir.z;
+      }
+      // cos theta of a cosine-distributed direction: mean 2/3, sd sqrt(1/2 - 4/9) = 0.236.
+      const double se = 0.236 / std::sqrt(double(rays.size()));
+      EXPECT_NEAR(sum_cos / double(rays.size()), 2.0 / 3.0, 4 * se) << workload_name(w);
+    }
   }
 }
 
