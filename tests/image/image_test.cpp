@@ -399,15 +399,28 @@ TEST(ImageCompare, KnownValues) {
   EXPECT_THROW(compare_images(a, Image(2, 4)), InputError);
 }
 
-TEST(ImageCompare, DifferenceImageRamp) {
-  Image a(3, 1), b(3, 1);
-  a.at(1, 0) = Vec3{0.5f};
-  a.at(2, 0) = Vec3{1.0f};
-  const Image d = difference_image(a, b);
-  EXPECT_EQ(d.at(0, 0), Vec3(0.0f));                        // no difference: black
-  EXPECT_FLOAT_EQ(linear_to_srgb(d.at(2, 0).x), 1.0f);      // the largest: red
-  EXPECT_FLOAT_EQ(d.at(2, 0).y, 0.0f);
-  EXPECT_GT(d.at(1, 0).y, 0.5f);                            // half way: green
+// The ramp's colours by hand (display values: black, blue, cyan, green, yellow, red at
+// 0, 1/5, ..., 1 of the scale, linear between), for the mean of the channels' differences:
+// with scale 2, (0, 0, 1.5) has mean 0.5, a quarter of the way from blue to cyan. NaN and
+// inf pixels are red; the automatic scale is the largest finite difference, so an inf pixel
+// leaves the others coloured.
+TEST(ImageCompare, DifferenceImageColoursByHand) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  Image a(7, 1), b(7, 1);
+  const Vec3 in[7] = {Vec3(0.0f), Vec3(0.0f, 0.0f, 1.5f), Vec3(1.0f), Vec3(1.4f), Vec3(5.0f), Vec3(nan, 0, 0),
+                      Vec3(0, inf, 0)};
+  for (int x = 0; x < 7; ++x) a.at(x, 0) = in[x];
+  b.at(4, 0) = Vec3(1.0f);  // |a - b| = 4: beyond the scale, clamped to red
+  const Vec3 fixed[7] = {{0, 0, 0}, {0, 0.25f, 1}, {0, 1, 0.5f}, {0.5f, 1, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}};
+  auto expect_colours = [](const Image& d, const Vec3* want, int n, const char* what) {
+    for (int x = 0; x < n; ++x)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(linear_to_srgb(d.at(x, 0)[c]), want[x][c], 1e-5f) << what << " pixel " << x << " channel " << c;
+  };
+  expect_colours(difference_image(a, b, 2.0f), fixed, 7, "scale 2");
+  // Automatic scale: the largest finite difference is 4 (pixel 4); 1 is then 1/4 of it.
+  const Vec3 automatic[7] = {{0, 0, 0}, {0, 0, 0.625f}, {0, 0.25f, 1}, {0, 0.75f, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}};
+  expect_colours(difference_image(a, b), automatic, 7, "automatic scale");
 }
 
 // A NaN or infinite pixel must not pass for a close image, nor break the picture.
