@@ -58,6 +58,33 @@ expect(0 "wrote" rays --scene cornell --workload diffuse --width 8 --height 8 --
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/ok.rays --accel bvh --out ${WORK}/p.hits)
 expect(0 "mrays_per_s" trace --scene cornell --rays ${WORK}/d.rays --accel bvh --out ${WORK}/d.hits)
 expect(1 "result" compare-hits ${WORK}/p.hits ${WORK}/d.hits)
+# trace's JSON line: the count of the hits it wrote (compare-hits counts them in the file) and
+# exact work counters, brute force testing each of 64 rays against the 32 triangles of the
+# Cornell box. The diffuse rays leave by the open side too: some hit, some miss.
+foreach(query intersect occluded)
+  set(flag "")
+  set(key hits)
+  set(ext hits)
+  if(query STREQUAL "occluded")
+    set(flag --occluded)
+    set(key occluded)
+    set(ext occl)
+  endif()
+  execute_process(COMMAND ${RAYSCOUT} trace --scene cornell --rays ${WORK}/d.rays --accel brute --count --repeat 1
+                          ${flag} --out ${WORK}/d_brute.${ext}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(JSON positives ERROR_VARIABLE json_error GET "${out}" ${key})
+  string(JSON counted_rays ERROR_VARIABLE json_error2 GET "${out}" counters rays)
+  string(JSON tri_tests ERROR_VARIABLE json_error3 GET "${out}" counters ray_tri_tests)
+  string(JSON box_tests ERROR_VARIABLE json_error4 GET "${out}" counters ray_box_tests)
+  execute_process(COMMAND ${RAYSCOUT} compare-hits ${WORK}/d_brute.${ext} ${WORK}/d_brute.${ext} OUTPUT_VARIABLE cmp)
+  if(NOT rc EQUAL 0 OR json_error OR json_error2 OR json_error3 OR json_error4 OR positives EQUAL 0 OR positives EQUAL 64
+     OR NOT cmp MATCHES "${key}: +${positives} in A" OR NOT counted_rays EQUAL 64 OR NOT box_tests EQUAL 0
+     OR (query STREQUAL "intersect" AND NOT tri_tests EQUAL 2048)
+     OR (query STREQUAL "occluded" AND (tri_tests GREATER_EQUAL 2048 OR tri_tests LESS 64)))
+    message(FATAL_ERROR "trace --count (${query}): wrong JSON line (exit ${rc}):\n${out}${err}\ncompare-hits:\n${cmp}")
+  endif()
+endforeach()
 # A candidate that claims t = 0 on another triangle for every hit would excuse itself as grazing
 # contacts: beyond --max-grazing (1 % of the rays) the files differ.
 execute_process(COMMAND /usr/bin/python3 -c "import struct,sys; b=bytearray(open(sys.argv[1],'rb').read())
