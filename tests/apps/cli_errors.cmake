@@ -211,6 +211,16 @@ expect(0 "" render --width 8 --height 8 --out ${WORK}/a8.png)
 expect(0 "warning: .*a8\\.png is a PNG \\(8-bit sRGB, clamped to \\[0, 1\\]\\) and .*a8\\.pfm is not"
        diff ${WORK}/a8.png ${WORK}/a8.pfm)
 expect_without(0 "rmse" "warning" diff ${WORK}/a8.png ${WORK}/a8.png)
+# The metrics of a grey 0.5 pixel against a black reference, by hand: RMSE and max 0.5, PSNR
+# 10 log10(1 / 0.25) = 6.02 dB, relative MSE 0.25 / (0 + 0.01) = 25 (0.96 if A were the
+# reference); --max-rmse fails above the RMSE only.
+execute_process(COMMAND printf "PF\\n1 1\\n-1.0\\n\\000\\000\\000\\077\\000\\000\\000\\077\\000\\000\\000\\077"
+                OUTPUT_FILE ${WORK}/half1.pfm)
+execute_process(COMMAND printf "PF\\n1 1\\n-1.0\\n\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000"
+                OUTPUT_FILE ${WORK}/black1.pfm)
+expect(0 "rmse +0\\.5\nrel_mse +25\npsnr +6\\.02 dB\nmax_abs +0\\.5\n" diff ${WORK}/half1.pfm ${WORK}/black1.pfm)
+expect(0 "rmse +0\\.5\n" diff ${WORK}/half1.pfm ${WORK}/black1.pfm --max-rmse 0.5)
+expect(1 "rmse 0\\.5 is above --max-rmse 0\\.49" diff ${WORK}/half1.pfm ${WORK}/black1.pfm --max-rmse 0.49)
 # Output paths are checked before any work: a missing folder, a directory, an unknown format.
 expect(2 "folder .*no-such-dir does not exist" render --width 8 --height 8 --out ${WORK}/no-such-dir/x.png)
 expect(2 "a8.pfm/x.png: .*a8.pfm is a file, not a folder" render --width 8 --height 8 --out ${WORK}/a8.pfm/x.png)
