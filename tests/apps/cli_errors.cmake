@@ -25,6 +25,11 @@ foreach(command render rays trace)
   expect(0 "--scene TEXT[ A-Z]*a \\.json scene file .* or cornell, the built-in Cornell box.*--accel TEXT=bvh +accelerator [a-z ]+: brute, dacrt, dacrt-rs, bvh2, bvh, shafts"
          ${command} --help)
 endforeach()
+# info on the built-in scene: its counts by hand (26 white, 2 red, 2 green, 2 light triangles;
+# the light a 0.5 x 0.5 quad).
+expect(0 "triangles: +32\nbounds: +min \\(-1, 0, -1\\) max \\(1, 2, 1\\)\n.*materials: +4\n +white +diffuse +26 tris.*\n +red +diffuse +2 tris.*\n +green +diffuse +2 tris.*\n +light +diffuse +2 tris .*emission \\(17, 12, 4\\)\nlights: +1 point, 2 emissive triangles \\(area 0\\.25\\)\n +point at \\(0, 1\\.9, 0\\)"
+       info --scene cornell)
+expect(0 "--accel" trace --help)
 expect(0 "^rayscout [0-9]+\\.[0-9]+" --version)
 expect(2 "unknown option '--width' \\(options follow the command" --width 8 render)
 expect(0 "Integrators \\(--integrator\\):.*direct +point lights.*manylight +VPLs" render --help)
