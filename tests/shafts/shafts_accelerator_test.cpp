@@ -300,21 +300,23 @@ TEST(ShaftsBinary, ListsCutTraversalStepsOnSecondaryRays) {
 }
 
 // Found by review: the float overlap test's tolerance grew with the coordinates, so culling
-// faded away from the world origin (this soup, 10 units wide, saved 42 % of the steps at the
-// origin and 21 % at 1e5). Now the padding alone grows with them (4 ulps), and the same soup
-// at 1e5 keeps most of its saving (34 %), with every hit exact.
+// faded away from the world origin. Now the padding alone grows with them (4 ulps): a soup of
+// 2000 triangles, 10 units wide, in 2048 voxels saves 71.7 % of the steps at the origin and
+// 66.7 % at 1e5 (the old tolerance: 54.4 %), with every hit exact. One size for both scales:
+// the sanitizer run's former size (2000 triangles in 4096 voxels, 93 % against 74 % of the
+// origin's saving) passed with the old tolerance.
 TEST(ShaftsBinary, CullingHoldsFarFromTheWorldOrigin) {
   double saved[2];
   for (int far = 0; far < 2; ++far) {
-    std::vector<Triangle> tris = testing::random_soup(small_scale() ? 2000 : 5000, 12);
+    std::vector<Triangle> tris = testing::random_soup(2000, 12);
     const Vec3 offset(far ? 1e5f : 0.0f);
     for (Triangle& t : tris)
       for (Vec3* v : {&t.v0, &t.v1, &t.v2}) *v = *v * 10.0f + offset;
     const Scene scene = testing::scene_from_triangles(tris);
     ShaftConfig config;
-    config.voxels = 4096;
+    config.voxels = 2048;
     const ShaftsAccelerator acc(scene, Base::Binary, config);
-    const RayBatch rays = testing::rays_from_surfaces(scene.triangles, small_scale() ? 2000 : 10000, 3);
+    const RayBatch rays = testing::rays_from_surfaces(scene.triangles, small_scale() ? 4000 : 10000, 3);
     TraceStats with, without;
     HitBatch a, b;
     acc.intersect(rays, a, &with, true);
@@ -322,8 +324,9 @@ TEST(ShaftsBinary, CullingHoldsFarFromTheWorldOrigin) {
     EXPECT_TRUE(compare_hits(b, a, 0.0f).ok()) << "offset " << offset.x;
     saved[far] = 1.0 - double(with.traversal_steps) / double(without.traversal_steps);
   }
-  EXPECT_GT(saved[0], 0.3);
-  EXPECT_GT(saved[1], 0.7 * saved[0]) << "at the origin " << saved[0] << ", at 1e5 " << saved[1];
+  EXPECT_GT(saved[0], 0.5);
+  // 0.93 of the origin's saving now, 0.76 with the old tolerance.
+  EXPECT_GT(saved[1], 0.85 * saved[0]) << "at the origin " << saved[0] << ", at 1e5 " << saved[1];
 }
 
 // A tree without nodes has no geometry: the selected shafts (here by pre-pass rays, which an
