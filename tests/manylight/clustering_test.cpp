@@ -105,6 +105,45 @@ TEST(ManylightVpls, CountIsAtLeastTheTargetAndCloseToIt) {
   }
 }
 
+// t = I f G of eq. (1), G = cos_x / max(d^2, clamp^2), worked out by hand for each VPL kind at a
+// point of a diffuse floor (albedo 0.5, f = 0.5 / pi) facing +y. The unbiasedness tests sum
+// the same function on both sides, so only values like these check it.
+TEST(ManylightVpls, TentativeContributionByHand) {
+  Scene scene;
+  scene.materials.push_back(Material{.diffuse = Vec3(0.5f)});
+  ShadingPoint sp;
+  sp.position = Vec3(0.0f);
+  sp.normal = Vec3(0, 1, 0);
+  sp.wo = Vec3(0, 1, 0);
+  sp.weight = Vec3(1.0f);
+  const double f = 0.5 / std::numbers::pi;
+  auto t = [&](const Vpl& v, float clamp = 0.0f) { return double(tentative_contribution(scene, sp, v, clamp).x); };
+  // A point VPL of intensity 2 at (0, 2, 0): cos 1, d^2 4; at (2, 2, 0): cos 1/sqrt(2), d^2 8.
+  Vpl point{.position = {0, 2, 0}, .power = Vec3(2.0f), .kind = Vpl::Kind::Point};
+  EXPECT_NEAR(t(point), 2 * f / 4, 1e-7);
+  point.position = {2, 2, 0};
+  EXPECT_NEAR(t(point), 2 * f * std::sqrt(0.5) / 8, 1e-7);
+  // Clamped: d^2 = 8 below clamp^2 = 9 counts as 9; above it, unchanged.
+  EXPECT_NEAR(t(point, 3.0f), 2 * f * std::sqrt(0.5) / 9, 1e-7);
+  EXPECT_NEAR(t(point, 2.0f), 2 * f * std::sqrt(0.5) / 8, 1e-7);
+  // Behind the shading point's surface: nothing.
+  point.position = {0, -2, 0};
+  EXPECT_EQ(t(point), 0.0);
+  // An emitter point facing down at (0, 2, 0) with power 3: intensity 3 cos_l / pi towards sp
+  // (cos_l 1 straight below, 1/sqrt(2) from (2, 2, 0)), none when it faces up.
+  Vpl emitter{.position = {0, 2, 0}, .normal = {0, -1, 0}, .power = Vec3(3.0f), .kind = Vpl::Kind::Emitter};
+  EXPECT_NEAR(t(emitter), 3 / std::numbers::pi * f / 4, 1e-7);
+  emitter.position = {2, 2, 0};
+  EXPECT_NEAR(t(emitter), 3 / std::numbers::pi * std::sqrt(0.5) * f * std::sqrt(0.5) / 8, 1e-7);
+  emitter.normal = {0, 1, 0};
+  EXPECT_EQ(t(emitter), 0.0);
+  // A surface vertex on a ceiling (normal -y, the same diffuse material) lit with flux 4:
+  // intensity 4 f cos_l towards sp, whatever direction it was lit from (wi).
+  Vpl surface{.position = {0, 2, 0}, .normal = {0, -1, 0}, .wi = normalize(Vec3(1, -1, 0)), .power = Vec3(4.0f),
+              .material = 0, .kind = Vpl::Kind::Surface};
+  EXPECT_NEAR(t(surface), 4 * f * 1 * f / 4, 1e-7);
+}
+
 // A dark point light carries no power: it is never chosen. Alone, it used to divide the
 // light cdf by 0 and make every VPL NaN (an all-NaN image with exit 0).
 TEST(ManylightVpls, DarkPointLightsAreNeverChosen) {
