@@ -8,6 +8,9 @@
 
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
+#include "rayscout/bvh/bvh_accelerators.h"
+#include "rayscout/dacrt/dacrt.h"
+#include "rayscout/shafts/shafts_accelerator.h"
 #include "rayscout/core/hit_compare.h"
 
 namespace rayscout {
@@ -284,6 +287,35 @@ TEST_P(AcceleratorSuite, SubnormalComponentsAreTracedAsZero) {
   HitBatch in_plane_hits;
   one->intersect(in_plane, in_plane_hits);
   EXPECT_EQ(std::count(in_plane_hits.prim.begin(), in_plane_hits.prim.end(), kInvalidId), 2000);
+}
+
+// Every test here and elsewhere loops over accelerators(): an entry lost from the registry, or
+// one that builds another accelerator (every one of ours gives the same hits), would pass them
+// all. The README's list, in order, each name building its own type and configuration.
+TEST(Registry, EveryAcceleratorBuildsUnderItsOwnName) {
+  std::vector<std::string> want = {"brute", "dacrt", "dacrt-rs", "bvh2", "bvh", "shafts", "shafts-wide"};
+  std::vector<std::string> names;
+  for (const auto& a : accelerators()) names.push_back(a.name);
+  if (!names.empty() && names.back() == "embree") want.push_back("embree");  // an Embree build
+  EXPECT_EQ(names, want);
+  const Scene scene = testing::scene_from_triangles(testing::grid(4));
+  for (const std::string& name : names) {
+    const auto accel = make_accelerator(name, scene);
+    EXPECT_EQ(accel->name(), name);
+    const Accelerator* p = accel.get();
+    if (name == "brute") EXPECT_NE(dynamic_cast<const BruteForce*>(p), nullptr);
+    if (name == "bvh2") EXPECT_NE(dynamic_cast<const Bvh2Accelerator*>(p), nullptr);
+    if (name == "bvh") EXPECT_NE(dynamic_cast<const WideBvhAccelerator*>(p), nullptr);
+    if (name.starts_with("shafts")) EXPECT_NE(dynamic_cast<const ShaftsAccelerator*>(p), nullptr);  // name() from its base
+    if (name.starts_with("dacrt")) {
+      const auto* dacrt = dynamic_cast<const Dacrt*>(p);
+      ASSERT_NE(dacrt, nullptr) << name;
+      const DacrtConfig want_config = name == "dacrt" ? DacrtConfig::afra() : DacrtConfig::ray_sampled();
+      EXPECT_EQ(dacrt->config().sampled_cost, want_config.sampled_cost) << name;
+      EXPECT_EQ(dacrt->config().sampled_order, want_config.sampled_order) << name;
+      EXPECT_EQ(dacrt->config().skip_partitioning, want_config.skip_partitioning) << name;
+    }
+  }
 }
 
 std::string param_name(const ::testing::TestParamInfo<SuiteParam>& info) {
