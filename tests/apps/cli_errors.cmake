@@ -362,6 +362,16 @@ string(JSON json_height ERROR_VARIABLE json_error GET "${out}" height)
 if(NOT rc EQUAL 0 OR json_error OR NOT json_height EQUAL 6 OR NOT err MATCHES "wrote")
   message(FATAL_ERROR "render --stats -: stdout is not the JSON alone (exit ${rc}, ${json_error}):\n${out}\nstderr:\n${err}")
 endif()
+# Each --integrator name renders with that integrator (the JSON names the one that ran).
+foreach(integrator direct area ao path manylight)
+  execute_process(COMMAND ${RAYSCOUT} render --integrator ${integrator} --width 4 --height 4 --spp 1 --vpls 20 --passes 1
+                          --out ${WORK}/i.pfm --stats -
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(JSON ran ERROR_VARIABLE json_error GET "${out}" integrator)
+  if(NOT rc EQUAL 0 OR json_error OR NOT ran STREQUAL integrator)
+    message(FATAL_ERROR "render --integrator ${integrator} ran '${ran}' (exit ${rc}, ${json_error}):\n${out}${err}")
+  endif()
+endforeach()
 # Manylight's visibility samples are traced one cluster pair at a time: bounded.
 expect(2 "--visibility-samples: '65537' is not a number in \\[1, 65536\\]" ${ML} --visibility-samples 65537 --out ${WORK}/x.pfm)
 # manylight renders through a pinhole: a scene's thin lens is said to be ignored.
