@@ -303,10 +303,12 @@ TEST(Registry, EveryAcceleratorBuildsUnderItsOwnName) {
     const auto accel = make_accelerator(name, scene);
     EXPECT_EQ(accel->name(), name);
     const Accelerator* p = accel.get();
-    if (name == "brute") EXPECT_NE(dynamic_cast<const BruteForce*>(p), nullptr);
-    if (name == "bvh2") EXPECT_NE(dynamic_cast<const Bvh2Accelerator*>(p), nullptr);
-    if (name == "bvh") EXPECT_NE(dynamic_cast<const WideBvhAccelerator*>(p), nullptr);
-    if (name.starts_with("shafts")) EXPECT_NE(dynamic_cast<const ShaftsAccelerator*>(p), nullptr);  // name() from its base
+    if (name == "brute") { EXPECT_NE(dynamic_cast<const BruteForce*>(p), nullptr); }
+    if (name == "bvh2") { EXPECT_NE(dynamic_cast<const Bvh2Accelerator*>(p), nullptr); }
+    if (name == "bvh") { EXPECT_NE(dynamic_cast<const WideBvhAccelerator*>(p), nullptr); }
+    if (name.starts_with("shafts")) {  // name() comes from its base
+      EXPECT_NE(dynamic_cast<const ShaftsAccelerator*>(p), nullptr);
+    }
     if (name.starts_with("dacrt")) {
       const auto* dacrt = dynamic_cast<const Dacrt*>(p);
       ASSERT_NE(dacrt, nullptr) << name;

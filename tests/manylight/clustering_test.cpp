@@ -119,7 +119,7 @@ TEST(ManylightVpls, TentativeContributionByHand) {
   const double f = 0.5 / std::numbers::pi;
   auto t = [&](const Vpl& v, float clamp = 0.0f) { return double(tentative_contribution(scene, sp, v, clamp).x); };
   // A point VPL of intensity 2 at (0, 2, 0): cos 1, d^2 4; at (2, 2, 0): cos 1/sqrt(2), d^2 8.
-  Vpl point{.position = {0, 2, 0}, .power = Vec3(2.0f), .kind = Vpl::Kind::Point};
+  Vpl point{.position = {0, 2, 0}, .normal = {}, .wi = {}, .power = Vec3(2.0f), .kind = Vpl::Kind::Point};
   EXPECT_NEAR(t(point), 2 * f / 4, 1e-7);
   point.position = {2, 2, 0};
   EXPECT_NEAR(t(point), 2 * f * std::sqrt(0.5) / 8, 1e-7);
@@ -131,7 +131,8 @@ TEST(ManylightVpls, TentativeContributionByHand) {
   EXPECT_EQ(t(point), 0.0);
   // An emitter point facing down at (0, 2, 0) with power 3: intensity 3 cos_l / pi towards sp
   // (cos_l 1 straight below, 1/sqrt(2) from (2, 2, 0)), none when it faces up.
-  Vpl emitter{.position = {0, 2, 0}, .normal = {0, -1, 0}, .power = Vec3(3.0f), .kind = Vpl::Kind::Emitter};
+  Vpl emitter{.position = {0, 2, 0}, .normal = {0, -1, 0}, .wi = {}, .power = Vec3(3.0f),
+              .kind = Vpl::Kind::Emitter};
   EXPECT_NEAR(t(emitter), 3 / std::numbers::pi * f / 4, 1e-7);
   emitter.position = {2, 2, 0};
   EXPECT_NEAR(t(emitter), 3 / std::numbers::pi * std::sqrt(0.5) * f * std::sqrt(0.5) / 8, 1e-7);
