@@ -386,39 +386,33 @@ expect(2 "option 'bins' given twice \\('8' and '9'\\)" render --accel bvh --acce
 # big ray file take minutes); stdout keeps the one JSON line. `script` gives the command a
 # terminal; without it this part is skipped.
 find_program(SCRIPT script)
+# Runs command on a terminal; its output must exit with code, match must and not match must_not.
+function(on_terminal code must must_not what command)
+  execute_process(COMMAND ${SCRIPT} -qec "${command}" /dev/null
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL code OR NOT out MATCHES "${must}" OR (NOT must_not STREQUAL "" AND out MATCHES "${must_not}"))
+    message(FATAL_ERROR "${what} on a terminal (exit ${rc}):\n${out}${err}")
+  endif()
+endfunction()
 if(SCRIPT)
-  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3 --count" /dev/null
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0 OR NOT out MATCHES "trace: built in [0-9.]+ s.*run 3/3.*counting run.*\"mrays_per_s\"")
-    message(FATAL_ERROR "trace on a terminal shows no progress (exit ${rc}):\n${out}${err}")
-  endif()
-  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} rays --scene cornell --workload diffuse --width 8 --height 8 --out ${WORK}/bar.rays" /dev/null
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0 OR NOT out MATCHES "rays: building bvh over 32 triangles.*rays: making the diffuse rays of 8x8 pixels at 1 spp.*wrote")
-    message(FATAL_ERROR "rays on a terminal shows no progress (exit ${rc}):\n${out}${err}")
-  endif()
+  on_terminal(0 "trace: built in [0-9.]+ s.*run 3/3.*counting run.*\"mrays_per_s\"" ""
+              "trace shows no progress" "${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3 --count")
+  on_terminal(0 "rays: building bvh over 32 triangles.*rays: making the diffuse rays of 8x8 pixels at 1 spp.*wrote" ""
+              "rays shows no progress"
+              "${RAYSCOUT} rays --scene cornell --workload diffuse --width 8 --height 8 --out ${WORK}/bar.rays")
   # The progress line is cleared when the work ends, and before an error message, which then
   # starts the line (a script running trace per ray set keeps a clean terminal).
-  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} trace --scene cornell --rays ${WORK}/cut.rays" /dev/null
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 2 OR NOT out MATCHES "loading the scene and the rays[^\r]*\r.\\[Krayscout: error: .*cut\\.rays")
-    message(FATAL_ERROR "trace on a terminal: the error does not start a cleared line (exit ${rc}):\n${out}${err}")
-  endif()
+  on_terminal(2 "loading the scene and the rays[^\r]*\r.\\[Krayscout: error: .*cut\\.rays" ""
+              "trace: the error does not start a cleared line" "${RAYSCOUT} trace --scene cornell --rays ${WORK}/cut.rays")
   # manylight ends the line itself before its summary: no empty line follows it.
-  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} render --integrator manylight --width 8 --height 8 --vpls 20 --passes 2 --out ${WORK}/bar.png" /dev/null
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0 OR NOT out MATCHES "pass 2/2" OR out MATCHES "\n\r?\n")
-    message(FATAL_ERROR "render --integrator manylight on a terminal prints an empty line (exit ${rc}):\n${out}${err}")
-  endif()
+  on_terminal(0 "pass 2/2" "\n\r?\n" "render --integrator manylight prints an empty line"
+              "${RAYSCOUT} render --integrator manylight --width 8 --height 8 --vpls 20 --passes 2 --out ${WORK}/bar.png")
   # render's time left comes from whole passes: none during the first (a single-pass direct
   # render of a scene without mirrors ended at "~3 s left" for 1 s of work: its bounce 0 was
   # counted as a quarter of the pass), then one for each later pass.
-  execute_process(COMMAND ${SCRIPT} -qec "${RAYSCOUT} render --integrator path --width 32 --height 32 --spp 4 --max-batch 1024 --out ${WORK}/bar.png" /dev/null
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0 OR out MATCHES "pass 1/4[^\r]*left" OR NOT out MATCHES "pass 4/4[^\r]*~[0-9.]+ s left"
-     OR NOT out MATCHES "render: loading the scene.*render: building bvh over 32 triangles")
-    message(FATAL_ERROR "render's progress on a terminal (exit ${rc}):\n${out}${err}")
-  endif()
+  on_terminal(0 "render: loading the scene.*render: building bvh over 32 triangles.*pass 4/4[^\r]*~[0-9.]+ s left"
+              "pass 1/4[^\r]*left" "render's progress"
+              "${RAYSCOUT} render --integrator path --width 32 --height 32 --spp 4 --max-batch 1024 --out ${WORK}/bar.png")
   execute_process(COMMAND ${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT err STREQUAL "")
