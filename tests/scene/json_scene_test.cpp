@@ -249,13 +249,15 @@ TEST(JsonScene, RepeatedFilesAndScenesDirPrefix) {
   scenes.write("q.ply",
                "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
                "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
-  ::setenv("RAYSCOUT_SCENES", scenes.path().c_str(), 1);
   std::string meshes;
   for (int i = 0; i < 5; ++i)
     meshes += std::string(i ? "," : "") + R"({"file": "$RAYSCOUT_SCENES/q.ply", "transform": {"translate": [0, 0, )" +
               std::to_string(i) + "]}}";
-  const Scene s = load_scene(dir.write("r.json", R"({"meshes": [)" + meshes + "]}"));
-  ::unsetenv("RAYSCOUT_SCENES");
+  // Restored, not unset, afterwards: the real-scene tests of this process read it.
+  const Scene s = [&] {
+    const testing::ScopedEnv env("RAYSCOUT_SCENES", scenes.path().string());
+    return load_scene(dir.write("r.json", R"({"meshes": [)" + meshes + "]}"));
+  }();
   ASSERT_EQ(s.triangles.size(), 10u);
   for (int i = 0; i < 5; ++i) {
     expect_near(s.triangles[2 * i].v0, {0, 0, float(i)}, 0);

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <functional>
 #include <string>
@@ -41,6 +43,26 @@ class TempDir {
 
  private:
   std::filesystem::path dir_;
+};
+
+/// Sets an environment variable for the scope and restores its previous value (or its absence)
+/// afterwards, also when the test throws: later tests of the same process read it too.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    ::setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() {
+    if (old_) ::setenv(name_, old_->c_str(), 1);
+    else ::unsetenv(name_);
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
 };
 
 /// The InputError message of f(), or fails the test when f does not throw one.
