@@ -240,9 +240,9 @@ Mesh read_gltf(const std::filesystem::path& path) {
     // As in MTL and JSON materials: a negative or non-finite colour would make negative or
     // NaN radiance.
     for (const auto& [what, c] : {std::pair{"base colour", kd}, {"specular colour", ks}, {"emission", ke}}) {
-      if (!is_finite(c)) throw InputError(file + ": material \"" + n + "\": " + what + " beyond float range");
-      if (c.x < 0 || c.y < 0 || c.z < 0)
-        throw InputError(file + ": material \"" + n + "\": " + what + " components must be >= 0");
+      const std::string material = file + ": material \"" + detail::printable(n) + "\": " + what;
+      if (!is_finite(c)) throw InputError(material + " beyond float range");
+      if (c.x < 0 || c.y < 0 || c.z < 0) throw InputError(material + " components must be >= 0");
     }
     Material mat = material_from_mtl(n, kd, ks, ns, 2, ke);
     if (std::string warning = conserve_energy_with_warning(mat, file); !warning.empty())

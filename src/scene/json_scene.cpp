@@ -142,8 +142,8 @@ class JsonSceneLoader {
     for (uint32_t id : scene.material_ids) used[id] = 1;
     for (const auto& [name, value] : root["materials"].items())
       if (auto index = builder.find(name); !JsonFields::is_comment(name) && index && !used[*index])
-        scene.warnings.push_back(f_.file() + ": " + JsonFields::join("materials", name) +
-                                 ": no triangle uses this material (a misspelt name?)");
+        scene.warnings.push_back(printable(f_.file() + ": " + JsonFields::join("materials", name) +
+                                           ": no triangle uses this material (a misspelt name?)"));
   }
 
   std::filesystem::path resolve_path(const std::string& file) const {

@@ -144,8 +144,9 @@ std::string conserve_energy_with_warning(Material& m, const std::string& where) 
   const float total = conserve_energy(m);
   if (!(total > 1.0f)) return {};
   const std::string max = detail::format_number(total);
-  return where + ": material '" + m.name + "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") +
-         " reaches " + max + " in a channel (> 1 reflects more light than arrives); Kd and Ks scaled by 1/" + max;
+  return detail::printable(where + ": material '" + m.name + "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") +
+                           " reaches " + max + " in a channel (> 1 reflects more light than arrives); Kd and Ks scaled by 1/" +
+                           max);
 }
 
 void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std::vector<std::string>* warnings) {
@@ -166,9 +167,10 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
       refuse_binary_line({key.data(), size_t(line_end - key.data())}, any_statement, path, line, "MTL");
       if (!unknown_keys.emplace(key).second || !warnings) return;
       const std::string_view meant = read_key_but_for_case(key);
-      warnings->push_back(detail::printable(
-          detail::display_name(path) + ":" + std::to_string(line) + ": unknown MTL statement '" + std::string(key) +
-          "' ignored" + (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?")));
+      warnings->push_back(detail::at_line(
+          path, line,
+          "unknown MTL statement '" + std::string(key) + "' ignored" +
+              (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?")));
       return;
     }
     any_statement = true;
@@ -214,13 +216,11 @@ void read_mtl(const std::filesystem::path& path, std::vector<Material>& out, std
   for (size_t i = 0; i < out.size(); ++i) index.emplace(out[i].name, i);
   for (auto& d : defs) {
     Material m = material_from_mtl(d.name, d.kd, d.ks, d.ns, d.illum, d.ke);
-    const std::string warning =
-        conserve_energy_with_warning(m, detail::display_name(path) + ":" + std::to_string(d.line));
+    const std::string warning = conserve_energy_with_warning(m, detail::display_name(path) + ":" + std::to_string(d.line));
     if (!warning.empty() && warnings) warnings->push_back(warning);
     if (auto [it, added] = index.emplace(m.name, out.size()); !added) {
       if (warnings)
-        warnings->push_back(detail::display_name(path) + ":" + std::to_string(d.line) + ": material '" + m.name +
-                            "' defined again; this later definition is used");
+        warnings->push_back(detail::at_line(path, d.line, "material '" + m.name + "' defined again; this later definition is used"));
       out[it->second] = std::move(m);
     } else {
       out.push_back(std::move(m));
@@ -348,8 +348,7 @@ class ObjReader {
       if (ec) key = mtl.lexically_normal().string();
       if (!libraries_seen_.insert(std::move(key)).second) continue;
       if (!std::filesystem::exists(mtl, ec)) {
-        mesh_.warnings.push_back(detail::display_name(path_) + ":" + std::to_string(line) + ": material library '" + f +
-                                 "' not found; its materials get defaults");
+        mesh_.warnings.push_back(detail::at_line(path_, line, "material library '" + f + "' not found; its materials get defaults"));
         continue;
       }
       // As read_file refuses them, but said at the mtllib line that names them.
@@ -388,8 +387,8 @@ class ObjReader {
       Material m;
       m.name = name;
       if (name != "default")
-        mesh_.warnings.push_back(detail::display_name(path_) + ":" + std::to_string(used_lines_[i]) + ": material '" +
-                                 name + "' is not defined in any material library; using a grey diffuse");
+        mesh_.warnings.push_back(detail::at_line(
+            path_, used_lines_[i], "material '" + name + "' is not defined in any material library; using a grey diffuse"));
       mesh_.materials.push_back(m);
     }
   }

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "rayscout/core/input_error.h"
+#include "text_parse.h"
 
 namespace rayscout::detail {
 
@@ -49,8 +50,8 @@ std::vector<uint32_t> SceneBuilder::intern_all(const Mesh& mesh, const std::stri
   for (const auto& m : mesh.materials) {
     const auto existing = find(m.name);
     if (existing && warnings && !same_values(scene_.materials[*existing], m))
-      warnings->push_back(source + ": material '" + m.name +
-                          "' differs from an earlier definition of that name; the first one is used");
+      warnings->push_back(printable(source + ": material '" + m.name +
+                                    "' differs from an earlier definition of that name; the first one is used"));
     map.push_back(existing ? *existing : define(m));
   }
   return map;

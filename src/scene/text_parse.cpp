@@ -54,8 +54,12 @@ std::string printable(std::string_view text) {
   return out;
 }
 
+std::string at_line(const std::filesystem::path& file, size_t line, const std::string& message) {
+  return printable(display_name(file) + ":" + std::to_string(line) + ": " + message);
+}
+
 void fail_at(const std::filesystem::path& file, size_t line, const std::string& message) {
-  throw InputError(printable(display_name(file) + ":" + std::to_string(line) + ": " + message));
+  throw InputError(at_line(file, line, message));
 }
 
 void check_json_nesting(std::string_view text, const std::string& file) {

@@ -29,7 +29,10 @@ inline const char* skip_bom(const std::string& data) {
 /// the message prints whole (what() is a C string: a NUL ended it) and plainly on a terminal.
 std::string printable(std::string_view text);
 
-/// Throws InputError "file:line: message", the message made printable.
+/// "file:line: message" with control bytes escaped: the form of every located error and warning.
+std::string at_line(const std::filesystem::path& file, size_t line, const std::string& message);
+
+/// Throws InputError(at_line(file, line, message)).
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 
 /// "face with n vertices (at least 3 needed)", "vertex" for n = 1: the OBJ and PLY readers' message.

@@ -276,6 +276,31 @@ TEST(SceneBadInput, ControlBytesInQuotedInputAreEscaped) {
                   {"nul.json: meshes[0].a\\x00b: unknown key"});
 }
 
+// Review: warnings quoted names raw, so an OBJ's "usemtl <ESC>[2J" cleared the terminal that
+// `rayscout info` printed it to. Warnings escape control bytes as errors do.
+TEST(SceneBadInput, ControlBytesInWarningsAreEscaped) {
+  TempDir dir;
+  dir.write("esc.mtl", "newmtl bright\x1b[2J\nKd 1 1 1\nKs 1 1 1\n");
+  const Scene obj = load_scene(dir.write("esc.obj", "mtllib esc.mtl\nmtllib gone\x1b.mtl\n" + kTriangle +
+                                                       "usemtl bright\x1b[2J\nf 1 2 3\nusemtl nope\x07\nf 1 2 3\n"));
+  dir.write("dim.mtl", "newmtl bright\x1b[2J\nKd 0.1 0.1 0.1\n");
+  dir.write("dim.obj", "mtllib dim.mtl\n" + kTriangle + "usemtl bright\x1b[2J\nf 1 2 3\n");
+  const Scene json = load_scene(dir.write("esc.json", R"({"meshes": [{"file": "esc.obj"}, {"file": "dim.obj"}],
+                                                          "materials": {"unused\u001b": {"diffuse": 0.5}}})"));
+  std::vector<std::string> warnings = obj.warnings;
+  warnings.insert(warnings.end(), json.warnings.begin(), json.warnings.end());
+  ASSERT_GE(warnings.size(), 6u);
+  for (const std::string& w : warnings)
+    for (const char c : w) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || c == 0x7f) << "control byte in: " << w;
+  expect_contains(obj.warnings[0], {"esc.mtl:1: material 'bright\\x1b[2J': Kd + Ks reaches 2"});
+  expect_contains(obj.warnings[1], {"esc.obj:2: material library 'gone\\x1b.mtl' not found"});
+  expect_contains(obj.warnings[2], {"esc.obj:8: material 'nope\\x07' is not defined"});
+  std::string all;
+  for (const std::string& w : json.warnings) all += w + "\n";
+  expect_contains(all, {"dim.obj: material 'bright\\x1b[2J' differs from an earlier definition",
+                        "esc.json: materials.unused\\x1b: no triangle uses this material"});
+}
+
 // Review: the OS reads a path up to its first NUL, so "ok.obj\u0000junk.obj" loaded ok.obj (and
 // "mtllib red.mtl<NUL>junk" read red.mtl); messages quoting a path were cut at a NUL, and
 // printed other control bytes raw.

@@ -457,6 +457,9 @@ TEST(GltfReader, NegativeOrHugeColoursAreErrors) {
       {R"({"name": "e", "emissiveFactor": [-1, 0, 2]})", "n.gltf: material \"e\": emission components must be >= 0"},
       {R"({"name": "h", "pbrMetallicRoughness": {"baseColorFactor": [1e39, 0.5, 0.5, 1]}})",
        "n.gltf: material \"h\": base colour beyond float range"},
+      // A name quoted in a message shows its control bytes escaped.
+      {R"({"name": "esc\u001b[2J", "emissiveFactor": [-1, 0, 2]})",
+       "n.gltf: material \"esc\\x1b[2J\": emission components must be >= 0"},
   };
   for (const auto& [material, message] : cases)
     testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("n.gltf", with_material(material))); }),
