@@ -22,6 +22,7 @@
 namespace rayscout {
 namespace {
 
+using detail::expect_line_end;
 using detail::fail_at;
 using detail::next_token;
 
@@ -47,14 +48,6 @@ Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& fil
   if (n < 3)
     fail_at(file, line, std::string(what) + ": expected 3 numbers, found " + std::to_string(n));
   return {c[0], c[1], c[2]};
-}
-
-// Refuses a token left on the line after a statement's values ("Kd 1 0 0 abc", "v 1 0 0 v 0 1 0"):
-// ignored, it would hide a typo or two statements run together.
-void expect_line_end(const char* p, const char* end, const std::filesystem::path& file, size_t line,
-                     std::string_view what, std::string_view after) {
-  if (const std::string_view tok = next_token(p, end); !tok.empty())
-    fail_at(file, line, std::string(what) + ": unexpected '" + std::string(tok) + "' after " + std::string(after));
 }
 
 // MTL statements rayscout reads past on purpose (ambient, transparency, refraction, bump and

@@ -129,15 +129,22 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
 
   std::string_view hl;
   if (!header_line(hl) || hl != "ply") fail_at(path, 1, "not a PLY file (first line must be 'ply')");
-  bool have_format = false, have_end = false;
+  size_t format_line = 0;  // 0 until the format line
+  bool have_end = false;
   std::unordered_map<std::string, size_t> property_lines;  // of the current element: a header may hold 10^6
   while (header_line(hl)) {
     const char* q = hl.data();
     const char* e = q + hl.size();
     std::string_view key = next_token(q, e);
     if (key.empty() || key == "comment" || key == "obj_info") continue;
-    if (key == "end_header") { have_end = true; break; }
+    if (key == "end_header") {
+      detail::expect_line_end(q, e, path, line, "end_header", "it");
+      have_end = true;
+      break;
+    }
     if (key == "format") {
+      if (format_line)
+        fail_at(path, line, "a second format line (the first is on line " + std::to_string(format_line) + ")");
       std::string_view f = next_token(q, e);
       if (f == "ascii") h.format = Format::Ascii;
       else if (f == "binary_little_endian") h.format = Format::BinaryLittle;
@@ -147,7 +154,8 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       if (version.empty()) fail_at(path, line, "format line without a version (expected 'format " + std::string(f) + " 1.0')");
       if (double v; !detail::parse_double(version, v) || v != 1.0)
         fail_at(path, line, "unsupported PLY version '" + std::string(version) + "' (1.0 is the only one)");
-      have_format = true;
+      detail::expect_line_end(q, e, path, line, "format", "the version");
+      format_line = line;
     } else if (key == "element") {
       Element el;
       el.name = std::string(next_token(q, e));
@@ -155,6 +163,7 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       long long n;
       if (el.name.empty() || !detail::parse_int(c, n) || n < 0)
         fail_at(path, line, "element: expected 'element <name> <count>'");
+      detail::expect_line_end(q, e, path, line, "element", "the count");
       // Each vertex element would need its own x, y, z positions; one is all a mesh has.
       if (el.name == "vertex") {
         for (const auto& other : h.elements)
@@ -184,6 +193,7 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       if (!scalar_from_name(t, prop.type)) fail_at(path, line, "unknown PLY type '" + std::string(t) + "'");
       prop.name = std::string(next_token(q, e));
       if (prop.name.empty()) fail_at(path, line, "property without a name");
+      detail::expect_line_end(q, e, path, line, "property", "the name");
       Element& el = h.elements.back();
       if (const auto [first, fresh] = property_lines.emplace(prop.name, line); !fresh)
         fail_at(path, line, "a second property " + prop.name + " in element " + el.name + " (the first is on line " +
@@ -194,7 +204,7 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
     }
   }
   if (!have_end) fail_at(path, line, "header has no end_header");
-  if (!have_format) throw InputError(detail::display_name(path) + ": header has no format line");
+  if (!format_line) throw InputError(detail::display_name(path) + ": header has no format line");
   return h;
 }
 

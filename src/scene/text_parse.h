@@ -74,6 +74,15 @@ inline std::string_view next_token(const char*& p, const char* end) {
   return {b, size_t(p - b)};
 }
 
+/// Throws "file:line: what: unexpected 'tok' after <after>" when a token is left in [p, end) after a
+/// statement's values ("Kd 1 0 0 abc", "v 1 0 0 v 0 1 0", "element face 1 2"): ignored, it would
+/// hide a typo or two statements run together.
+inline void expect_line_end(const char* p, const char* end, const std::filesystem::path& file, size_t line,
+                            std::string_view what, std::string_view after) {
+  if (const std::string_view tok = next_token(p, end); !tok.empty())
+    fail_at(file, line, std::string(what) + ": unexpected '" + std::string(tok) + "' after " + std::string(after));
+}
+
 /// Rest of the line with surrounding whitespace removed.
 inline std::string_view rest_trimmed(const char* p, const char* end) {
   while (p < end && is_space(*p)) ++p;

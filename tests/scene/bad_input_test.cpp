@@ -265,6 +265,33 @@ TEST(SceneBadInput, PlyFormatVersion) {
   EXPECT_EQ(load_scene(dir.write("v1.ply", "ply\nformat ascii 1.0\n" + rest)).triangles.size(), 1u);
 }
 
+// Review: words after a header statement were ignored ("property float z junk", "element face 1 2",
+// "end_header x"), and a second format line silently replaced the first, so ascii data was read
+// as binary ("unexpected end of data"). As in OBJ and MTL, they are errors.
+TEST(SceneBadInput, PlyHeaderStatementsEndWithTheirValues) {
+  TempDir dir;
+  const std::string vertex = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string face = "element face 1\nproperty list uchar int vertex_indices\n";
+  const std::string body = "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::pair<std::string, std::string> cases[] = {
+      {"ply\nformat ascii 1.0 x\n" + vertex + face + body, "h.ply:2: format: unexpected 'x' after the version"},
+      {"ply\nformat ascii 1.0\nelement vertex 3 7\nproperty float x\nproperty float y\nproperty float z\n" + face + body,
+       "h.ply:3: element: unexpected '7' after the count"},
+      {"ply\nformat ascii 1.0\n" + vertex.substr(0, vertex.size() - 1) + " junk\n" + face + body,
+       "h.ply:6: property: unexpected 'junk' after the name"},
+      {"ply\nformat ascii 1.0\n" + vertex + "element face 1\nproperty list uchar int vertex_indices 4\n" + body,
+       "h.ply:8: property: unexpected '4' after the name"},
+      {"ply\nformat ascii 1.0\n" + vertex + face + "end_header x\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       "h.ply:9: end_header: unexpected 'x' after it"},
+      {"ply\nformat ascii 1.0\nformat binary_little_endian 1.0\n" + vertex + face + body,
+       "h.ply:3: a second format line (the first is on line 2)"},
+  };
+  for (const auto& [text, message] : cases) expect_contains(error_loading(dir, "h.ply", text), {message});
+  // White space and comments are fine.
+  EXPECT_EQ(load_scene(dir.write("ok.ply", "ply\nformat ascii 1.0 \ncomment a b c\n" + vertex + face + "end_header\t\n"
+                                           "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")).triangles.size(), 1u);
+}
+
 // Audit: a NUL in a quoted token ended the message there (what() is a C string).
 TEST(SceneBadInput, ControlBytesInQuotedInputAreEscaped) {
   TempDir dir;
