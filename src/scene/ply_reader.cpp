@@ -101,7 +101,7 @@ bool read_binary(const char*& p, const char* end, Scalar s, bool swap, double& o
   return true;
 }
 
-// A whole number as written in the file (1e+30 for huge values of float-typed indices).
+// A number as written in the file, shortest form: "1.5", "nan", "1e+30" (a float-typed index).
 std::string number_text(double v) {
   char buf[32];
   auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
@@ -380,7 +380,7 @@ Mesh read_ply(const std::filesystem::path& path) {
         for (size_t j = 0; j < size_t(cnt); ++j) {
           const double v = in.next(pr.type, pr.name);
           if (int(i) == face_prop) {
-            if (v != std::floor(v)) in.fail("face index " + std::to_string(v) + " is not an integer");
+            if (v != std::floor(v)) in.fail("face index " + number_text(v) + " is not an integer");
             poly.push_back(v);
           }
         }
@@ -391,10 +391,11 @@ Mesh read_ply(const std::filesystem::path& path) {
         Vec3 v(float(values[size_t(vertices.x)]), float(values[size_t(vertices.y)]), float(values[size_t(vertices.z)]));
         if (!is_finite(v)) {
           // A finite double beyond the float range becomes inf here: say which and why.
-          for (int a : {vertices.x, vertices.y, vertices.z})
-            if (const double d = values[size_t(a)]; std::isfinite(d) && !std::isfinite(float(d)))
-              in.fail("vertex coordinate " + detail::format_number(d) + " is out of float range");
-          in.fail("vertex coordinate is not finite");
+          for (int a : {vertices.x, vertices.y, vertices.z}) {
+            const double d = values[size_t(a)];
+            if (!std::isfinite(d)) in.fail("vertex coordinate " + number_text(d) + " is not finite");
+            if (!std::isfinite(float(d))) in.fail("vertex coordinate " + detail::format_number(d) + " is out of float range");
+          }
         }
         mesh.positions.push_back(v);
       }
