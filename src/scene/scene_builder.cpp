@@ -102,19 +102,18 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     scene_.triangles.push_back(t);
     scene_.material_ids.push_back(material_map[mesh.face_materials[f]]);
   }
-  dropped_ += dropped;
+  // A mesh that lost every face is an error, not a warning: a scene file's area light or shape
+  // would vanish (and the scene get a point light instead).
+  if (dropped > 0 && dropped == mesh.faces.size()) {
+    const std::string all = dropped == 1 ? "its only triangle has" : "all " + std::to_string(dropped) + " triangles have";
+    throw InputError(source + ": " + all + " zero area (repeated indices, collinear vertices, or a transform that flattens them)");
+  }
   if (dropped)
     scene_.warnings.push_back(source + ": dropped " + std::to_string(dropped) + " degenerate (zero-area) triangle" +
                               (dropped == 1 ? "" : "s"));
 }
 
 void SceneBuilder::finish(const std::string& source_name) {
-  // Faces that were all dropped are said here: the warning that counted them is never printed.
-  if (scene_.triangles.empty() && dropped_ > 0) {
-    const std::string all = dropped_ == 1 ? "its only triangle has" : "all " + std::to_string(dropped_) + " triangles have";
-    throw InputError(source_name + ": " + all +
-                     " zero area (repeated indices, collinear vertices, or a transform that flattens them)");
-  }
   if (scene_.triangles.empty()) throw InputError(source_name + ": no triangles (empty scene)");
   if (const float diagonal = length(scene_.bounds().diagonal()); diagonal < kMinDiagonal) {
     char size[32];

@@ -52,17 +52,17 @@ class SceneBuilder {
 
   /// Appends the mesh's faces through xf. material_map[i] is the scene material of mesh
   /// material i. Zero-area triangles (after the transform) are dropped and counted under
-  /// `source` in the scene's warnings; a non-finite transformed vertex is an InputError.
+  /// `source` in the scene's warnings. InputError naming `source` when a transformed vertex is
+  /// not finite or beyond kMaxCoordinate, or when every face of a mesh that has some was dropped.
   void add(const Mesh& mesh, const Transform& xf, const std::vector<uint32_t>& material_map,
            const std::string& source);
 
-  /// Fills emissive_triangles; throws InputError(source_name + ": no triangles") when empty, or
-  /// one saying that all triangles had zero area when add() dropped them all.
+  /// Fills emissive_triangles; throws InputError "source_name: no triangles (empty scene)" when
+  /// empty, or one saying that the scene is too small for float (kMinDiagonal).
   void finish(const std::string& source_name);
 
  private:
   Scene& scene_;
-  size_t dropped_ = 0;  // zero-area triangles dropped by add(), over all meshes
   std::unordered_map<std::string, uint32_t> by_name_;
 };
 

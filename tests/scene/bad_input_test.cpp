@@ -89,7 +89,15 @@ TEST(SceneBadInput, EmptyMeshes) {
   dir.write("tri.obj", kTriangle + "f 1 2 3\n");
   expect_contains(error_loading(dir, "tiny.json", R"({"meshes": [{"file": "tri.obj", "transform": {"scale": 1e-30}},
                                                                  {"file": "tri.obj", "transform": {"scale": 1e-25}}]})"),
-                  {"tiny.json: all 2 triangles have" + why});
+                  {"tiny.json: meshes[0] (" + (dir.path() / "tri.obj").string() + "): its only triangle has" + why});
+  // Review: an entry that lost every triangle beside others that did not was only a warning, so an
+  // area light whose quad had parallel edges vanished (and the scene got a point light instead).
+  expect_contains(error_loading(dir, "flat_light.json", R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area",
+                      "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [2, 0, 0], "emission": 1}]})"),
+                  {"flat_light.json: lights[0] (quad): all 2 triangles have" + why});
+  expect_contains(error_loading(dir, "flat_mesh.json", R"({"meshes": [{"file": "tri.obj"},
+                      {"file": "tri.obj", "transform": {"scale": [1e-30, 1e-30, 1]}}]})"),
+                  {"flat_mesh.json: meshes[1] (" + (dir.path() / "tri.obj").string() + "): its only triangle has" + why});
   // No faces at all keeps the plain message.
   expect_contains(error_loading(dir, "none.json", R"({"meshes": []})"), {"none.json: no triangles (empty scene)"});
   expect_contains(error_loading(dir, "empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
