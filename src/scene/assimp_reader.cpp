@@ -90,25 +90,43 @@ std::string container_defect(const std::string& data, bool binary, const nlohman
   return "";
 }
 
-// glTF nodes form a forest: a node has at most one parent (glTF 2.0 sec. 3.5.2). assimp does
-// not check, and copies a node once per path to it, so 40 nodes each listing the next one
-// twice took minutes and gigabytes. Said before assimp sees the file.
+// The node indices listed in j[key] (a node's "children", a scene's "nodes"), in order; entries
+// that are not indices of `nodes` are left to assimp to report.
+std::vector<size_t> node_list(const nlohmann::json& j, const char* key, size_t nodes) {
+  std::vector<size_t> list;
+  if (!j.is_object() || !j.contains(key) || !j[key].is_array()) return list;
+  for (const nlohmann::json& n : j[key])
+    if (n.is_number_unsigned() && n.get<uint64_t>() < nodes) list.push_back(n.get<size_t>());
+  return list;
+}
+
+// glTF nodes form a forest: a node has at most one parent, and a scene's roots have none and are
+// listed once each (glTF 2.0 sec. 3.5.1, 3.5.2). assimp does not check, and copies a node once per
+// path to it: 40 nodes each listing the next one twice took minutes and gigabytes, and a root listed
+// twice gave two copies of its triangles. Said before assimp sees the file.
 void check_node_tree(const nlohmann::json& doc, const std::string& file) {
   if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return;
   const nlohmann::json& nodes = doc["nodes"];
+  const auto node = [](size_t i) { return "nodes[" + std::to_string(i) + "]"; };
   std::vector<size_t> parent(nodes.size(), SIZE_MAX);
   for (size_t i = 0; i < nodes.size(); ++i) {
-    if (!nodes[i].is_object() || !nodes[i].contains("children") || !nodes[i]["children"].is_array()) continue;
-    for (const nlohmann::json& c : nodes[i]["children"]) {
-      if (!c.is_number_unsigned() || c.get<uint64_t>() >= nodes.size()) continue;  // assimp's to report
-      const size_t child = c.get<size_t>();
-      const std::string node = "nodes[" + std::to_string(child) + "]";
-      if (parent[child] == i)
-        throw InputError(file + ": nodes[" + std::to_string(i) + "] lists " + node + " twice as a child");
+    for (const size_t child : node_list(nodes[i], "children", nodes.size())) {
+      if (parent[child] == i) throw InputError(file + ": " + node(i) + " lists " + node(child) + " twice as a child");
       if (parent[child] != SIZE_MAX)
-        throw InputError(file + ": " + node + " is a child of nodes[" + std::to_string(parent[child]) + "] and of nodes[" +
-                         std::to_string(i) + "]: glTF nodes form a tree, one parent each");
+        throw InputError(file + ": " + node(child) + " is a child of " + node(parent[child]) + " and of " + node(i) +
+                         ": glTF nodes form a tree, one parent each");
       parent[child] = i;
+    }
+  }
+  if (!doc.contains("scenes") || !doc["scenes"].is_array()) return;
+  for (size_t s = 0; s < doc["scenes"].size(); ++s) {
+    std::vector<bool> listed(nodes.size(), false);
+    for (const size_t root : node_list(doc["scenes"][s], "nodes", nodes.size())) {
+      const std::string at = file + ": scenes[" + std::to_string(s) + "] lists " + node(root);
+      if (listed[root]) throw InputError(at + " twice as a root");
+      if (parent[root] != SIZE_MAX)
+        throw InputError(at + " as a root, but it is a child of " + node(parent[root]) + ": glTF nodes form a tree, one parent each");
+      listed[root] = true;
     }
   }
 }

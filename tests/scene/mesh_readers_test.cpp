@@ -522,6 +522,18 @@ TEST(GltfReader, NodesOutsideATreeAndOutOfRangeIndicesAreErrors) {
       R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [1, 2]}, {"children": [3]}, {"children": [3]}, {"mesh": 0}])");
   testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("dag.gltf", two_parents)); }),
                            {"dag.gltf: nodes[3] is a child of nodes[1] and of nodes[2]: glTF nodes form a tree"});
+  // Review: a root listed twice, or a root that is also a child, was placed twice by assimp (two
+  // copies of every triangle, silently).
+  const std::string root_twice = triangle_gltf(R"("scenes": [{"nodes": [0, 0]}], "nodes": [{"mesh": 0}])");
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("roots.gltf", root_twice)); }),
+                           {"roots.gltf: scenes[0] lists nodes[0] twice as a root"});
+  const std::string root_child = triangle_gltf(R"("scenes": [{"nodes": [0, 1]}], "nodes": [{"children": [1]}, {"mesh": 0}])");
+  testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("rc.gltf", root_child)); }),
+                           {"rc.gltf: scenes[0] lists nodes[1] as a root, but it is a child of nodes[0]: glTF nodes form a tree"});
+  // A node may be a root of several scenes.
+  EXPECT_EQ(load_scene(dir.write("scenes.gltf", triangle_gltf(R"("scenes": [{"nodes": [0]}, {"nodes": [0]}], "nodes": [{"mesh": 0}])")))
+                .triangles.size(),
+            1u);
   // Four vertices, faces (0 1 2) and (1 3 last): last = 9 reaches past the vertex count.
   const auto two_faces = [](uint16_t last) {
     std::string buf;
