@@ -158,6 +158,7 @@ class JsonSceneLoader {
   // lights) comes through here.
   std::shared_ptr<const Mesh> mesh_file(const Json& j, const std::string& field, std::string& source) {
     const std::string name = f_.string(j, field);
+    if (name.empty()) f_.fail(field, "empty file name");
     // The OS reads a path up to its first NUL: "ok.obj\u0000junk.obj" loaded ok.obj.
     if (name.find('\0') != std::string::npos)
       f_.fail(field, "file name \"" + name + "\" holds a NUL character (\\u0000), which no file name can contain");

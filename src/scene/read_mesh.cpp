@@ -12,6 +12,9 @@ Mesh read_mesh(const std::filesystem::path& path) {
   if (ext == ".obj") return read_obj(path);
   if (ext == ".ply") return read_ply(path);
   if (ext == ".gltf" || ext == ".glb") return read_gltf(path);
+  if (ext.empty())
+    throw InputError(detail::display_name(path) +
+                     ": no file extension to tell the format by (expected .obj, .ply, .gltf, .glb or a .json scene)");
   if (ext == ".json")
     throw InputError(detail::display_name(path) +
                      ": a .json scene cannot be used as a mesh (meshes are .obj, .ply, .gltf or .glb)");

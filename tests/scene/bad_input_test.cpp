@@ -412,6 +412,16 @@ std::string json_error(const TempDir& dir, const std::string& json) {
   return error_loading(dir, "scene.json", json);
 }
 
+// Review: these said "unknown mesh format ''", and an empty "file" gave "meshes[0].file: : unknown ...".
+TEST(SceneBadInput, NoExtensionAndEmptyFileName) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "mesh", kTriangle + "f 1 2 3\n"),
+                  {"mesh: no file extension to tell the format by (expected .obj, .ply, .gltf, .glb or a .json scene)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": ""}]})"), {"scene.json: meshes[0].file: empty file name"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 1, "file": ""}]})"),
+                  {"scene.json: lights[0].file: empty file name"});
+}
+
 TEST(SceneBadInput, JsonSyntaxAndTypes) {
   TempDir dir;
   expect_contains(json_error(dir, "{\n  \"meshes\": [\n    {\"file\": \"tri.obj\",}\n  ]\n}\n"),
