@@ -100,6 +100,7 @@ class JsonSceneLoader {
       f_.expect_object(mats, "materials");
       for (const auto& [name, value] : mats.items()) {
         if (JsonFields::is_comment(name)) continue;
+        if (name.empty()) f_.fail("materials", "a material name must not be empty");
         const std::string field = JsonFields::join("materials", name);
         Material m;
         if (auto existing = builder.find(name)) m = builder.material(*existing);
@@ -122,7 +123,10 @@ class JsonSceneLoader {
       } else if (pl.material->is_object()) {
         Material m;
         m.name = field;
-        if (pl.material->contains("name")) m.name = f_.string((*pl.material)["name"], JsonFields::join(field, "name"));
+        if (pl.material->contains("name")) {
+          m.name = f_.string((*pl.material)["name"], JsonFields::join(field, "name"));
+          if (m.name.empty()) f_.fail(JsonFields::join(field, "name"), "a material name must not be empty");
+        }
         apply_material(f_, *pl.material, field, m, true);
         if (builder.find(m.name) || !inline_names.insert(m.name).second)
           f_.fail(JsonFields::join(field, "name"), "material \"" + m.name + "\" is already defined");
