@@ -1,4 +1,4 @@
-// glTF 2.0 (.gltf, .glb) through the Debian assimp package.
+// glTF 2.0 (.gltf, .glb) through the Debian assimp package, with the checks assimp lacks done first.
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -37,24 +38,29 @@ uint32_t le32(const std::string& s, size_t at) { return get_u32(s.data() + at); 
 
 constexpr uint32_t kJsonChunk = 0x4E4F534Au;  // "JSON"
 
+// The length that a glTF 2.0 .glb declares for its first chunk when that is a JSON chunk (sec. 4.4:
+// a 12-byte header, then the chunk's length and type); empty for any other data.
+std::optional<uint32_t> glb_json_chunk_length(const std::string& data) {
+  if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || le32(data, 4) != 2 || le32(data, 16) != kJsonChunk) return {};
+  return le32(data, 12);
+}
+
 // The JSON text of a glTF file: all of a .gltf, the first chunk of a glTF 2.0 .glb when it is a
-// complete JSON chunk (sec. 4.4); empty when there is none.
+// complete JSON chunk; empty when there is none.
 std::string_view json_text(const std::string& data, bool binary) {
   if (!binary) return data;
-  if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || le32(data, 4) != 2 || le32(data, 16) != kJsonChunk ||
-      le32(data, 12) > data.size() - 20)
-    return {};
-  return std::string_view(data).substr(20, le32(data, 12));
+  const std::optional<uint32_t> length = glb_json_chunk_length(data);
+  if (!length || *length > data.size() - 20) return {};
+  return std::string_view(data).substr(20, *length);
 }
 
 // A glTF 2.0 .glb whose JSON chunk declares more bytes than the file holds: assimp allocates
 // the declared length before it reads (a 764-byte file with a length of 4 GB took 4 GB of
 // memory and half a minute), so this is said before assimp sees the file. Empty otherwise.
 std::string overrunning_json_chunk(const std::string& data) {
-  if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || le32(data, 4) != 2 || le32(data, 16) != kJsonChunk ||
-      le32(data, 12) <= data.size() - 20)
-    return "";
-  return "truncated: the JSON chunk declares " + std::to_string(le32(data, 12)) + " bytes, the file has " +
+  const std::optional<uint32_t> length = glb_json_chunk_length(data);
+  if (!length || *length <= data.size() - 20) return "";
+  return "truncated: the JSON chunk declares " + std::to_string(*length) + " bytes, the file has " +
          std::to_string(data.size() - 20) + " after the chunk header";
 }
 
@@ -220,6 +226,76 @@ void drop_unused_materials(Mesh& mesh) {
   mesh.materials = std::move(used);
 }
 
+// One of assimp's materials through the MTL mapping (docs/scene-format.md), emission scaled by its
+// KHR_materials_emissive_strength; unnamed ones are "material<index>".
+Material gltf_material(const aiMaterial* m, unsigned index, const std::map<std::string, float>& strengths,
+                       const std::string& file, std::vector<std::string>& warnings) {
+  aiString ai_name;
+  const bool named = m->Get(AI_MATKEY_NAME, ai_name) == AI_SUCCESS && ai_name.length;
+  const std::string name = named ? ai_name.C_Str() : "material" + std::to_string(index);
+  float ns = 0;
+  m->Get(AI_MATKEY_SHININESS, ns);
+  const Vec3 kd = color(m, AI_MATKEY_COLOR_DIFFUSE, Vec3(0.8f));
+  const Vec3 ks = color(m, AI_MATKEY_COLOR_SPECULAR, Vec3(0.0f));
+  Vec3 ke = color(m, AI_MATKEY_COLOR_EMISSIVE, Vec3(0.0f));
+  if (auto it = strengths.find(name); named && it != strengths.end()) ke *= it->second;
+  // As in MTL and JSON materials: a negative or non-finite colour would make negative or NaN radiance.
+  for (const auto& [what, c] : {std::pair{"base colour", kd}, {"specular colour", ks}, {"emission", ke}}) {
+    const std::string material = file + ": material \"" + detail::printable(name) + "\": " + what;
+    if (!is_finite(c)) throw InputError(material + " beyond float range");
+    if (c.x < 0 || c.y < 0 || c.z < 0) throw InputError(material + " components must be >= 0");
+  }
+  Material mat = material_from_mtl(name, kd, ks, ns, 2, ke);
+  if (std::string warning = conserve_energy_with_warning(mat, file); !warning.empty()) warnings.push_back(std::move(warning));
+  return mat;
+}
+
+// Appends one instance of assimp's mesh `index` in world space (`global`); a mirroring transform
+// keeps each face's front by swapping two corners (corners_after).
+void add_instance(const aiMesh& am, unsigned index, const aiMatrix4x4& global, const std::string& file, Mesh& mesh) {
+  const bool mirrored = global.Determinant() < 0;
+  const uint32_t base = uint32_t(mesh.positions.size());
+  for (unsigned v = 0; v < am.mNumVertices; ++v) {
+    const aiVector3D w = global * am.mVertices[v];
+    const Vec3 p(w.x, w.y, w.z);
+    if (!is_finite(p))
+      throw InputError(file + ": mesh " + std::to_string(index) + " vertex " + std::to_string(v) + ": coordinate is not finite");
+    mesh.positions.push_back(p);
+  }
+  const uint32_t material = am.mMaterialIndex < mesh.materials.size() ? am.mMaterialIndex : 0;
+  for (unsigned f = 0; f < am.mNumFaces; ++f) {
+    const aiFace& face = am.mFaces[f];
+    if (face.mNumIndices != 3) continue;
+    for (int k = 0; k < 3; ++k)
+      if (face.mIndices[k] >= am.mNumVertices)
+        throw InputError(file + ": mesh " + std::to_string(index) + " face " + std::to_string(f) + ": index " +
+                         std::to_string(face.mIndices[k]) + " out of range (" + std::to_string(am.mNumVertices) +
+                         " vertices)");
+    mesh.faces.push_back(
+        detail::corners_after({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]}, mirrored));
+    mesh.face_materials.push_back(material);
+  }
+}
+
+// Every instance of a triangle mesh in the node tree, depth first in child order. The node
+// transforms are applied here, not by aiProcess_PreTransformVertices, which keeps the corner
+// order of a mirrored node.
+void add_node_tree(const aiScene& scene, const std::string& file, Mesh& mesh) {
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack;
+  if (scene.mRootNode) stack.push_back({scene.mRootNode, scene.mRootNode->mTransformation});
+  while (!stack.empty()) {
+    const auto [node, global] = stack.back();
+    stack.pop_back();
+    for (unsigned c = node->mNumChildren; c-- > 0;)
+      stack.push_back({node->mChildren[c], global * node->mChildren[c]->mTransformation});
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const unsigned index = node->mMeshes[k];
+      if (index < scene.mNumMeshes && (scene.mMeshes[index]->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
+        add_instance(*scene.mMeshes[index], index, global, file, mesh);
+    }
+  }
+}
+
 }  // namespace
 
 Mesh read_gltf(const std::filesystem::path& path) {
@@ -244,70 +320,10 @@ Mesh read_gltf(const std::filesystem::path& path) {
   }
   Mesh mesh;
   const std::map<std::string, float> strengths = emissive_strengths(json, doc, file, mesh.warnings);
-  for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
-    const aiMaterial* m = scene->mMaterials[i];
-    aiString name;
-    const bool named = m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length;
-    const std::string n = named ? name.C_Str() : "material" + std::to_string(i);
-    float ns = 0;
-    m->Get(AI_MATKEY_SHININESS, ns);
-    Vec3 kd = color(m, AI_MATKEY_COLOR_DIFFUSE, Vec3(0.8f));
-    Vec3 ks = color(m, AI_MATKEY_COLOR_SPECULAR, Vec3(0.0f));
-    Vec3 ke = color(m, AI_MATKEY_COLOR_EMISSIVE, Vec3(0.0f));
-    if (auto it = strengths.find(n); named && it != strengths.end()) ke *= it->second;
-    // As in MTL and JSON materials: a negative or non-finite colour would make negative or
-    // NaN radiance.
-    for (const auto& [what, c] : {std::pair{"base colour", kd}, {"specular colour", ks}, {"emission", ke}}) {
-      const std::string material = file + ": material \"" + detail::printable(n) + "\": " + what;
-      if (!is_finite(c)) throw InputError(material + " beyond float range");
-      if (c.x < 0 || c.y < 0 || c.z < 0) throw InputError(material + " components must be >= 0");
-    }
-    Material mat = material_from_mtl(n, kd, ks, ns, 2, ke);
-    if (std::string warning = conserve_energy_with_warning(mat, file); !warning.empty())
-      mesh.warnings.push_back(std::move(warning));
-    mesh.materials.push_back(std::move(mat));
-  }
+  for (unsigned i = 0; i < scene->mNumMaterials; ++i)
+    mesh.materials.push_back(gltf_material(scene->mMaterials[i], i, strengths, file, mesh.warnings));
   if (mesh.materials.empty()) mesh.materials.push_back(Material{.name = "default"});
-  // Every instance of a mesh in the node tree, in world space. The node transforms are applied
-  // here, not by aiProcess_PreTransformVertices, which keeps the corner order of a mirrored
-  // node (corners_after).
-  std::vector<std::pair<const aiNode*, aiMatrix4x4>> nodes;
-  if (scene->mRootNode) nodes.push_back({scene->mRootNode, scene->mRootNode->mTransformation});
-  while (!nodes.empty()) {
-    const auto [node, global] = nodes.back();
-    nodes.pop_back();
-    for (unsigned c = node->mNumChildren; c-- > 0;)
-      nodes.push_back({node->mChildren[c], global * node->mChildren[c]->mTransformation});
-    const bool mirrored = global.Determinant() < 0;
-    for (unsigned n = 0; n < node->mNumMeshes; ++n) {
-      const unsigned mi = node->mMeshes[n];
-      if (mi >= scene->mNumMeshes) continue;
-      const aiMesh* am = scene->mMeshes[mi];
-      if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-      const uint32_t base = uint32_t(mesh.positions.size());
-      for (unsigned v = 0; v < am->mNumVertices; ++v) {
-        const aiVector3D w = global * am->mVertices[v];
-        const Vec3 p(w.x, w.y, w.z);
-        if (!is_finite(p))
-          throw InputError(file + ": mesh " + std::to_string(mi) + " vertex " + std::to_string(v) +
-                           ": coordinate is not finite");
-        mesh.positions.push_back(p);
-      }
-      const uint32_t mat = am->mMaterialIndex < mesh.materials.size() ? am->mMaterialIndex : 0;
-      for (unsigned f = 0; f < am->mNumFaces; ++f) {
-        const aiFace& face = am->mFaces[f];
-        if (face.mNumIndices != 3) continue;
-        for (int k = 0; k < 3; ++k)
-          if (face.mIndices[k] >= am->mNumVertices)
-            throw InputError(file + ": mesh " + std::to_string(mi) + " face " + std::to_string(f) +
-                             ": index " + std::to_string(face.mIndices[k]) + " out of range (" +
-                             std::to_string(am->mNumVertices) + " vertices)");
-        mesh.faces.push_back(
-            detail::corners_after({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]}, mirrored));
-        mesh.face_materials.push_back(mat);
-      }
-    }
-  }
+  add_node_tree(*scene, file, mesh);
   if (mesh.faces.empty()) throw InputError(file + ": no triangles (empty mesh)");
   drop_unused_materials(mesh);
   return mesh;
