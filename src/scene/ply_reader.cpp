@@ -267,8 +267,7 @@ class InstanceReader {
     if (binary()) {
       double x = 0;
       if (!read_binary(p_, end(), type, swap(), x))
-        fail("unexpected end of data (" + std::to_string(el_->count) + " " +
-             (el_->name == "vertex" ? "vertices" : el_->name + "s") + " declared)");
+        fail("unexpected end of data (" + std::to_string(el_->count) + " " + detail::plural(el_->name) + " declared)");
       return x;
     }
     const std::string_view t = next_token(q_, e_);

@@ -62,6 +62,34 @@ void fail_at(const std::filesystem::path& file, size_t line, const std::string& 
   throw InputError(at_line(file, line, message));
 }
 
+Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& file, size_t line, std::string_view what,
+               std::string_view element, bool allow_one) {
+  float c[3];
+  int n = 0;
+  for (; n < 3; ++n) {
+    const std::string_view tok = next_token(p, end);
+    if (tok.empty()) break;
+    if (!parse_float(tok, c[n])) {
+      double d;
+      if (parse_double(tok, d))
+        fail_at(file, line, std::string(what) + ": " + std::string(element) + " " + std::string(tok) + " is out of float range");
+      fail_at(file, line, std::string(what) + ": '" + std::string(tok) + "' is not a number");
+    }
+    if (!std::isfinite(c[n]))
+      fail_at(file, line, std::string(what) + ": " + std::string(element) + " " + std::string(tok) + " is not finite");
+  }
+  if (n == 1 && allow_one) return Vec3(c[0]);
+  if (n < 3) fail_at(file, line, std::string(what) + ": expected 3 numbers, found " + std::to_string(n));
+  return {c[0], c[1], c[2]};
+}
+
+void refuse_binary_line(std::string_view text, bool after_statements, const std::filesystem::path& file, size_t line,
+                        std::string_view format) {
+  if (!has_binary_byte(text)) return;
+  if (!after_statements) fail_at(file, line, "not an " + std::string(format) + " text file (binary data)");
+  fail_at(file, line, "binary data where an " + std::string(format) + " statement belongs (a damaged file?)");
+}
+
 void check_json_nesting(std::string_view text, const std::string& file) {
   int depth = 0;
   size_t line = 1, column = 0;

@@ -1,4 +1,4 @@
-// Private helpers of the text readers: whole-file reads, tokens, numbers, located errors.
+// Private helpers of the scene readers: whole-file reads, tokens, numbers, located errors.
 #pragma once
 
 #include <cctype>
@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/vec3.h"
 
 namespace rayscout::detail {
 
@@ -35,9 +36,12 @@ std::string at_line(const std::filesystem::path& file, size_t line, const std::s
 /// Throws InputError(at_line(file, line, message)).
 [[noreturn]] void fail_at(const std::filesystem::path& file, size_t line, const std::string& message);
 
+/// The plural of a noun of the messages: "vertices", else the noun + "s" ("faces", "normals").
+inline std::string plural(std::string_view noun) { return noun == "vertex" ? "vertices" : std::string(noun) + "s"; }
+
 /// "face with n vertices (at least 3 needed)", "vertex" for n = 1: the OBJ and PLY readers' message.
 inline std::string face_too_small(size_t n) {
-  return "face with " + std::to_string(n) + (n == 1 ? " vertex" : " vertices") + " (at least 3 needed)";
+  return "face with " + std::to_string(n) + " " + (n == 1 ? "vertex" : plural("vertex")) + " (at least 3 needed)";
 }
 
 /// Deepest nesting of arrays and objects accepted in JSON text (scene files, glTF).
@@ -82,6 +86,19 @@ inline void expect_line_end(const char* p, const char* end, const std::filesyste
   if (const std::string_view tok = next_token(p, end); !tok.empty())
     fail_at(file, line, std::string(what) + ": unexpected '" + std::string(tok) + "' after " + std::string(after));
 }
+
+/// Reads three numbers of a statement (OBJ, MTL) from [p, end), advancing p; the line may hold
+/// more. With allow_one, a single number v gives (v, v, v) (an MTL grey). Errors name `what` and
+/// call a number an `element` ("vertex: coordinate 1e39 is out of float range").
+Vec3 read_vec3(const char*& p, const char* end, const std::filesystem::path& file, size_t line, std::string_view what,
+               std::string_view element, bool allow_one = false);
+
+/// Random or binary data read as OBJ or MTL text is a few lines of unknown statements, all ignored
+/// ("no faces (empty mesh)" for 4 KB of random bytes). So a line the reader would ignore that holds
+/// a byte no text has (NUL, ESC, ...) is refused: "not an <format> text file (binary data)", or
+/// after_statements, a damaged file. `text` is the line from its key on.
+void refuse_binary_line(std::string_view text, bool after_statements, const std::filesystem::path& file, size_t line,
+                        std::string_view format);
 
 /// Rest of the line with surrounding whitespace removed.
 inline std::string_view rest_trimmed(const char* p, const char* end) {
