@@ -144,43 +144,53 @@ class ObjReader {
     current_ = material_index(std::string(name), line);
   }
 
-  // mtllib: one name that may contain spaces, else several space-separated names. A missing
-  // library is a warning: its materials get defaults. A library named again (by any spelling of
-  // its path) is not read again, nor said again to be missing: each reread warned once per
-  // material that it was "defined again" (3000 mtllib lines of a 1000-material MTL: 3M warnings).
+  // mtllib: reads each library it names once. A library named again (by any spelling of its path)
+  // is not read again, nor said again to be missing: each reread warned once per material that it
+  // was "defined again" (3000 mtllib lines of a 1000-material MTL: 3M warnings).
   void material_libraries(size_t line, const char* q, const char* end) {
+    for (const std::string& name : library_names(line, q, end)) {
+      const std::filesystem::path mtl = path_.parent_path() / name;
+      if (libraries_seen_.insert(library_key(mtl)).second) read_library(line, name, mtl);
+    }
+  }
+
+  // The file names of an mtllib line [q, end): one name that may contain spaces when such a file
+  // exists, else the space-separated names.
+  std::vector<std::string> library_names(size_t line, const char* q, const char* end) const {
     const std::string_view names = detail::rest_trimmed(q, end);
     if (names.empty()) fail_at(path_, line, "mtllib without a file name");
     // The OS reads a path up to its first NUL: "mtllib red.mtl<NUL>junk" read red.mtl.
     if (names.find('\0') != std::string_view::npos)
       fail_at(path_, line, "mtllib '" + std::string(names) + "': a NUL byte in the file name, which no file name can contain");
-    std::vector<std::string> files{std::string(names)};
     std::error_code ec;
-    if (!std::filesystem::exists(path_.parent_path() / files[0], ec)) {
-      files.clear();
-      for (std::string_view t = next_token(q, end); !t.empty(); t = next_token(q, end)) files.emplace_back(t);
+    if (std::filesystem::exists(path_.parent_path() / names, ec)) return {std::string(names)};
+    std::vector<std::string> files;
+    for (std::string_view t = next_token(q, end); !t.empty(); t = next_token(q, end)) files.emplace_back(t);
+    return files;
+  }
+
+  // The same string for every spelling of the library's path. absolute() first: weakly_canonical
+  // keeps "gone.mtl" relative but makes "./gone.mtl" absolute when the OBJ was named without a
+  // folder, so the two keys differed.
+  static std::string library_key(const std::filesystem::path& mtl) {
+    std::error_code ec;
+    std::string key = std::filesystem::weakly_canonical(std::filesystem::absolute(mtl, ec), ec).string();
+    return ec ? mtl.lexically_normal().string() : key;
+  }
+
+  // Reads the library `name` (at path mtl) named on `line`. A missing one is a warning (its
+  // materials get defaults); one that is not a readable file is an error at that line.
+  void read_library(size_t line, const std::string& name, const std::filesystem::path& mtl) {
+    std::error_code ec;
+    if (!std::filesystem::exists(mtl, ec)) {
+      mesh_.warnings.push_back(detail::at_line(path_, line, "material library '" + name + "' not found; its materials get defaults"));
+      return;
     }
-    for (const auto& f : files) {
-      const std::filesystem::path mtl = path_.parent_path() / f;
-      // absolute() first: weakly_canonical keeps "gone.mtl" relative but makes "./gone.mtl"
-      // absolute when the OBJ was named without a folder, so the two keys differed.
-      std::string key = std::filesystem::weakly_canonical(std::filesystem::absolute(mtl, ec), ec).string();
-      if (ec) key = mtl.lexically_normal().string();
-      if (!libraries_seen_.insert(std::move(key)).second) continue;
-      if (!std::filesystem::exists(mtl, ec)) {
-        mesh_.warnings.push_back(detail::at_line(path_, line, "material library '" + f + "' not found; its materials get defaults"));
-        continue;
-      }
-      // As read_file refuses them, but said at the mtllib line that names them.
-      using std::filesystem::file_type;
-      const file_type type = std::filesystem::status(mtl, ec).type();
-      if (type == file_type::directory) fail_at(path_, line, "material library '" + f + "' is a directory, not a file");
-      if (type == file_type::character || type == file_type::block)
-        fail_at(path_, line, "material library '" + f + "' is a device, not a file");
-      if (std::ifstream probe(mtl); !probe)
-        fail_at(path_, line, "material library '" + f + "' cannot be read: " + std::strerror(errno));
-      read_mtl(mtl, library_, &mesh_.warnings);
-    }
+    if (const std::string why = detail::not_a_file(mtl); !why.empty())
+      fail_at(path_, line, "material library '" + name + "' " + why);
+    if (std::ifstream probe(mtl); !probe)
+      fail_at(path_, line, "material library '" + name + "' cannot be read: " + std::strerror(errno));
+    read_mtl(mtl, library_, &mesh_.warnings);
   }
 
   void check_forward_indices() const {

@@ -8,15 +8,20 @@
 
 namespace rayscout::detail {
 
-std::string read_file(const std::filesystem::path& path) {
-  // A device has no end to read to (/dev/zero was read until memory ran out). A pipe is read
-  // but cut off at 4 GiB; a regular file of any size is read whole.
+std::string not_a_file(const std::filesystem::path& path) {
   using std::filesystem::file_type;
   std::error_code ec;
   const file_type type = std::filesystem::status(path, ec).type();
-  if (type == file_type::directory) throw InputError(display_name(path) + ": is a directory, not a file");
-  if (type == file_type::character || type == file_type::block)
-    throw InputError(display_name(path) + ": is a device, not a file");
+  if (type == file_type::directory) return "is a directory, not a file";
+  if (type == file_type::character || type == file_type::block) return "is a device, not a file";
+  return "";
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  if (const std::string why = not_a_file(path); !why.empty()) throw InputError(display_name(path) + ": " + why);
+  // A pipe is read but cut off at 4 GiB; a regular file of any size is read whole.
+  std::error_code ec;
+  const bool regular = std::filesystem::is_regular_file(path, ec);
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(display_name(path) + ": cannot open: " + std::strerror(errno));
   std::string data;
@@ -25,7 +30,6 @@ std::string read_file(const std::filesystem::path& path) {
     if (size > 0) data.reserve(size_t(size));
     std::fseek(f.get(), 0, SEEK_SET);
   }
-  const bool regular = type == file_type::regular;
   constexpr size_t kPipeLimit = size_t(4) << 30;
   char buf[1 << 16];
   size_t n;

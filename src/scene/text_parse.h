@@ -18,8 +18,13 @@
 
 namespace rayscout::detail {
 
-/// The whole file; throws InputError "path: cannot open ..." when it cannot be read.
+/// The whole file; throws InputError "path: cannot open ..." when it cannot be read, and refuses
+/// what not_a_file names.
 std::string read_file(const std::filesystem::path& path);
+
+/// "is a directory, not a file" or "is a device, not a file" (a device has no end to read to:
+/// /dev/zero was read until memory ran out); empty for a file, a pipe, or a path that does not exist.
+std::string not_a_file(const std::filesystem::path& path);
 
 /// Start of the text after a UTF-8 byte order mark, if any.
 inline const char* skip_bom(const std::string& data) {
