@@ -80,7 +80,7 @@ class JsonFields {
   }
   // Points and lengths the renderer squares (distances, falloff): bounded like vertices.
   float bounded(float v, const std::string& field) const {
-    if (std::fabs(v) > kMaxCoordinate) fail(field, "is beyond +-1e11, where the ray-triangle test's products of three coordinates overflow float; scale the scene down");
+    if (std::fabs(v) > kMaxCoordinate) fail(field, std::string(kBeyondMaxCoordinate));
     return v;
   }
   Vec3 position(const Json& j, const std::string& field) const {

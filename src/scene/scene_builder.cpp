@@ -2,7 +2,6 @@
 #include "scene_builder.h"
 
 #include <algorithm>
-#include <cstdio>
 
 #include "rayscout/core/input_error.h"
 #include "text_parse.h"
@@ -78,10 +77,8 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     if (!is_finite(p))
       throw InputError(source + (identity ? ": " + vertex + " is not finite (beyond float range)"
                                           : ": the transform makes " + vertex + " non-finite"));
-    char at[96];
-    std::snprintf(at, sizeof at, "(%g, %g, %g)", double(p.x), double(p.y), double(p.z));
-    throw InputError(source + ": " + vertex + (identity ? "" : " (transformed)") + " at " + at +
-                     " is beyond +-1e11, where the ray-triangle test's products of three coordinates overflow float; scale the scene down");
+    throw InputError(source + ": " + vertex + (identity ? "" : " (transformed)") + " at (" + format_number(p.x) + ", " +
+                     format_number(p.y) + ", " + format_number(p.z) + ") " + std::string(kBeyondMaxCoordinate));
   }
   // Grow geometrically: an exact reserve per mesh would copy everything for every mesh added.
   const size_t need = scene_.triangles.size() + mesh.faces.size();
@@ -116,9 +113,7 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
 void SceneBuilder::finish(const std::string& source_name) {
   if (scene_.triangles.empty()) throw InputError(source_name + ": no triangles (empty scene)");
   if (const float diagonal = length(scene_.bounds().diagonal()); diagonal < kMinDiagonal) {
-    char size[32];
-    std::snprintf(size, sizeof size, "%g", double(diagonal));
-    throw InputError(source_name + ": the scene is only " + size +
+    throw InputError(source_name + ": the scene is only " + format_number(diagonal) +
                      " across (its bounds' diagonal); below 1e-9 the ray-triangle test's products of three "
                      "coordinates underflow float: scale the scene up");
   }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -17,6 +18,10 @@ namespace rayscout::detail {
 /// coordinate differences (up to ~2e11 each, times a direction scale <= sqrt 3) stay far below
 /// float's 3.4e38, and so do squared distances.
 inline constexpr float kMaxCoordinate = 1e11f;
+
+/// The end of every error about a value beyond kMaxCoordinate: "<what> is beyond +-1e11, ...".
+inline constexpr std::string_view kBeyondMaxCoordinate =
+    "is beyond +-1e11, where the ray-triangle test's products of three coordinates overflow float; scale the scene down";
 
 /// The smallest scene, by the diagonal of its bounds: the ray-triangle test multiplies three
 /// coordinate differences, which leave float's normal range (1.2e-38) below ~2e-13; at 1e-14
