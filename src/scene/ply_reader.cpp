@@ -276,19 +276,19 @@ class InstanceReader {
       float f;
       if (!detail::parse_float(t, f)) {
         double d;
-        fail("'" + std::string(t) + (detail::parse_double(t, d) ? "' is out of float range" : "' is not a number"));
+        fail(detail::quoted(t) + (detail::parse_double(t, d) ? " is out of float range" : " is not a number"));
       }
       return f;
     }
     if (type == Scalar::Float64) {
       double d;
-      if (!detail::parse_double(t, d)) fail("'" + std::string(t) + "' is not a number");
+      if (!detail::parse_double(t, d)) fail(detail::quoted(t) + " is not a number");
       return d;
     }
     long long i;
-    if (!detail::parse_int(t, i)) fail("'" + std::string(t) + "' is not an integer");
+    if (!detail::parse_int(t, i)) fail(detail::quoted(t) + " is not an integer");
     if (const IntRange r = int_range(type); i < r.lo || i > r.hi)
-      fail("'" + std::string(t) + "' is out of range for " + r.name + " (" + std::to_string(r.lo) + " to " +
+      fail(detail::quoted(t) + " is out of range for " + r.name + " (" + std::to_string(r.lo) + " to " +
            std::to_string(r.hi) + ")");
     return double(i);
   }
@@ -340,6 +340,58 @@ class InstanceReader {
   const char* e_ = nullptr;
 };
 
+// Reads the values of the instance `in` has begun: values[i] is property i's (0 for a list); the
+// entries of the list face_prop (-1: none), integers checked, go to `indices`.
+void read_values(InstanceReader& in, const Element& el, int face_prop, std::vector<double>& values,
+                 std::vector<double>& indices) {
+  values.clear();
+  indices.clear();
+  for (size_t i = 0; i < el.props.size(); ++i) {
+    const Property& pr = el.props[i];
+    if (!pr.is_list) {
+      values.push_back(in.next(pr.type, pr.name));
+      continue;
+    }
+    values.push_back(0);
+    const double count = in.next(pr.count_type, pr.name);
+    if (count < 0) in.fail("negative list length");
+    for (size_t j = 0; j < size_t(count); ++j) {
+      const double v = in.next(pr.type, pr.name);
+      if (int(i) != face_prop) continue;
+      if (v != std::floor(v)) in.fail("face index " + number_text(v) + " is not an integer");
+      indices.push_back(v);
+    }
+  }
+  in.finish();
+}
+
+// The vertex of one vertex instance; a coordinate that is not finite in float is an error.
+Vec3 vertex_position(InstanceReader& in, const std::vector<double>& values, const VertexLayout& layout) {
+  const Vec3 v(float(values[size_t(layout.x)]), float(values[size_t(layout.y)]), float(values[size_t(layout.z)]));
+  if (!is_finite(v)) {
+    // A finite double beyond the float range becomes inf here: say which and why.
+    for (int a : {layout.x, layout.y, layout.z}) {
+      const double d = values[size_t(a)];
+      if (!std::isfinite(d)) in.fail("vertex coordinate " + number_text(d) + " is not finite");
+      if (!std::isfinite(float(d))) in.fail("vertex coordinate " + detail::format_number(d) + " is out of float range");
+    }
+  }
+  return v;
+}
+
+// Appends one face, fan-triangulated; its indices are checked against the declared vertex count
+// before any conversion to an integer.
+void add_face(InstanceReader& in, const std::vector<double>& indices, size_t vertex_count, Mesh& mesh) {
+  if (indices.size() < 3) in.fail(detail::face_too_small(indices.size()));
+  for (double idx : indices)
+    if (!(idx >= 0 && idx < double(vertex_count)))
+      in.fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertex_count) + " vertices)");
+  for (size_t j = 1; j + 1 < indices.size(); ++j) {
+    mesh.faces.push_back({uint32_t(indices[0]), uint32_t(indices[j]), uint32_t(indices[j + 1])});
+    mesh.face_materials.push_back(0);
+  }
+}
+
 }  // namespace
 
 Mesh read_ply(const std::filesystem::path& path) {
@@ -354,61 +406,17 @@ Mesh read_ply(const std::filesystem::path& path) {
   mesh.materials.push_back(Material{.name = "default"});
   // A header may declare absurd counts; never reserve more than the data could hold.
   mesh.positions.reserve(std::min(vertices.count, data.size() / 3));
-  std::vector<double> values;
-  std::vector<double> poly;  // face indices, range-checked before any conversion to an integer
-
-  for (const auto& el : header.elements) {
-    const bool is_vertex = el.name == "vertex";
-    const bool is_face = el.name == "face";
+  std::vector<double> values, indices;
+  for (const Element& el : header.elements) {
+    const bool is_vertex = el.name == "vertex", is_face = el.name == "face";
     const int face_prop = is_face ? face_index_property(path, el) : -1;
     // A binary instance without properties takes no bytes: nothing to read, whatever the count.
     if (in.binary() && el.props.empty()) continue;
     for (size_t k = 0; k < el.count; ++k) {
       in.begin(el, k);
-      values.clear();
-      poly.clear();
-      for (size_t i = 0; i < el.props.size(); ++i) {
-        const auto& pr = el.props[i];
-        if (!pr.is_list) {
-          values.push_back(in.next(pr.type, pr.name));
-          continue;
-        }
-        values.push_back(0);
-        const double cnt = in.next(pr.count_type, pr.name);
-        if (cnt < 0) in.fail("negative list length");
-        for (size_t j = 0; j < size_t(cnt); ++j) {
-          const double v = in.next(pr.type, pr.name);
-          if (int(i) == face_prop) {
-            if (v != std::floor(v)) in.fail("face index " + number_text(v) + " is not an integer");
-            poly.push_back(v);
-          }
-        }
-      }
-      in.finish();
-
-      if (is_vertex) {
-        Vec3 v(float(values[size_t(vertices.x)]), float(values[size_t(vertices.y)]), float(values[size_t(vertices.z)]));
-        if (!is_finite(v)) {
-          // A finite double beyond the float range becomes inf here: say which and why.
-          for (int a : {vertices.x, vertices.y, vertices.z}) {
-            const double d = values[size_t(a)];
-            if (!std::isfinite(d)) in.fail("vertex coordinate " + number_text(d) + " is not finite");
-            if (!std::isfinite(float(d))) in.fail("vertex coordinate " + detail::format_number(d) + " is out of float range");
-          }
-        }
-        mesh.positions.push_back(v);
-      }
-      if (is_face) {
-        if (poly.size() < 3) in.fail(detail::face_too_small(poly.size()));
-        for (double idx : poly)
-          if (!(idx >= 0 && idx < double(vertices.count)))
-            in.fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertices.count) +
-                    " vertices)");
-        for (size_t j = 1; j + 1 < poly.size(); ++j) {
-          mesh.faces.push_back({uint32_t(poly[0]), uint32_t(poly[j]), uint32_t(poly[j + 1])});
-          mesh.face_materials.push_back(0);
-        }
-      }
+      read_values(in, el, face_prop, values, indices);
+      if (is_vertex) mesh.positions.push_back(vertex_position(in, values, vertices));
+      if (is_face) add_face(in, indices, vertices.count, mesh);
     }
   }
   in.finish_file();
