@@ -28,7 +28,7 @@ struct Placement {
   Transform transform;
   std::optional<Json> material;  // name or inline object
   std::string field;             // e.g. meshes[3]
-  std::string source;            // for warnings: mesh file or shape
+  std::string source;            // for messages: mesh file or shape
 };
 
 class JsonSceneLoader {

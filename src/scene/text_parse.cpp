@@ -1,4 +1,4 @@
-// Whole-file reads and located errors for the scene readers.
+// Whole-file reads, located errors and the statement helpers shared by the scene readers.
 #include "text_parse.h"
 
 #include <cerrno>

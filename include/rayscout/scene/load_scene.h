@@ -11,9 +11,10 @@ namespace rayscout {
 
 /// Loads a scene from a .json scene file (schema in docs/scene-format.md) or a bare mesh
 /// (.obj with its .mtl, .ply ascii or binary, .gltf/.glb through assimp). A bare mesh gets a
-/// camera framing its bounds and one point light. Triangle ids are the load order
-/// (docs/scene-format.md). Throws InputError naming the file and line, or the JSON field
-/// path, on bad input; zero-area triangles are dropped and counted in Scene::warnings.
+/// camera framing its bounds and, unless it has emissive triangles, one point light. Triangle
+/// ids are the load order (docs/scene-format.md). Throws InputError naming the file and line,
+/// or the JSON field path, on bad input. Zero-area triangles are dropped and counted in
+/// Scene::warnings; a mesh (or scene-file entry) that loses all of them is an InputError.
 Scene load_scene(const std::filesystem::path& path);
 
 /// The built-in Cornell-box-like scene: white floor, ceiling and back wall, red left and
