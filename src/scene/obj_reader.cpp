@@ -63,8 +63,8 @@ class ObjReader {
     bool any_statement = false;  // one parsed: for the message about binary data
     detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* end) {
       if (key == "v") vertex(line, q, end);
-      else if (key == "vt") ++num_vt_;
-      else if (key == "vn") ++num_vn_;
+      else if (key == "vt") attribute(line, q, end, "texcoord", 1, 3, "1 to 3 numbers (u [v [w]])", num_vt_);
+      else if (key == "vn") attribute(line, q, end, "normal", 3, 3, "3 numbers (x y z)", num_vn_);
       else if (key == "f") face(line, q, end);
       else if (key == "usemtl") use_material(line, q, end);
       else if (key == "mtllib") material_libraries(line, q, end);
@@ -90,6 +90,21 @@ class ObjReader {
     expect_line_end(q, end, path_, line, "vertex", "the 3 coordinates");
     if (extra > 4)
       fail_at(path_, line, "vertex: " + std::to_string(3 + extra) + " numbers (expected x y z, then w, r g b or r g b a)");
+  }
+
+  // vt u [v [w]] or vn x y z: counted, so that face indices can be checked, but not stored
+  // (rayscout uses geometric normals). Checked for form only, a count of numbers: exporters write
+  // NaN normals for degenerate faces, which rayscout never reads.
+  // `form` says the min to max numbers expected.
+  void attribute(size_t line, const char* q, const char* end, std::string_view what, int min, int max,
+                 std::string_view form, size_t& count) {
+    int n = 0;
+    for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end), ++n)
+      if (double value; !detail::parse_double(tok, value))
+        fail_at(path_, line, std::string(what) + ": " + detail::quoted(tok) + " is not a number");
+    if (n < min || n > max)
+      fail_at(path_, line, std::string(what) + ": expected " + std::string(form) + ", found " + std::to_string(n));
+    ++count;
   }
 
   // f v1 v2 v3 ...: a polygon, fanned into triangles from its first vertex.
