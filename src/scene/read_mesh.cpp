@@ -8,6 +8,8 @@
 namespace rayscout {
 
 Mesh read_mesh(const std::filesystem::path& path) {
+  if (const std::string why = detail::not_a_file(path); !why.empty())
+    throw InputError(detail::display_name(path) + ": " + why);
   const std::string ext = lower_extension(path);
   if (ext == ".obj") return read_obj(path);
   if (ext == ".ply") return read_ply(path);

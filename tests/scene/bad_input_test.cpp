@@ -433,6 +433,10 @@ TEST(SceneBadInput, NoExtensionAndEmptyFileName) {
   expect_contains(json_error(dir, R"({"meshes": [{"file": ""}]})"), {"scene.json: meshes[0].file: empty file name"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 1, "file": ""}]})"),
                   {"scene.json: lights[0].file: empty file name"});
+  // A folder is said to be one, whatever its name ends in.
+  std::filesystem::create_directory(dir.path() / "meshes");
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "meshes/"}]})"),
+                  {"scene.json: meshes[0].file: ", "meshes/: is a directory, not a file"});
 }
 
 TEST(SceneBadInput, JsonSyntaxAndTypes) {
