@@ -168,9 +168,7 @@ class JsonSceneLoader {
       f_.fail(field, "file name \"" + name + "\" holds a NUL character (\\u0000), which no file name can contain");
     const std::filesystem::path p = resolve_path(name);
     source = display_name(p);
-    std::error_code ec;
-    std::string key = std::filesystem::weakly_canonical(p, ec).string();
-    if (ec) key = p.string();
+    const std::string key = same_file_key(p);
     if (auto it = cache_.find(key); it != cache_.end()) return it->second;
     std::shared_ptr<const Mesh> mesh;
     try {

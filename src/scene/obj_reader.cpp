@@ -165,7 +165,7 @@ class ObjReader {
   void material_libraries(size_t line, const char* q, const char* end) {
     for (const std::string& name : library_names(line, q, end)) {
       const std::filesystem::path mtl = path_.parent_path() / name;
-      if (libraries_seen_.insert(library_key(mtl)).second) read_library(line, name, mtl);
+      if (libraries_seen_.insert(detail::same_file_key(mtl)).second) read_library(line, name, mtl);
     }
   }
 
@@ -182,15 +182,6 @@ class ObjReader {
     std::vector<std::string> files;
     for (std::string_view t = next_token(q, end); !t.empty(); t = next_token(q, end)) files.emplace_back(t);
     return files;
-  }
-
-  // The same string for every spelling of the library's path. absolute() first: weakly_canonical
-  // keeps "gone.mtl" relative but makes "./gone.mtl" absolute when the OBJ was named without a
-  // folder, so the two keys differed.
-  static std::string library_key(const std::filesystem::path& mtl) {
-    std::error_code ec;
-    std::string key = std::filesystem::weakly_canonical(std::filesystem::absolute(mtl, ec), ec).string();
-    return ec ? mtl.lexically_normal().string() : key;
   }
 
   // Reads the library `name` (at path mtl) named on `line`. A missing one is a warning (its

@@ -42,6 +42,14 @@ std::string read_file(const std::filesystem::path& path) {
   return data;
 }
 
+std::string same_file_key(const std::filesystem::path& path) {
+  // absolute() first: weakly_canonical keeps "gone.mtl" relative but makes "./gone.mtl" absolute
+  // when the path has no folder, so the two keys differed.
+  std::error_code ec;
+  std::string key = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec).string();
+  return ec ? path.lexically_normal().string() : key;
+}
+
 std::string printable(std::string_view text) {
   std::string out;
   out.reserve(text.size());

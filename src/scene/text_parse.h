@@ -166,6 +166,10 @@ void for_each_statement(const std::string& data, F&& f) {
   }
 }
 
+/// The same string for every spelling of a path ("a.mtl", "./a.mtl", "sub/../a.mtl", a link to
+/// it), whether or not the file exists: a key for reading each file once.
+std::string same_file_key(const std::filesystem::path& path);
+
 /// The file name as shown in messages, control bytes escaped (a NUL cut messages short).
 inline std::string display_name(const std::filesystem::path& p) { return printable(p.string()); }
 
