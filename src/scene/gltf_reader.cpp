@@ -93,6 +93,11 @@ std::string container_defect(const std::string& data, bool binary, const nlohman
   if (doc.is_discarded()) return json_error(json_text(data, binary));
   if (!doc.is_object()) return std::string("the JSON is ") + doc.type_name() + ", not an object";
   if (!doc.contains("asset")) return "no \"asset\" (glTF requires asset.version)";
+  const nlohmann::json& asset = doc["asset"];
+  if (!asset.is_object() || !asset.contains("version") || !asset["version"].is_string())
+    return "asset.version is missing or not a string (glTF requires it)";
+  if (const std::string version = asset["version"].get<std::string>(); !version.starts_with("2"))
+    return "asset.version is \"" + detail::printable(version) + "\", not 2.x (rayscout reads glTF 2.0)";
   return "";
 }
 

@@ -500,6 +500,13 @@ TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
                   {"bom.gltf: starts with a byte order mark"});
   expect_contains(input_error_of([&] { load_scene(dir.write("arr.gltf", "[1, 2]")); }), {"arr.gltf: the JSON is array, not an object"});
   expect_contains(input_error_of([&] { load_scene(dir.write("obj.gltf", "{}")); }), {"obj.gltf: no \"asset\""});
+  // Review: a version other than 2.x, or none, gave assimp's "No suitable reader found".
+  std::string v3 = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}])");
+  v3.replace(v3.find(R"("2.0")"), 5, R"("3.0")");
+  expect_contains(input_error_of([&] { load_scene(dir.write("v3.gltf", v3)); }),
+                  {"v3.gltf: asset.version is \"3.0\", not 2.x (rayscout reads glTF 2.0)"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("nov.gltf", R"({"asset": {"generator": "x"}})")); }),
+                  {"nov.gltf: asset.version is missing or not a string (glTF requires it)"});
   // Nesting that would overflow assimp's recursive parser (it crashed on 200000 levels).
   const std::string deep = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "extras": )" +
                                          std::string(300, '[') + std::string(300, ']'));
