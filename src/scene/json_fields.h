@@ -47,6 +47,7 @@ class JsonFields {
       if (!ok) {
         std::string list;
         for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+        if (key.empty()) fail(field, "unknown empty key \"\" (expected one of: " + list + ")");
         fail(join(field, key), "unknown key (expected one of: " + list + ")");
       }
     }

@@ -497,6 +497,11 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
                   {"scene.json: lights[0].intensity: a point light must emit (> 0)"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 0, "shape": "quad", "corner": [0,0,1], "edge1": [1,0,0], "edge2": [0,1,0]}]})"),
                   {"scene.json: lights[0].emission: an area light must emit (> 0)"});
+  // Review: an empty key was named by its object alone ("(root): unknown key", "meshes[0].: unknown key").
+  expect_contains(json_error(dir, R"({"": 1, "meshes": [{"file": "tri.obj"}]})"),
+                  {"scene.json: (root): unknown empty key \"\" (expected one of: meshes, camera, lights, materials)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "": 1}]})"),
+                  {"scene.json: meshes[0]: unknown empty key \"\" (expected one of: file, material, transform)"});
   // Review: an empty material name was taken (an MTL's newmtl needs one), listed as "materials.".
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "materials": {"": {"diffuse": 0.5}}})"),
                   {"scene.json: materials: a material name must not be empty"});
