@@ -28,8 +28,8 @@ struct WorkloadConfig {
 /// Shadow/Ao/Diffuse rays start at the primary hits (found with `accel`, refined with
 /// refine_hit) in the same order; rays of pixels whose primary ray missed are left out.
 /// Shadow: one ray to every point light (or, with no point lights, to one point sampled on
-/// the area lights; none in a scene without lights), ending epsilon before the light. Ao: one cosine-distributed ray of
-/// length ao_radius. Diffuse: one cosine-distributed ray, tmax = inf. Secondary rays start
+/// the area lights; none in a scene without lights), ending epsilon before the light.
+/// Ao: one cosine-distributed ray of length ao_radius. Diffuse: one cosine-distributed ray, tmax = inf. Secondary rays start
 /// scene_ray_epsilon off the surface (spawn_ray). Deterministic for a seed, any thread count.
 RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload workload,
                        const WorkloadConfig& config);
