@@ -7,7 +7,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -109,34 +108,33 @@ class JsonSceneLoader {
         builder.define(m);
       }
     }
-    std::set<std::string> inline_names;
-    for (size_t i = 0; i < placements.size(); ++i) {
-      const auto& pl = placements[i];
-      if (!pl.material) continue;
-      const std::string field = JsonFields::join(pl.field, "material");
-      uint32_t index;
-      if (pl.material->is_string()) {
-        const std::string name = pl.material->get<std::string>();
-        auto found = builder.find(name);
-        if (!found) f_.fail(field, "unknown material \"" + name + "\" (define it under \"materials\")");
-        index = *found;
-      } else if (pl.material->is_object()) {
-        Material m;
-        m.name = field;
-        if (pl.material->contains("name")) {
-          m.name = f_.string((*pl.material)["name"], JsonFields::join(field, "name"));
-          if (m.name.empty()) f_.fail(JsonFields::join(field, "name"), "a material name must not be empty");
-        }
-        apply_material(f_, *pl.material, field, m, true);
-        if (builder.find(m.name) || !inline_names.insert(m.name).second)
-          f_.fail(JsonFields::join(field, "name"), "material \"" + m.name + "\" is already defined");
-        index = builder.define(m);
-      } else {
-        f_.fail(field, std::string("expected a material name or object, found ") + pl.material->type_name());
-      }
-      maps[i].assign(pl.mesh->materials.size(), index);
-    }
+    for (size_t i = 0; i < placements.size(); ++i)
+      if (placements[i].material)
+        maps[i].assign(placements[i].mesh->materials.size(), placement_material(placements[i], builder));
     return maps;
+  }
+
+  // The scene material of a placement's own "material": a defined name, or an inline object that
+  // defines a new one (named meshes[i].material unless it has a "name").
+  uint32_t placement_material(const Placement& pl, detail::SceneBuilder& builder) const {
+    const std::string field = JsonFields::join(pl.field, "material");
+    if (pl.material->is_string()) {
+      const std::string name = pl.material->get<std::string>();
+      const auto found = builder.find(name);
+      if (!found) f_.fail(field, "unknown material \"" + name + "\" (define it under \"materials\")");
+      return *found;
+    }
+    if (!pl.material->is_object())
+      f_.fail(field, std::string("expected a material name or object, found ") + pl.material->type_name());
+    Material m;
+    m.name = field;
+    if (pl.material->contains("name")) {
+      m.name = f_.string((*pl.material)["name"], JsonFields::join(field, "name"));
+      if (m.name.empty()) f_.fail(JsonFields::join(field, "name"), "a material name must not be empty");
+    }
+    apply_material(f_, *pl.material, field, m, true);
+    if (builder.find(m.name)) f_.fail(JsonFields::join(field, "name"), "material \"" + m.name + "\" is already defined");
+    return builder.define(m);
   }
 
   // A "materials" entry no triangle uses is most likely a misspelt override ("defualt").

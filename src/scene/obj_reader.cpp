@@ -46,10 +46,6 @@ struct MaxRef {
   }
 };
 
-}  // namespace
-
-namespace {
-
 // One OBJ file being read: the mesh so far, the materials in order of first use, and the
 // largest positive indices, which may point forward and are checked at the end of the file.
 class ObjReader {
@@ -93,9 +89,8 @@ class ObjReader {
   }
 
   // vt u [v [w]] or vn x y z: counted, so that face indices can be checked, but not stored
-  // (rayscout uses geometric normals). Checked for form only, a count of numbers: exporters write
-  // NaN normals for degenerate faces, which rayscout never reads.
-  // `form` says the min to max numbers expected.
+  // (rayscout uses geometric normals). Checked for form only, min to max numbers (`form` says
+  // which): exporters write NaN normals for degenerate faces, which rayscout never reads.
   void attribute(size_t line, const char* q, const char* end, std::string_view what, int min, int max,
                  std::string_view form, size_t& count) {
     int n = 0;

@@ -502,6 +502,10 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
                   {"scene.json: (root): unknown empty key \"\" (expected one of: meshes, camera, lights, materials)"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "": 1}]})"),
                   {"scene.json: meshes[0]: unknown empty key \"\" (expected one of: file, material, transform)"});
+  // Two inline materials of one name: the second is refused, whatever the order of definition.
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": {"name": "x"}},
+                                                  {"file": "tri.obj", "material": {"name": "x", "diffuse": 0.1}}]})"),
+                  {"scene.json: meshes[1].material.name: material \"x\" is already defined"});
   // Review: an empty material name was taken (an MTL's newmtl needs one), listed as "materials.".
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "materials": {"": {"diffuse": 0.5}}})"),
                   {"scene.json: materials: a material name must not be empty"});
