@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(build-essential cmake libtbb-dev libembree-dev libtinyobjloader-dev libassimp-dev
+packages=(build-essential cmake libtbb-dev libembree-dev libassimp-dev
           nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libopenexr-dev
           libgtest-dev libgmock-dev libbenchmark-dev python3-matplotlib)
 missing=()
