@@ -116,7 +116,7 @@ CommandRegistration registration{[](CLI::App& app) {
   auto* cmd = app.add_subcommand("trace", "Trace a ray file; print one JSON line of build and trace times");
   set_memory_hint(*cmd, "trace fewer rays (a smaller --rays file), another --accel, or load a smaller scene");
   add_scene_option(*cmd, args->scene, /*required=*/true);
-  cmd->add_option("--rays", args->rays, "RAYS file (rayscout rays writes one)")->required();
+  cmd->add_option("--rays", args->rays, "RAYS file (rayscout rays writes one)")->required()->check(file_path());
   add_accel_options(*cmd, args->accel, "to trace with", &args->accel_opts);
   cmd->add_flag("--occluded", args->occluded, "any-hit queries (shadow rays) instead of closest hits");
   add_threads_option(*cmd, args->threads);
@@ -124,7 +124,7 @@ CommandRegistration registration{[](CLI::App& app) {
       ->capture_default_str()
       ->transform(in_range(1));
   cmd->add_flag("--count", args->count, "add exact work counters (from a separate, untimed run)");
-  cmd->add_option("--out", args->out, "write the hits (HITS file, or OCCL with --occluded)");
+  cmd->add_option("--out", args->out, "write the hits (HITS file, or OCCL with --occluded)")->check(file_path());
   cmd->callback([args] { run_trace(*args); });
 }};
 

@@ -51,6 +51,11 @@ AcceleratorOptions checked_accel_options(const std::string& accel, const std::ve
 /// --threads (0 = all cores; see ThreadLimit).
 void add_threads_option(CLI::App& cmd, int& threads);
 
+/// Use with ->check(file_path()) on every option that names a file: an empty value is refused,
+/// where it would otherwise read as the option left out (--scene "" rendered the built-in
+/// Cornell box, --stats "" wrote nothing).
+CLI::Validator file_path();
+
 /// Use with ->transform(in_range(lo, hi)): the option's value must be a number in [lo, hi]
 /// (hi omitted: >= lo, finite). Unlike CLI::Range it rejects NaN and infinity, reads integers
 /// as decimal (CLI11 alone reads "010" as 8) and rejects "-1" for an unsigned option (CLI11

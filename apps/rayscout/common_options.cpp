@@ -8,10 +8,17 @@
 
 namespace rayscout::cli {
 
+CLI::Validator file_path() {
+  return CLI::Validator(
+      [](const std::string& text) { return text.empty() ? std::string("an empty path names no file") : std::string(); },
+      "");
+}
+
 void add_scene_option(CLI::App& cmd, std::string& scene, bool required) {
   const std::string help = "a .json scene file (docs/scene-format.md), a mesh (.obj, .ply, .gltf, .glb) or cornell, "
                            "the built-in Cornell box";
-  auto* option = cmd.add_option("--scene", scene, help + (required ? "" : " (the default)"));
+  auto* option = cmd.add_option("--scene", scene, help + (required ? "" : " (the default)"))
+                     ->check(file_path());
   if (required) option->required();
 }
 

@@ -36,6 +36,12 @@ int main(int argc, char** argv) {
   CLI::App app{"rayscout: a ray tracing engine that looks at the rays before tracing them"};
   app.set_version_flag("--version", "rayscout " RAYSCOUT_VERSION);
   app.require_subcommand(1);
+  // CLI11's usage errors read as rayscout's own, and point at the command's --help.
+  app.failure_message([](const CLI::App* top, const CLI::Error& e) {
+    std::string command = "rayscout";
+    for (const CLI::App* sub : top->get_subcommands()) command += " " + sub->get_name();
+    return fmt::format("rayscout: error: {}\nRun '{} --help' for the options.\n", e.what(), command);
+  });
   for (const auto& add : rayscout::cli::command_registry()) add(app);
   try {
     app.parse(argc, argv);

@@ -64,9 +64,11 @@ void add_manylight_options(CLI::App& cmd) {
                  "manylight: seed of the render passes only (default: --seed, which also makes the VPLs and shading "
                  "points); render a --reference with another one, so that its noise is independent of the run's")
       ->transform(in_range<uint64_t>(0));
-  cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass");
-  cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)");
-  cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)");
+  cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass")
+      ->check(file_path());
+  cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)")->check(file_path());
+  cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)")
+      ->check(file_path());
   cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")
       ->capture_default_str()
       ->transform(in_range(0.0f));

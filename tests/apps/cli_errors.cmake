@@ -37,6 +37,30 @@ expect(2 "A subcommand is required|subcommand")
 expect(2 "unknown command 'rendr' \\(commands: accelerators, .*render, trace" rendr --out ${WORK}/x.png)
 expect(2 "--scene is required" rays --workload primary --out ${WORK}/x.rays)
 expect(2 "--no-such-option" render --no-such-option)
+# CLI11's usage errors read as rayscout's own and name the command's --help.
+expect(2 "^rayscout: error: The following argument was not expected: --no-such-option\nRun 'rayscout render --help'"
+       render --no-such-option)
+expect(2 "^rayscout: error: --scene is required\nRun 'rayscout trace --help'" trace --rays ${WORK}/x.rays)
+# An empty file name is refused: --scene "" rendered the built-in Cornell box, --stats "" wrote
+# nothing, and both exited 0. (The empty argument is written out here: a CMake list drops it.)
+function(expect_empty_path option)
+  execute_process(COMMAND ${RAYSCOUT} ${ARGN} ${option} "" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT "${out}${err}" MATCHES "^rayscout: error: ${option}: an empty path names no file\n")
+    message(FATAL_ERROR "exit ${rc}, expected 2 and '${option}: an empty path names no file': "
+                        "rayscout ${ARGN} ${option} \"\"\n${out}${err}")
+  endif()
+endfunction()
+expect_empty_path(--scene render)
+expect_empty_path(--stats render)
+expect_empty_path(--out render)
+expect_empty_path(--rmse-log render --integrator manylight)
+expect_empty_path(--reference render --integrator manylight)
+expect_empty_path(--skip-image render --integrator manylight)
+expect_empty_path(--rays trace --scene cornell)
+expect_empty_path(--out trace --scene cornell --rays ${WORK}/x.rays)
+expect_empty_path(--out rays --scene cornell)
+expect_empty_path(--out diff a.png b.png)
+expect_empty_path(--hits-a compare-hits a.occl b.occl)
 # A misspelt integrator or workload is a usage error naming the option, found as the command line
 # is parsed, not after a warning that --max-depth is "ignored by --integrator pth".
 expect_without(2 "--integrator: pth not in {direct,area,ao,path,manylight}" "warning"
