@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,6 +21,9 @@
 
 namespace rayscout::detail {
 namespace {
+
+// A "file" that starts with this is read from the folder RAYSCOUT_SCENES names (scenes_dir()).
+constexpr std::string_view kScenesPrefix = "$RAYSCOUT_SCENES/";
 
 // One mesh to place: geometry, transform and an optional material that replaces its own.
 struct Placement {
@@ -148,9 +152,18 @@ class JsonSceneLoader {
                                            ": no triangle uses this material (a misspelt name?)"));
   }
 
+  // A missing "$RAYSCOUT_SCENES/..." file most often means the variable points elsewhere.
+  static std::string scenes_dir_hint(const std::string& file, const std::filesystem::path& resolved) {
+    std::error_code ec;
+    if (!file.starts_with(kScenesPrefix) || std::filesystem::exists(resolved, ec)) return "";
+    const char* env = std::getenv("RAYSCOUT_SCENES");
+    const std::string from = env && *env ? "RAYSCOUT_SCENES = " + scenes_dir().string()
+                                         : "the default " + scenes_dir().string() + " (RAYSCOUT_SCENES is unset)";
+    return " (\"" + file + "\" is read from " + from + "; set RAYSCOUT_SCENES to the folder that holds the scenes)";
+  }
+
   std::filesystem::path resolve_path(const std::string& file) const {
-    constexpr std::string_view prefix = "$RAYSCOUT_SCENES/";
-    if (file.rfind(prefix, 0) == 0) return scenes_dir() / file.substr(prefix.size());
+    if (file.starts_with(kScenesPrefix)) return scenes_dir() / file.substr(kScenesPrefix.size());
     std::filesystem::path p(file);
     if (p.is_relative()) p = path_.parent_path() / p;
     return p.lexically_normal();
@@ -172,7 +185,7 @@ class JsonSceneLoader {
     try {
       mesh = std::make_shared<const Mesh>(read_mesh(p));
     } catch (const InputError& e) {
-      throw InputError(printable(f_.file() + ": " + field + ": " + e.what()));
+      throw InputError(printable(f_.file() + ": " + field + ": " + e.what() + scenes_dir_hint(name, p)));
     }
     cache_.emplace(key, mesh);
     return mesh;

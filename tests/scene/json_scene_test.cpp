@@ -265,6 +265,30 @@ TEST(JsonScene, RepeatedFilesAndScenesDirPrefix) {
   }
 }
 
+// A missing "$RAYSCOUT_SCENES/..." file names the variable and where it points: a user with the
+// scenes elsewhere learns what to set. A missing file by a plain path does not mention it.
+TEST(JsonScene, MissingScenesDirFileNamesTheVariable) {
+  TempDir scenes, dir;
+  const std::string json = dir.write("r.json", R"({"meshes": [{"file": "$RAYSCOUT_SCENES/q.ply"}]})");
+  const testing::ScopedEnv env("RAYSCOUT_SCENES", scenes.path().string());
+  try {
+    load_scene(json);
+    FAIL() << "a missing mesh file loaded";
+  } catch (const InputError& e) {
+    const std::string expected = "meshes[0].file: " + (scenes.path() / "q.ply").string() +
+                                 ": cannot open: No such file or directory (\"$RAYSCOUT_SCENES/q.ply\" is read from "
+                                 "RAYSCOUT_SCENES = " + scenes.path().string() +
+                                 "; set RAYSCOUT_SCENES to the folder that holds the scenes)";
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
+  try {
+    load_scene(dir.write("s.json", R"({"meshes": [{"file": "q.ply"}]})"));
+    FAIL() << "a missing mesh file loaded";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("RAYSCOUT_SCENES"), std::string::npos) << e.what();
+  }
+}
+
 TEST(JsonScene, ConflictingMaterialNamesKeepTheFirstAndWarn) {
   TempDir dir;
   dir.write("a.mtl", "newmtl paint\nKd 1 0 0\n");
