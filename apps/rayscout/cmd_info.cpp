@@ -41,7 +41,7 @@ void print_info(const std::string& arg) {
   fmt::print("materials:    {}\n", scene.materials.size());
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
-    fmt::print("  {:<24} {:<8} {:>9} tris  diffuse {}", m.name, type_name(m.type), uses[i], vec(m.diffuse));
+    fmt::print("  {:<24} {:<8} {:>9} tris  diffuse {}", printable(m.name), type_name(m.type), uses[i], vec(m.diffuse));
     if (m.type != Material::Type::Diffuse) fmt::print("  specular {}", vec(m.specular));
     if (m.type == Material::Type::Glossy) fmt::print("  exponent {:.6g}", m.exponent);
     if (m.emissive()) fmt::print("  emission {}", vec(m.emission));

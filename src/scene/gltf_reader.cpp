@@ -97,7 +97,7 @@ std::string container_defect(const std::string& data, bool binary, const nlohman
   if (!asset.is_object() || !asset.contains("version") || !asset["version"].is_string())
     return "asset.version is missing or not a string (glTF requires it)";
   if (const std::string version = asset["version"].get<std::string>(); !version.starts_with("2"))
-    return "asset.version is \"" + detail::printable(version) + "\", not 2.x (rayscout reads glTF 2.0)";
+    return "asset.version is \"" + printable(version) + "\", not 2.x (rayscout reads glTF 2.0)";
   return "";
 }
 
@@ -246,7 +246,7 @@ Material gltf_material(const aiMaterial* m, unsigned index, const std::map<std::
   if (auto it = strengths.find(name); named && it != strengths.end()) ke *= it->second;
   // As in MTL and JSON materials: a negative or non-finite colour would make negative or NaN radiance.
   for (const auto& [what, c] : {std::pair{"base colour", kd}, {"specular colour", ks}, {"emission", ke}}) {
-    const std::string material = file + ": material \"" + detail::printable(name) + "\": " + what;
+    const std::string material = file + ": material \"" + printable(name) + "\": " + what;
     if (!is_finite(c)) throw InputError(material + " beyond float range");
     if (c.x < 0 || c.y < 0 || c.z < 0) throw InputError(material + " components must be >= 0");
   }

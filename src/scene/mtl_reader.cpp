@@ -155,7 +155,7 @@ std::string conserve_energy_with_warning(Material& m, const std::string& where) 
   const float total = conserve_energy(m);
   if (!(total > 1.0f)) return {};
   const std::string max = detail::format_number(total);
-  return detail::printable(where + ": material '" + m.name + "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") +
+  return printable(where + ": material '" + m.name + "': " + (m.type == Material::Type::Mirror ? "Ks" : "Kd + Ks") +
                            " reaches " + max + " in a channel (> 1 reflects more light than arrives); Kd and Ks scaled by 1/" +
                            max);
 }

@@ -317,7 +317,7 @@ class InstanceReader {
 
   [[noreturn]] void fail(const std::string& message) const {
     if (binary())
-      throw InputError(detail::printable(detail::display_name(path_) + ": " + el_->name + " " + std::to_string(k_) +
+      throw InputError(printable(detail::display_name(path_) + ": " + el_->name + " " + std::to_string(k_) +
                                          " (byte " + std::to_string(byte_) + "): " + message));
     fail_at(path_, line_, message);
   }

@@ -20,7 +20,7 @@ Mesh read_mesh(const std::filesystem::path& path) {
   if (ext == ".json")
     throw InputError(detail::display_name(path) +
                      ": a .json scene cannot be used as a mesh (meshes are .obj, .ply, .gltf or .glb)");
-  throw InputError(detail::printable(detail::display_name(path) + ": unknown mesh format '" + ext +
+  throw InputError(printable(detail::display_name(path) + ": unknown mesh format '" + ext +
                                      "' (expected .obj, .ply, .gltf, .glb or a .json scene)"));
 }
 

@@ -50,22 +50,6 @@ std::string same_file_key(const std::filesystem::path& path) {
   return ec ? path.lexically_normal().string() : key;
 }
 
-std::string printable(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u >= 0x20 && u != 0x7f) {
-      out += c;  // UTF-8 bytes too: names in other scripts stay readable
-      continue;
-    }
-    char buf[8];
-    std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(u));
-    out += buf;
-  }
-  return out;
-}
-
 std::string at_line(const std::filesystem::path& file, size_t line, const std::string& message) {
   return printable(display_name(file) + ":" + std::to_string(line) + ": " + message);
 }

@@ -31,10 +31,6 @@ inline const char* skip_bom(const std::string& data) {
   return data.size() >= 3 && data.compare(0, 3, "\xEF\xBB\xBF") == 0 ? data.data() + 3 : data.data();
 }
 
-/// Text for an error message that quotes input: control bytes (NUL, ESC, ...) as \xNN, so that
-/// the message prints whole (what() is a C string: a NUL ended it) and plainly on a terminal.
-std::string printable(std::string_view text);
-
 /// "file:line: message" with control bytes escaped: the form of every located error and warning.
 std::string at_line(const std::filesystem::path& file, size_t line, const std::string& message);
 

@@ -29,6 +29,12 @@ endforeach()
 # the light a 0.5 x 0.5 quad).
 expect(0 "triangles: +32\nbounds: +min \\(-1, 0, -1\\) max \\(1, 2, 1\\)\n.*materials: +4\n +white +diffuse +26 tris.*\n +red +diffuse +2 tris.*\n +green +diffuse +2 tris.*\n +light +diffuse +2 tris .*emission \\(17, 12, 4\\)\nlights: +1 point, 2 emissive triangles \\(area 0\\.25\\)\n +point at \\(0, 1\\.9, 0\\)"
        info --scene cornell)
+# info escapes the control bytes of material names, as errors and warnings do: a material named
+# "<ESC>[2J" cleared the terminal.
+string(ASCII 27 esc)
+file(WRITE ${WORK}/esc.mtl "newmtl paint${esc}[2J\nKd 0.5 0.5 0.5\n")
+file(WRITE ${WORK}/esc.obj "mtllib esc.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl paint${esc}[2J\nf 1 2 3\n")
+expect_without(0 "\n  paint\\\\x1b\\[2J +diffuse +1 tris" "${esc}" info --scene ${WORK}/esc.obj)
 expect(0 "--accel" trace --help)
 expect(0 "^rayscout [0-9]+\\.[0-9]+" --version)
 expect(2 "unknown option '--width' \\(options follow the command" --width 8 render)

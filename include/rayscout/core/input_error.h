@@ -2,6 +2,8 @@
 #pragma once
 
 #include <stdexcept>
+#include <string>
+#include <string_view>
 
 namespace rayscout {
 
@@ -11,5 +13,10 @@ class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// Text for a message that quotes input (a name, a field, a line): control bytes (NUL, ESC, ...)
+/// as \xNN, so that the message prints whole (what() is a C string: a NUL ended it) and
+/// plainly on a terminal (a material named "<ESC>[2J" cleared it).
+std::string printable(std::string_view text);
 
 }  // namespace rayscout
