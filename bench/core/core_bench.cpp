@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -146,13 +147,9 @@ class CoreBench {
   void run_scene(const std::string& scene_arg) {
     const std::string scene_name = std::filesystem::path(scene_arg).stem().string();
     const auto load_start = SteadyClock::now();
-    Scene scene;
-    try {
-      scene = resolve_scene(scene_arg);
-    } catch (const InputError& e) {  // a scene not in $RAYSCOUT_SCENES: its rows are left out
-      fmt::print("skipping {}: {}\n", scene_name, e.what());
-      return;
-    }
+    const std::optional<Scene> loaded = bench::load_or_skip("--scene", scene_arg, scene_name);
+    if (!loaded) return;
+    const Scene& scene = *loaded;
     fmt::print(stderr, "{}: {} triangles loaded in {:.0f} ms\n", scene_name, scene.triangles.size(), ms_since(load_start));
 
     // Ray sets are made once (with all threads) and shared by every column and thread count.

@@ -214,7 +214,7 @@ class DacrtBench {
       if (!contains(o_.views, v.name)) continue;
       auto scene = scene_of(v);
       if (!scene) {
-        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} | | | | | | |\n", v.name, v.file);
+        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} ({}) | | | | | | |\n", v.name, v.file, scenes_dir_note());
         continue;
       }
       auto afra = make("dacrt", *scene), rs = make("dacrt-rs", *scene);
@@ -261,7 +261,7 @@ class DacrtBench {
       if (!contains(o_.views, v.name)) continue;
       auto scene = scene_of(v);
       if (!scene) {
-        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} | | |\n", v.name, v.file);
+        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} ({}) | | |\n", v.name, v.file, scenes_dir_note());
         continue;
       }
       std::vector<std::unique_ptr<Accelerator>> accs;
@@ -303,7 +303,7 @@ class DacrtBench {
     if (!(wants("ablation") || wants("sampling") || wants("counts") || wants("peers") || wants("memory"))) return;
     auto scene = scene_of(v);
     if (!scene) {
-      fmt::print("{}: scene missing, skipped\n", v.name);
+      print_skip(v.name, "missing " + v.file);
       return;
     }
     Study st{v, *scene, ray_sets(v, *scene, o_.study_res)};

@@ -9,6 +9,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -211,13 +212,10 @@ int main(int argc, char** argv) {
     std::ofstream csv;  // opened once a scene has loaded: a run that skips every scene writes nothing
     for (const std::string& name : o.scenes) {
       auto it = std::find_if(kScenes.begin(), kScenes.end(), [&](const BenchScene& s) { return s.name == name; });
-      Scene scene;
-      try {
-        scene = load_scene(std::string(RAYSCOUT_BENCH_DIR) + "/scenes/" + it->file);
-      } catch (const std::exception& e) {
-        fmt::print("skipping {}: {}\n", name, e.what());
-        continue;
-      }
+      const std::optional<Scene> loaded =
+          bench::load_or_skip("--scenes", std::string(RAYSCOUT_BENCH_DIR) + "/scenes/" + it->file, name);
+      if (!loaded) continue;
+      const Scene& scene = *loaded;
       if (!csv.is_open()) {
         csv.open(o.out_dir + "/rmse_over_time.csv");
         if (!csv) throw InputError(o.out_dir + "/rmse_over_time.csv: cannot open for writing");

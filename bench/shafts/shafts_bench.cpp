@@ -313,16 +313,12 @@ int main(int argc, char** argv) {
     for (const std::string& s : split(o.scenes)) {
       const auto path = resolve_scene(s, dir);
       if (!path) {
-        fmt::print("skip {}: not found under {}\n", s, scenes_dir().string());
+        bench::print_skip(s, "no such file, bench view or file under the scenes folder");
         continue;
       }
-      Scene scene;
-      try {
-        scene = load_scene(*path);
-      } catch (const InputError& e) {  // a bench view whose meshes are not in $RAYSCOUT_SCENES
-        fmt::print("skip {}\n", e.what());
-        continue;
-      }
+      const std::optional<Scene> loaded = bench::load_or_skip("--scenes", path->string(), s);
+      if (!loaded) continue;
+      const Scene& scene = *loaded;
       const std::string sname = path->extension() == ".json" ? path->stem().string() : path->parent_path().filename().string();
       fmt::print("\n## {} ({} triangles)\n", sname, scene.triangles.size());
       run_scene(scene, sname, o, csv);

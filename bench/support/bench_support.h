@@ -1,11 +1,14 @@
 // What the benchmark drivers share: clocks, ray sets and their tracing, medians of repetitions,
-// checks of name lists, the machine line, error exits.
+// checks of name lists, the machine line, skipping scenes that are missing, error exits.
 #pragma once
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -15,7 +18,9 @@
 #include "rayscout/core/accelerator.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/median.h"
+#include "rayscout/core/scenes_dir.h"
 #include "rayscout/core/stopwatch.h"
+#include "rayscout/scene/load_scene.h"
 
 namespace rayscout::bench {
 
@@ -128,6 +133,33 @@ inline std::string machine_description() {
   s += ", g++ " __VERSION__;
 #endif
   return s;
+}
+
+/// Where the meshes of the bench scenes were looked for, for the skip lines:
+/// "RAYSCOUT_SCENES=/x" or "RAYSCOUT_SCENES is not set, default /y".
+inline std::string scenes_dir_note() {
+  const char* env = std::getenv("RAYSCOUT_SCENES");
+  return (env && *env ? "RAYSCOUT_SCENES=" : "RAYSCOUT_SCENES is not set, default ") + scenes_dir().string();
+}
+
+/// Prints "skipping NAME: WHY (RAYSCOUT_SCENES=...)" to stdout, beside the tables: a scene whose
+/// files are missing leaves a gap in them, not an error.
+inline void print_skip(const std::string& name, const std::string& why) {
+  fmt::print("skipping {}: {} ({})\n", name, why, scenes_dir_note());
+}
+
+/// The scene `arg` names ("cornell", or a scene or mesh file), or nullopt after a skip line when
+/// loading it fails (its meshes are not under $RAYSCOUT_SCENES). A file that is not there at all
+/// is a mistake on the command line: InputError naming `option`.
+inline std::optional<Scene> load_or_skip(const std::string& option, const std::string& arg, const std::string& name) {
+  std::error_code ec;
+  if (arg != "cornell" && !std::filesystem::exists(arg, ec)) throw InputError(option + " " + arg + ": no such file");
+  try {
+    return resolve_scene(arg);
+  } catch (const InputError& e) {
+    print_skip(name, e.what());
+    return std::nullopt;
+  }
 }
 
 /// Runs a driver's body once its options are parsed: bad input (an unknown scene, a bad
