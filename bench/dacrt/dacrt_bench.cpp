@@ -144,6 +144,16 @@ class DacrtBench {
     return make_accelerator(name, scene, opts);
   }
 
+  /// One untimed trace of the largest of sets with each of accs: a Dacrt computes its triangle
+  /// boxes at its first call and keeps its buffers, grown to the largest batch, between calls;
+  /// without this the first timed repetition paid for both (and, with 1 or 2 repetitions, the median).
+  static void warm_up(const std::vector<const Accelerator*>& accs, const std::vector<RaySet>& sets) {
+    const auto largest = std::max_element(sets.begin(), sets.end(),
+                                          [](const RaySet& a, const RaySet& b) { return a.rays.size() < b.rays.size(); });
+    if (largest == sets.end()) return;
+    for (const Accelerator* a : accs) trace(*a, *largest);
+  }
+
   /// Median time of reps traces of s (ms). One thread is timed by the process CPU time, more
   /// by the wall clock (bench_support.h).
   double time_trace(const Accelerator& a, const RaySet& s) const {
@@ -163,7 +173,9 @@ class DacrtBench {
     return medians;
   }
 
+  /// Sum over the study's sets of a's median times (ms), after a warm-up.
   double frame_ms(const Accelerator& a, const Study& st) const {
+    warm_up({&a}, st.sets);
     double t = 0;
     for (const auto& s : st.sets) t += time_trace(a, s);
     return t;
@@ -208,8 +220,9 @@ class DacrtBench {
 
   /// 1. Frame and per-bounce times of dacrt and dacrt-rs per resolution (figs. 4-8).
   void resolution() {
-    fmt::print("## Tracing time per resolution and batch (ms)\n\n");
-    fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | ratio | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
+    fmt::print("## Tracing time per resolution and batch (ms; repetitions interleaved after a warm-up; "
+               "ratio = dacrt / dacrt-rs, above 1 when dacrt-rs is faster)\n\n");
+    fmt::print("| view | res | batch | rays | dacrt | dacrt-rs | dacrt / dacrt-rs | paper (frame) |\n|---|---|---|---|---|---|---|---|\n");
     for (const auto& v : paper_views()) {
       if (!contains(o_.views, v.name)) continue;
       auto scene = scene_of(v);
@@ -220,7 +233,9 @@ class DacrtBench {
       auto afra = make("dacrt", *scene), rs = make("dacrt-rs", *scene);
       for (int res : o_.res) {
         double fa = 0, fr = 0;
-        for (const auto& s : ray_sets(v, *scene, res)) {
+        const std::vector<RaySet> sets = ray_sets(v, *scene, res);
+        warm_up({afra.get(), rs.get()}, sets);
+        for (const auto& s : sets) {
           const std::vector<double> ms = interleaved_ms({afra.get(), rs.get()}, s);
           const double ta = ms[0], tr = ms[1];
           fa += ta;
@@ -250,7 +265,7 @@ class DacrtBench {
     if (o_.variants_only) configs.clear();
     for (const auto& v : o_.variants) configs.push_back(parse_variant(v));
     // With --variants-only the ratios are against the first variant, not dacrt.
-    fmt::print("## Variants (ms, ratio = {} / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n",
+    fmt::print("## Variants (ms, repetitions interleaved after a warm-up, ratio = {} / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n",
                configs.front().first);
     fmt::print("| view | res | batch | rays |");
     for (const auto& c : configs) fmt::print(" {} |", c.first);
@@ -268,9 +283,11 @@ class DacrtBench {
       for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, c.second));
       for (int res : o_.res) {
         std::vector<double> frame(configs.size(), 0.0);
-        for (const auto& s : ray_sets(v, *scene, res)) {
-          std::vector<const Accelerator*> timed;
-          for (const auto& a : accs) timed.push_back(a.get());
+        std::vector<const Accelerator*> timed;
+        for (const auto& a : accs) timed.push_back(a.get());
+        const std::vector<RaySet> sets = ray_sets(v, *scene, res);
+        warm_up(timed, sets);
+        for (const auto& s : sets) {
           const std::vector<double> ms = interleaved_ms(timed, s);
           fmt::print("| {} | {} | {} | {} |", v.name, res, s.label(), s.rays.size());
           const double base = ms[0];
@@ -318,7 +335,9 @@ class DacrtBench {
 
   void ablation(const Study& st) {
     const std::string& name = st.view.name;
-    fmt::print("## Ablation, {} at {}^2 (frame ms; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n", name, o_.study_res);
+    fmt::print("## Ablation, {} at {}^2 (frame ms; one configuration after another, dacrt's frame timed once before "
+               "them, not interleaved; paper, Sibenik (a) 4096^2: cost 1.24x, order 1.05x, skip 1.28x)\n\n",
+               name, o_.study_res);
     fmt::print("| configuration | frame ms | speed-up vs dacrt |\n|---|---|---|\n");
     fmt::print("| dacrt (all off) | {:.1f} | 1.00 |\n", st.afra_ms);
     const std::vector<Config> configs = {
@@ -357,7 +376,8 @@ class DacrtBench {
 
   void sampling(const Study& st) {
     const std::string& name = st.view.name;
-    fmt::print("## Sampling strategies, {} at {}^2 (speed-up of dacrt-rs vs dacrt; fig. 9)\n\n", name, o_.study_res);
+    fmt::print("## Sampling strategies, {} at {}^2 (speed-up = dacrt frame / configuration frame, dacrt timed once "
+               "before them, not interleaved; fig. 9)\n\n", name, o_.study_res);
     fmt::print("| sampling | frame ms | speed-up |\n|---|---|---|\n");
     const std::vector<Config> configs = {
         {"stride 1 %", {"fraction=0.01"}},   {"random 1 %", {"fraction=0.01", "strategy=random"}},
@@ -408,10 +428,13 @@ class DacrtBench {
   }
 
   void peers(const Study& st) {
-    fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch)\n\n", st.view.name, o_.study_res);
+    fmt::print("## Peers including their build, {} at {}^2 (ms; a build per batch, as DACRT re-splits per batch; "
+               "dacrt and dacrt-rs interleaved after a warm-up, so without their triangle boxes, computed at their "
+               "first call; bvh and embree built afresh for each repetition)\n\n", st.view.name, o_.study_res);
     fmt::print("| batch | rays | dacrt | dacrt-rs | bvh build | bvh trace | bvh total | embree build | embree trace | embree total |\n|---|---|---|---|---|---|---|---|---|---|\n");
     auto a = make("dacrt", st.scene), r = make("dacrt-rs", st.scene);
     const bool have_embree = std::any_of(accelerators().begin(), accelerators().end(), [](const auto& i) { return i.name == "embree"; });
+    warm_up({a.get(), r.get()}, st.sets);
     for (const auto& s : st.sets) {
       const std::vector<double> ms = interleaved_ms({a.get(), r.get()}, s);
       const double ta = ms[0], tr = ms[1];
@@ -476,17 +499,22 @@ int main(int argc, char** argv) {
   app.add_option("--res", o.res, "square resolutions")->delimiter(',')->check(CLI::Range(1, 16384))->capture_default_str();
   app.add_flag("--big", o.big, "also 4096^2");
   app.add_option("--reps", o.reps, "repetitions per measurement (median)")->check(CLI::Range(1, 1000000))->capture_default_str();
-  app.add_option("--threads", o.threads, "threads (1 = the paper's single thread; dacrt parallel=on when > 1)")
+  app.add_option("--threads", o.threads, "threads (1 = the paper's single thread, timed by process CPU time; more: wall clock and dacrt parallel=on)")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  app.add_option("--experiments", o.experiments, "resolution,ablation,sampling,counts,peers,variants,memory")->delimiter(',');
-  app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts and peers")
+  app.add_option("--experiments", o.experiments, "of resolution,ablation,sampling,counts,peers,variants,memory")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--study-res", o.study_res, "resolution of ablation, sampling, counts, peers and memory")
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
-  app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts and peers")->delimiter(',');
+  app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts, peers and memory")
+      ->delimiter(',')
+      ->capture_default_str();
   app.add_option("--json", o.json, "results file for plot_dacrt.py (default none; docs/dacrt_results.json holds the committed results)");
   app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
-      ->check(CLI::IsMember({"render", "own"}));
+      ->check(CLI::IsMember({"render", "own"}))
+      ->capture_default_str();
   app.add_option("--batches", o.batches, "only these batches (e.g. primary,shadow,mirror@1; default all)")->delimiter(',');
   app.add_option("--variants", o.variants,
                  "experiment 'variants': label=key:value;key:value options on top of dacrt-rs, timed side by side "
