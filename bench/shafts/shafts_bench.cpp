@@ -45,8 +45,8 @@ std::vector<RaySet> make_ray_sets(const Scene& scene, const Accelerator& accel, 
     // Path-tracing bounces 1..3 (closest hit), recorded from a low-resolution render.
     RaySet path{"path", 0, false, {}};
     RenderConfig rc;
-    rc.width = width / 2;
-    rc.height = height / 2;
+    rc.width = std::max(1, width / 2);
+    rc.height = std::max(1, height / 2);
     rc.spp = 1;
     rc.max_depth = 3;
     rc.on_batch = [&](const BatchInfo& info, const RayBatch& rays) {
@@ -272,7 +272,8 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", o.scenes, "comma-separated scene files: a path as given (absolute or from the current folder), else a "
                  "bench view by name (sponza = bench/scenes/sponza.json), else relative to $RAYSCOUT_SCENES; a file found "
                  "nowhere is skipped (default: sibenik-a, sponza, conference)");
-  app.add_option("--workloads", o.workloads, "primary,shadow,ao,diffuse,path, or none (builds only, for build times)")
+  app.add_option("--workloads", o.workloads, "primary,shadow,ao,diffuse,path (bounces 1-3 of a path-traced frame at half the width and height), "
+                 "or none (builds only, for build times)")
       ->capture_default_str();
   app.add_option("--base", o.bases, "binary,wide")->capture_default_str();
   app.add_option("--accel-opt", o.accel_opts, "shafts or BVH build option key=value (docs/shafts.md)");
@@ -282,7 +283,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_flag("--sweep", o.sweep, "sweep budget_rel and dir_res (shadow, ao, diffuse) instead of the table");
+  app.add_flag("--sweep", o.sweep, "a table per budget_rel (0.25-4) and per dir_res (2-8) instead of one per base, on shadow, ao and diffuse "
+               "rays (--workloads none: builds only)");
   app.add_option("--csv", o.csv, "also write rows as CSV to this file");
   app.add_option("--build-reps", o.build_reps, "builds of BVH and accelerator, alternated (median build times)")
       ->capture_default_str()
