@@ -4,8 +4,10 @@ usage: /usr/bin/python3 adversarial_rays.py OUT_DIR LO_X,LO_Y,LO_Z HI_X,HI_Y,HI_
 writes OUT_DIR/{A_uniform,B_far,C_axis,D_segments,E_lattice,G_scaled}.rays, N rays each,
 for a scene box [LO, HI] (`rayscout info` prints it). Deterministic (seed 7).
 """
-import struct, sys
+import os, struct, sys
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import require_dir  # noqa: E402
 def write(path, o, tmin, d, tmax):
     n = len(o)
     a = np.zeros((n, 8), dtype='<f4')
@@ -14,9 +16,19 @@ def write(path, o, tmin, d, tmax):
         f.write(b'RAYS' + struct.pack('<IQ', 1, n)); f.write(a.tobytes())
 def unit(rng, n):
     v = rng.normal(size=(n, 3)); return v / np.linalg.norm(v, axis=1)[:, None]
-lo = np.array(list(map(float, sys.argv[2].split(','))), dtype=np.float64)
-hi = np.array(list(map(float, sys.argv[3].split(','))), dtype=np.float64)
+def corner(arg):
+    try:
+        v = [float(x) for x in arg.split(',')]
+    except ValueError:
+        v = []
+    if len(v) != 3 or not np.isfinite(v).all():
+        sys.exit(f"adversarial_rays.py: '{arg}': expected three finite numbers X,Y,Z")
+    return np.array(v, dtype=np.float64)
+if len(sys.argv) not in (4, 5) or (len(sys.argv) == 5 and not sys.argv[4].isdigit()):
+    sys.exit(__doc__.strip().splitlines()[2])
+lo, hi = corner(sys.argv[2]), corner(sys.argv[3])
 out = sys.argv[1]; n = int(sys.argv[4]) if len(sys.argv) > 4 else 50000
+require_dir(out)
 rng = np.random.default_rng(7)
 ext = hi - lo; diag = np.linalg.norm(ext); c = (lo + hi) / 2
 inf = np.full(n, np.inf); zero = np.zeros(n)

@@ -3,19 +3,25 @@
 
 usage: /usr/bin/python3 bench/dacrt/plot_dacrt.py docs/dacrt_results.json docs/
 """
-import json
+import os
 import sys
 from collections import defaultdict
 
 import matplotlib
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import load_json, require_dir  # noqa: E402
 
 
 def main(path, out):
-    r = json.load(open(path))
+    r = load_json(path)
+    require_dir(out)
     if not isinstance(r, dict):
         sys.exit(f"{path}: not a dacrt_bench --json file (an object with threads, reps and the experiments' rows)")
+    if not any(k in r for k in ("frames", "resolution", "ablation", "sampling", "counts", "peers")):
+        sys.exit(f"{path}: no rows of the experiments this script plots (frames, resolution, ablation, sampling, counts, peers)")
     note = f"threads={r.get('threads')}, median of {r.get('reps')}, {r.get('clock', '')}"
     if "frames" in r:
         fig, ax = plt.subplots(figsize=(8, 5))

@@ -1,8 +1,11 @@
 #!/usr/bin/python3
 """Markdown tables of the many-light results (the paper's Tables 1-3) from manylight_bench JSON.
 Usage: manylight_tables.py PAIRED.json EQUAL_TIME.json"""
-import json
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import load_json  # noqa: E402
 
 PAPER_T2 = {"sponza": ("50 / 60 s", "x1.16 / x1.13", "x1.52 / x1.40"),
             "sibenik_glossy": ("48 / 60 s", "x1.26 / x1.20", "x1.55 / x1.40"),
@@ -89,7 +92,7 @@ def table1(results):
 
 
 def load(path):
-    results = json.load(open(path))
+    results = load_json(path)
     if not isinstance(results, list) or not all(isinstance(s, dict) and "modes" in s for s in results):
         sys.exit(f"{path}: not a manylight_bench --json file (a list of scenes with their modes)")
     return results

@@ -2,7 +2,6 @@
 """Plots of the manylight bench: RMSE over time per scene and mode, and the skip-rate images
 (the paper's Fig. 3) side by side. Usage: plot_manylight.py RESULT_DIR OUT_PREFIX
 RESULT_DIR holds rmse_over_time.csv and the *_skip_*.png written by manylight_bench."""
-import csv
 import os
 import sys
 from collections import defaultdict
@@ -13,6 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import read_csv, require_dir  # noqa: E402
+
 MODES = ["exact", "veach", "conservative", "proposed"]
 COLORS = {"exact": "black", "veach": "tab:orange", "conservative": "tab:blue", "proposed": "tab:red"}
 
@@ -21,10 +23,10 @@ def main():
     if len(sys.argv) != 3:
         sys.exit("usage: plot_manylight.py RESULT_DIR OUT_PREFIX")
     src, out = sys.argv[1], sys.argv[2]
+    require_dir(os.path.dirname(out) or ".")
     curves = defaultdict(list)
-    with open(os.path.join(src, "rmse_over_time.csv")) as f:
-        for row in csv.DictReader(f):
-            curves[(row["scene"], row["mode"], row["rep"])].append((float(row["seconds"]), float(row["rmse"])))
+    for row in read_csv(os.path.join(src, "rmse_over_time.csv"), ["scene", "mode", "rep", "seconds", "rmse"]):
+        curves[(row["scene"], row["mode"], row["rep"])].append((float(row["seconds"]), float(row["rmse"])))
     if not curves:
         sys.exit(f"{os.path.join(src, 'rmse_over_time.csv')}: no rows")
     scenes = sorted({k[0] for k in curves}, key=lambda s: ["sponza", "sibenik_glossy", "conference_large"].index(s)

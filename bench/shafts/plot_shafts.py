@@ -3,23 +3,27 @@
 
 usage: plot_shafts.py main.csv sweep.csv outdir
 """
-import csv
+import os
 import sys
 from collections import defaultdict
 
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
+import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import read_csv, require_dir  # noqa: E402
 
-def rows(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
+# The columns of shafts_bench --csv that the plots read.
+MAIN_COLUMNS = ["scene", "base", "workload", "steps_bvh", "steps_shafts", "ms_bvh", "ms_shafts"]
+SWEEP_COLUMNS = MAIN_COLUMNS + ["budget_rel", "dir_res", "bvh_mib", "shaft_mib"]
 
 
 def results(main, out):
-    data = rows(main)
+    data = read_csv(main, MAIN_COLUMNS)
+    if not data:
+        sys.exit(f"{main}: no rows (shafts_bench --csv FILE writes them)")
     scenes = sorted({r["scene"] for r in data}, key=[r["scene"] for r in data].index)
     workloads = sorted({r["workload"] for r in data}, key=[r["workload"] for r in data].index)
     fig, axes = plt.subplots(2, 2, figsize=(12, 7), sharex="col")
@@ -62,7 +66,7 @@ def results(main, out):
 def sweep(path, out):
     # The plot is of shafts over Bvh2: a sweep run with the default --base binary,wide also
     # holds shafts-wide rows, which would join the same lines.
-    data = [r for r in rows(path) if r["base"] == "binary"]
+    data = [r for r in read_csv(path, SWEEP_COLUMNS) if r["base"] == "binary"]
     if not data:
         sys.exit(f"{path}: no rows with base 'binary' (shafts_bench --sweep --base binary --csv FILE writes them)")
     fig, axes = plt.subplots(1, 3, figsize=(14, 4))
@@ -96,5 +100,6 @@ def sweep(path, out):
 if __name__ == "__main__":
     if len(sys.argv) != 4:
         sys.exit(__doc__.strip().splitlines()[-1])
+    require_dir(sys.argv[3])
     results(sys.argv[1], sys.argv[3])
     sweep(sys.argv[2], sys.argv[3])

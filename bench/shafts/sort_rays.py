@@ -9,9 +9,13 @@ as in ShaftGrid. The sort is stable, so rays of one key keep their order.
 
 usage: sort_rays.py IN.rays OUT.rays [VOXELS] [DIR_RES]   (defaults 16 and 4)
 """
+import os
 import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import read_bytes, require_dir  # noqa: E402
 
 HEADER = 16  # "RAYS", uint32 version, uint64 count (include/rayscout/core/ray_file.h)
 
@@ -41,7 +45,8 @@ def main():
         sys.exit(__doc__.strip().splitlines()[-1])
     voxels = int(sys.argv[3]) if len(sys.argv) > 3 else 16
     dir_res = int(sys.argv[4]) if len(sys.argv) > 4 else 4
-    raw = open(sys.argv[1], "rb").read()
+    raw = read_bytes(sys.argv[1])
+    require_dir(os.path.dirname(sys.argv[2]) or ".")
     if raw[:4] != b"RAYS" or (len(raw) - HEADER) % 32:
         sys.exit(f"{sys.argv[1]}: not a RAYS file")
     rays = np.frombuffer(raw[HEADER:], dtype="<f4").reshape(-1, 8)
