@@ -139,7 +139,7 @@ nlohmann::json summarise(const ManylightRenderer& r, const Runs& runs, const std
     }
   const double pre = tm.preprocess_ms() * 1e-3;
   const std::string passes_of = o.equal_passes > 0 ? "the same for every mode" : fmt::format("in {:g} CPU s", o.budget);
-  fmt::print("\n| mode | passes ({}) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up | with VisibilityCluster time | per-run MSE*t |\n", passes_of);
+  fmt::print("\n| mode | passes ({}) | RMSE (ref-noise corrected) | mean skip rate | time to exact's RMSE | speed-up (exact's time / this) | the same with VisibilityCluster time | per-run MSE*t |\n", passes_of);
   fmt::print("| --- | --- | --- | --- | --- | --- | --- | --- |\n");
   nlohmann::json modes;
   // Exact's mean render time: the budget (slightly exceeded by the last pass), or the time of
@@ -176,12 +176,13 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", o.scenes, "sponza, sibenik_glossy, conference_large")->capture_default_str();
   app.add_option("--width", o.width)->capture_default_str()->check(CLI::Range(1, 32768));
   app.add_option("--height", o.height)->capture_default_str()->check(CLI::Range(1, 32768));
-  app.add_option("--budget", o.budget, "CPU seconds of rendering per mode")->capture_default_str()->check(CLI::Range(1e-3, 1e6));
+  app.add_option("--budget", o.budget, "process CPU seconds of rendering per mode (all threads summed)")->capture_default_str()->check(CLI::Range(1e-3, 1e6));
   app.add_option("--ref-factor", o.ref_factor, "reference budget / budget")->capture_default_str()->check(CLI::Range(1e-3, 1e6));
   app.add_option("--vpl-scale", o.vpl_scale, "multiplies the VPL counts (1 = the paper's)")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 1e3));
-  app.add_option("--threads", o.threads)->capture_default_str()->check(CLI::Range(1, 4096));
+  app.add_option("--threads", o.threads, "threads (the budgets are process CPU time, all threads summed)")
+      ->capture_default_str()->check(CLI::Range(1, 4096));
   app.add_option("--reps", o.reps, "independent runs per mode")->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--equal-passes", o.equal_passes,
                  "render this many passes per mode instead of --budget (paired comparison; 0 = use --budget)")
@@ -230,7 +231,7 @@ int main(int argc, char** argv) {
       config.clamp_distance = float(o.clamp_fraction * length(scene.bounds().diagonal()));
       ManylightRenderer r(scene, *accel, config);
       const auto& tm = r.timings();
-      fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, {} threads, G clamp {})\n", name,
+      fmt::print("\n## {} ({} triangles, {} VPLs from {} paths, {}x{}, accel {}, threads {}, G clamp {})\n", name,
                  scene.triangles.size(), r.vpls().vpls.size(), r.vpls().light_paths, o.width, o.height,
                  accel->name(), o.threads, o.clamp_fraction > 0 ? fmt::format("{} x diagonal", o.clamp_fraction) : "off");
       r.calibrate();
