@@ -8,8 +8,10 @@
 # ACCELS="bvh shafts@select=camera-voxels" audits these instead of every accelerator
 # (name@key=value,key=value: with those --accel-opt tunables).
 set -u
+[ $# -ge 3 ] && [ $# -le 4 ] || { echo "usage: $0 BUILD_DIR SCENE.json OUT_DIR [N]" >&2; exit 2; }
 build=$1 scene=$2 out=$3 n=${4:-40000}
 R=$build/rayscout
+[ -x "$R" ] || { echo "audit: $R: no rayscout binary (build the rayscout target in $build)" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 read -r lo hi < <($R info --scene "$scene" | awk '/^bounds:/ {gsub(/[(),]/, " "); print $3","$4","$5, $7","$8","$9}')
