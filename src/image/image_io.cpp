@@ -47,6 +47,15 @@ void check_size(const Image& image, const std::filesystem::path& path) {
     throw InputError(path.string() + ": image has no pixels or a wrong pixel count");
 }
 
+// Refuses an image whose header claims sides beyond rayscout's largest image, before its
+// pixels are allocated (a small corrupt file can claim gigabytes). `what` names the header.
+void check_side_lengths(const std::filesystem::path& path, const char* what, int64_t w, int64_t h) {
+  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+    throw InputError(path.string() + ": " + what + " of " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels: not an image rayscout reads (1 to " + std::to_string(kMaxImageSide) +
+                     " pixels a side)");
+}
+
 void write_png(const Image& image, const std::filesystem::path& path) {
   std::vector<uint8_t> bytes(image.pixels.size() * 3);
   for (size_t i = 0; i < image.pixels.size(); ++i)
@@ -74,9 +83,7 @@ Image read_png(const std::filesystem::path& path) {
   };
   // The header first, as for EXR: a 389 KB PNG of 20000 x 20000 pixels decoded to 6 GB.
   if (!stbi_info(path.string().c_str(), &w, &h, &n)) throw fail();
-  if (w > kMaxImageSide || h > kMaxImageSide)
-    throw InputError(path.string() + ": PNG of " + std::to_string(w) + "x" + std::to_string(h) +
-                     " pixels: not an image rayscout reads (1 to 32768 pixels a side)");
+  check_side_lengths(path, "PNG", w, h);
   std::unique_ptr<uint8_t, void (*)(void*)> data(stbi_load(path.string().c_str(), &w, &h, &n, 3), stbi_image_free);
   if (!data) throw fail();
   std::array<float, 256> linear;
@@ -116,9 +123,7 @@ Image read_exr(const std::filesystem::path& path) {
     // The header is checked before the pixels are allocated: a corrupt or hostile data window
     // of a small file could ask for gigabytes.
     const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
-    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
-      throw InputError(path.string() + ": EXR data window of " + std::to_string(w) + "x" + std::to_string(h) +
-                       " pixels: not an image rayscout reads (1 to 32768 pixels a side)");
+    check_side_lengths(path, "EXR data window", w, h);
     // And a header that claims more scan lines than the file holds is caught here too.
     if (!file.isComplete()) throw InputError(path.string() + ": incomplete EXR: its pixel data is missing or cut short");
     Image image{int(w), int(h)};
@@ -173,8 +178,9 @@ Image read_pfm(const std::filesystem::path& path) {
   int w = 0, h = 0;
   double scale = 0;
   in >> magic >> w >> h >> scale;
-  if (!in || (magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || w > 1 << 16 || h > 1 << 16 || scale == 0)
+  if (!in || (magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || scale == 0)
     throw InputError(path.string() + ": not a PFM file (bad header)");
+  check_side_lengths(path, "PFM", w, h);
   const int separator = in.get();  // the single whitespace after the scale
   const int channels = magic == "PF" ? 3 : 1;
   // Check the size before allocating: a header may claim 65536 x 65536 pixels (51 GB).

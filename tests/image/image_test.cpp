@@ -267,9 +267,9 @@ TEST(ImageIo, DeviceIsNotAnImage) {
 // Found by fuzzing: the PFM header's size was allocated (up to 51 GB) before the data was read.
 TEST(ImageIo, PfmHugeHeaderIsCheckedAgainstTheFileSize) {
   const fs::path p = temp_file("huge.pfm");
-  std::ofstream(p, std::ios::binary) << "PF\n65536 65536\n-1.0\n0123456789ab";
+  std::ofstream(p, std::ios::binary) << "PF\n32768 32768\n-1.0\n0123456789ab";
   const std::string msg = read_error(p);
-  EXPECT_NE(msg.find("huge.pfm: truncated PFM data: 65536x65536 pixels need 51539607552 bytes, the file has 12"),
+  EXPECT_NE(msg.find("huge.pfm: truncated PFM data: 32768x32768 pixels need 12884901888 bytes, the file has 12"),
             std::string::npos)
       << msg;
 }
@@ -294,6 +294,17 @@ TEST(ImageIo, PfmWithMoreDataThanItsPixelsIsRefused) {
   fs::remove(ok);
   ASSERT_EQ(image.pixels.size(), 2u);
   EXPECT_EQ(image.pixels[1].z, 0.6f);
+}
+
+// Found by review: PFM allowed 65536 pixels a side where PNG and EXR stop at rayscout's
+// largest image, 32768; a well-formed 40000x1 PFM read, the same image as EXR did not.
+TEST(ImageIo, PfmSidesAreLimitedAsPngAndExr) {
+  const fs::path p = temp_file("wide.pfm");
+  write_image(Image(40000, 1), p);
+  const std::string msg = read_error(p);
+  EXPECT_NE(msg.find("wide.pfm: PFM of 40000x1 pixels: not an image rayscout reads (1 to 32768 pixels a side)"),
+            std::string::npos)
+      << msg;
 }
 
 // An EXR's data window is checked before its pixels are allocated: a corrupt header of a
