@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cctype>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -181,7 +182,10 @@ Image read_pfm(const std::filesystem::path& path) {
   if (!in || (magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || scale == 0)
     throw InputError(path.string() + ": not a PFM file (bad header)");
   check_side_lengths(path, "PFM", w, h);
-  const int separator = in.get();  // the single whitespace after the scale
+  // One whitespace byte ends the header; any other byte would be taken from the pixels.
+  const int separator = in.get();
+  if (!std::isspace(separator))
+    throw InputError(path.string() + ": not a PFM file (bad header: no whitespace after the scale)");
   const int channels = magic == "PF" ? 3 : 1;
   // Check the size before allocating: a header may claim 65536 x 65536 pixels (51 GB).
   const std::streamoff data_start = in.tellg();

@@ -307,6 +307,23 @@ TEST(ImageIo, PfmSidesAreLimitedAsPngAndExr) {
       << msg;
 }
 
+// Found by review: the byte after the scale was taken as the separator whatever it was, so a
+// header "-1.0X" read, and one with no separator at all said "truncated PFM data" (the first
+// data byte had gone as the separator), not what was wrong.
+TEST(ImageIo, PfmScaleMustBeFollowedByWhitespace) {
+  std::string px(24, '\0');
+  const float values[6] = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+  std::memcpy(px.data(), values, sizeof values);
+  const fs::path letter = temp_file("letter.pfm"), none = temp_file("none.pfm");
+  std::ofstream(letter, std::ios::binary) << "PF\n2 1\n-1.0X" << px;
+  std::ofstream(none, std::ios::binary) << "PF\n2 1\n-1.0" << px;
+  for (const fs::path& p : {letter, none}) {
+    const std::string name = p.filename().string(), msg = read_error(p);
+    EXPECT_NE(msg.find(name + ": not a PFM file (bad header: no whitespace after the scale)"), std::string::npos)
+        << msg;
+  }
+}
+
 // An EXR's data window is checked before its pixels are allocated: a corrupt header of a
 // small file asked for 1.2 GB and more. A well-formed file beyond rayscout's largest image
 // (32768 a side) meets the same check.
