@@ -76,6 +76,31 @@ TEST(ImageIo, PngIsClampedSrgbWithin8Bits) {
   fs::remove(p);
 }
 
+// As write_image documents: a PNG stores NaN as black and +inf as white; EXR and PFM keep them.
+TEST(ImageIo, NonFinitePixelsInEachFormat) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  Image img(3, 1);
+  img.at(0, 0) = Vec3(nan);
+  img.at(1, 0) = Vec3(inf);
+  img.at(2, 0) = Vec3(-inf);
+  for (const char* ext : {".png", ".exr", ".pfm"}) {
+    const fs::path p = temp_file(std::string("nonfinite") + ext);
+    write_image(img, p);
+    const Image back = read_image(p);
+    fs::remove(p);
+    ASSERT_EQ(back.pixels.size(), 3u) << ext;
+    if (std::string(ext) == ".png") {
+      EXPECT_EQ(back.at(0, 0), Vec3(0.0f)) << ext;
+      EXPECT_EQ(back.at(1, 0), Vec3(1.0f)) << ext;
+      EXPECT_EQ(back.at(2, 0), Vec3(0.0f)) << ext;
+    } else {
+      EXPECT_TRUE(std::isnan(back.at(0, 0).x)) << ext;
+      EXPECT_EQ(back.at(1, 0), Vec3(inf)) << ext;
+      EXPECT_EQ(back.at(2, 0), Vec3(-inf)) << ext;
+    }
+  }
+}
+
 // The files themselves, read without rayscout's readers (so a flip on both sides of the round
 // trips above cannot pass): PNG and EXR store the top row first, PFM the bottom row first.
 TEST(ImageIo, TopRowIsWhereEachFileFormatPutsIt) {

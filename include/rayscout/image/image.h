@@ -22,9 +22,10 @@ struct Image {
   const Vec3& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-/// Writes by extension: .png (clamped to [0, 1], sRGB-encoded, 8 bit, via stb), .exr (32-bit
-/// float RGB, OpenEXR), .pfm (32-bit float RGB, little endian). Throws InputError for another
-/// extension or a file that cannot be written.
+/// Writes by extension: .png (clamped to [0, 1], sRGB-encoded, 8 bit, via stb; NaN as 0, +inf
+/// as 1), .exr (32-bit float RGB, OpenEXR), .pfm (32-bit float RGB, little endian); the float
+/// formats keep NaN and inf. Throws InputError for another extension or a file that cannot be
+/// written.
 void write_image(const Image& image, const std::filesystem::path& path);
 
 /// Whether write_image sRGB-encodes the pixels for this path's format (.png, any case): a
@@ -47,7 +48,9 @@ Image read_image(const std::filesystem::path& path);
 /// or -inf): such an image never passes for a close one.
 struct ImageError {
   double rmse = 0;       ///< sqrt(mean (a - b)^2)
-  double rel_mse = 0;    ///< mean (a - b)^2 / (b^2 + 0.01), pbrt's relative MSE
+  /// mean (a - b)^2 / (b^2 + 0.01): relative MSE as denoising papers use it, the 0.01 keeping
+  /// dark pixels from dominating (pbrt-v4's MRSE divides by (b + 0.01)^2 instead)
+  double rel_mse = 0;
   double psnr = 0;       ///< 10 log10(1 / mse), peak value 1; +inf for identical images
   double max_abs = 0;    ///< max |a - b|
   size_t nonfinite = 0;  ///< channel values that are NaN or infinite in a or b
