@@ -18,9 +18,7 @@ EmbreeConfig EmbreeConfig::from_options(const AcceleratorOptions& options) {
   EmbreeConfig c;
   c.robust = options.get_bool("robust", c.robust);
   c.high_quality = options.get_choice("quality", c.high_quality, {{"high", true}, {"medium", false}});
-  c.packet = int(options.get_int("packet", c.packet, 1, 16));
-  if (c.packet != 1 && c.packet != 16)
-    throw InputError("embree: option packet=" + std::to_string(c.packet) + " (expected 1 or 16)");
+  c.packet = options.get_choice("packet", c.packet, {{"1", 1}, {"16", 16}});
   return c;
 }
 

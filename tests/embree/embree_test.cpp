@@ -188,6 +188,21 @@ TEST(Embree, BadOptionsAreInputErrors) {
   }
 }
 
+// Found by review: packet=32 was "not in [1, 16]", a range that 4 is in, and packet=4 had a
+// message of its own; a choice is named as get_choice names every other one.
+TEST(Embree, PacketIsAChoiceOf1Or16) {
+  for (const char* value : {"4", "32"}) {
+    AcceleratorOptions o;
+    o.set("packet", value);
+    try {
+      check_accelerator("embree", o);
+      ADD_FAILURE() << "packet=" << value << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), "option 'packet': '" + std::string(value) + "' is not 1 or 16");
+    }
+  }
+}
+
 TEST(Embree, NonRobustModeStillAgreesOnOrdinaryRays) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(3000, 4));
   const RayBatch rays = testing::random_rays(3000, 5);
