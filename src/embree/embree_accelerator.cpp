@@ -22,6 +22,23 @@ EmbreeConfig EmbreeConfig::from_options(const AcceleratorOptions& options) {
   return c;
 }
 
+namespace {
+
+const char* error_name(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+    default: return "RTC_ERROR_UNKNOWN";
+  }
+}
+
+}  // namespace
+
+/// The Embree device and scene, and the first error Embree reported on the device.
 struct EmbreeAccelerator::State {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -33,12 +50,52 @@ struct EmbreeAccelerator::State {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
   }
+  void open_device();
+  void attach_triangles(std::span<const Triangle> triangles, RTCBuildQuality quality);
   void throw_if_error(const char* what) {
     std::lock_guard lock(error_mutex);
-    if (device && rtcGetDeviceError(device) != RTC_ERROR_NONE && error.empty()) error = "unknown error";
+    if (const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_NONE; code != RTC_ERROR_NONE && error.empty())
+      error = error_name(code);
     if (!error.empty()) throw std::runtime_error(std::string("embree: ") + what + ": " + error);
   }
 };
+
+// A device whose errors land in `error` and whose allocations are counted in `allocated`.
+void EmbreeAccelerator::State::open_device() {
+  device = rtcNewDevice(nullptr);
+  if (!device)
+    throw std::runtime_error(std::string("embree: rtcNewDevice failed (") + error_name(rtcGetDeviceError(nullptr)) + ")");
+  rtcSetDeviceErrorFunction(device, [](void* user, RTCError code, const char* message) {
+    auto* st = static_cast<State*>(user);
+    std::lock_guard lock(st->error_mutex);
+    if (st->error.empty()) st->error = message ? message : error_name(code);
+  }, this);
+  rtcSetDeviceMemoryMonitorFunction(device, [](void* user, ssize_t bytes, bool /*post*/) {
+    static_cast<State*>(user)->allocated += bytes;
+    return true;
+  }, this);
+}
+
+// Geometry 0 of the scene: the triangles with unshared vertices (3 per triangle), so that
+// Embree's primID i is our triangle i.
+void EmbreeAccelerator::State::attach_triangles(std::span<const Triangle> triangles, RTCBuildQuality quality) {
+  // Released on every way out: a geometry left unreleased by a throw kept the device alive.
+  const std::unique_ptr<RTCGeometryTy, void (*)(RTCGeometry)> geom(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE),
+                                                                   rtcReleaseGeometry);
+  rtcSetGeometryBuildQuality(geom.get(), quality);
+  const size_t n = triangles.size();
+  auto* verts = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+  throw_if_error("allocating the vertex buffer");
+  auto* index = static_cast<uint32_t*>(
+      rtcSetNewGeometryBuffer(geom.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
+  throw_if_error("allocating the index buffer");
+  static_assert(sizeof(Triangle) == 9 * sizeof(float));
+  std::memcpy(verts, triangles.data(), n * sizeof(Triangle));
+  for (uint32_t i = 0; i < 3 * n; ++i) index[i] = i;  // below 2^32: Embree refused a larger vertex buffer
+  rtcCommitGeometry(geom.get());
+  rtcAttachGeometryByID(scene, geom.get(), 0);
+}
 
 namespace {
 
@@ -118,40 +175,13 @@ EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const 
   // -1.4e-45 < tmin = 0 was hit at t = 0 after an Embree build, missed without one). Parallel
   // work first creates the arena with this thread's own settings.
   tbb::parallel_for(0, 1, [](int) {});
-  s.device = rtcNewDevice(nullptr);
-  if (!s.device) throw std::runtime_error("embree: rtcNewDevice failed (error " +
-                                          std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-  rtcSetDeviceErrorFunction(s.device, [](void* user, RTCError, const char* message) {
-    auto* st = static_cast<State*>(user);
-    std::lock_guard lock(st->error_mutex);
-    if (st->error.empty()) st->error = message ? message : "unknown error";
-  }, &s);
-  rtcSetDeviceMemoryMonitorFunction(s.device, [](void* user, ssize_t bytes, bool /*post*/) {
-    static_cast<State*>(user)->allocated += bytes;
-    return true;
-  }, &s);
-
+  s.open_device();
   const auto start = SteadyClock::now();
+  const RTCBuildQuality quality = config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
   s.scene = rtcNewScene(s.device);
   rtcSetSceneFlags(s.scene, config_.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  rtcSetSceneBuildQuality(s.scene, config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
-  if (!triangles.empty()) {
-    RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(geom, config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
-    const size_t n = triangles.size();
-    // Unshared vertices (3 per triangle) so that primID i is our triangle i.
-    auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-    auto* index = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                  RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), n));
-    s.throw_if_error("allocating buffers");
-    static_assert(sizeof(Triangle) == 9 * sizeof(float));
-    std::memcpy(verts, triangles.data(), n * sizeof(Triangle));
-    for (uint32_t i = 0; i < 3 * n; ++i) index[i] = i;
-    rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(s.scene, geom, 0);
-    rtcReleaseGeometry(geom);
-  }
+  rtcSetSceneBuildQuality(s.scene, quality);
+  if (!triangles.empty()) s.attach_triangles(triangles, quality);
   const int64_t before_build = s.allocated.load();
   rtcCommitScene(s.scene);
   s.throw_if_error("building the scene");
