@@ -220,6 +220,21 @@ TEST(Embree, BufferErrorIsReportedAndReleasesEverything) {
   }
 }
 
+// Embree's builder leaves out a triangle with a vertex coordinate beyond 1.844e18 in magnitude
+// (FLT_LARGE, as for rays): brute force hits it, Embree does not (EmbreeAccelerator's comment).
+TEST(Embree, TrianglesBeyondEmbreesRangeAreLeftOut) {
+  for (const float s : {1.8e18f, 1.9e18f}) {
+    const std::vector<Triangle> tri = {{{-s, -s, 1}, {s, -s, 1}, {0, s, 1}}};
+    RayBatch rays;
+    rays.push_back({{0.0f, 0.0f, 0.0f}, 0.0f, {0, 0, 1}, kInfinity});
+    HitBatch embree, brute;
+    EmbreeAccelerator(tri).intersect(rays, embree);
+    BruteForce(tri).intersect(rays, brute);
+    EXPECT_EQ(brute.prim[0], 0u) << s;
+    EXPECT_EQ(embree.prim[0], s < 1.844e18f ? 0u : kInvalidId) << s;
+  }
+}
+
 TEST(Embree, NonRobustModeStillAgreesOnOrdinaryRays) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(3000, 4));
   const RayBatch rays = testing::random_rays(3000, 5);

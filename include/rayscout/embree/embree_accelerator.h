@@ -34,8 +34,10 @@ struct EmbreeConfig {
 /// Embree has no work counters: intersect/occluded fill only TraceStats::rays.
 /// Rays Embree cannot trace (an origin or direction component NaN or beyond 1.844e18 in
 /// magnitude, a negative or NaN tmin, a NaN tmax, or tmin > tmax: Embree's RayK::valid() and
-/// tnear >= 0) are not handed to it, since its assertion would abort the process; they miss. Our own accelerators trace them as brute
-/// force does (a finite direction of 1e30 still hits).
+/// tnear >= 0) are not handed to it, since its assertion would abort the process; they miss.
+/// Our own accelerators trace them as brute force does (a finite direction of 1e30 still hits).
+/// Likewise Embree's builder leaves out a triangle with a vertex coordinate beyond 1.844e18
+/// in magnitude, which brute force still hits.
 class EmbreeAccelerator final : public Accelerator {
  public:
   /// Copies the triangles into an Embree vertex buffer and builds the BVH (timed, with the
