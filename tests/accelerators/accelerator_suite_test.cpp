@@ -320,6 +320,34 @@ TEST(Registry, EveryAcceleratorBuildsUnderItsOwnName) {
   }
 }
 
+// `rayscout accelerators` prints each description; those that list their options ("options
+// bins, ...", "plus collapse=greedy|sah, ...") must list keys the accelerator reads, or the
+// help goes stale when a key is renamed. An unknown key says "has no option(s)"; a known one
+// given the value "?" fails, if at all, on its value.
+TEST(Registry, OptionsNamedInADescriptionExist) {
+  size_t keys = 0;
+  for (const auto& a : accelerators()) {
+    const size_t at = a.description.find("options ");
+    if (at == std::string::npos || a.description.compare(at, 11, "options in ") == 0) continue;
+    std::string list = a.description.substr(at + 8, a.description.find(')', at) - at - 8);
+    if (list.starts_with("as ")) list = list.substr(list.find("plus ") + 5);  // "as bvh2, plus ..."
+    for (size_t from = 0; from < list.size();) {
+      const size_t comma = std::min(list.find(", ", from), list.size());
+      const std::string key = list.substr(from, std::min(list.find('=', from), comma) - from);
+      from = comma + 2;
+      AcceleratorOptions o;
+      o.set(key, "?");
+      ++keys;
+      try {
+        check_accelerator(a.name, o);
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).find("has no option"), std::string::npos) << a.name << ": " << e.what();
+      }
+    }
+  }
+  EXPECT_GE(keys, 12u) << "bvh2's seven and bvh's five at least";
+}
+
 std::string param_name(const ::testing::TestParamInfo<SuiteParam>& info) {
   std::string n = info.param.accel + "_" + info.param.mesh.name;
   for (char& c : n) if (!isalnum(static_cast<unsigned char>(c))) c = '_';
