@@ -44,11 +44,25 @@ inline Vec3 eval_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const Ve
 inline float pdf_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
   const float cos_n = dot(wi, n);
   if (m.type == Material::Type::Mirror || !(cos_n > 0)) return 0.0f;
-  const float pdf_d = cos_n * kInvPi;
+  const float pdf_d = cos_n * kInvPi;  // cosine-weighted hemisphere
   if (m.type == Material::Type::Diffuse) return pdf_d;
   const float ps = glossy_lobe_probability(m);
+  // The Phong lobe's density over the whole sphere, not renormalised to the hemisphere: the
+  // lobe's directions below the surface are sampled too, and sample_bsdf returns them invalid
+  // (a zero-valued sample), which keeps the estimator unbiased.
   const float pdf_s = (m.exponent + 1.0f) * 0.5f * kInvPi * phong_cos_power(m, n, wo, wi);
   return (1.0f - ps) * pdf_d + ps * pdf_s;
+}
+
+/// Direction around unit r at density (e + 1) / (2 pi) cos^e(alpha) from [0,1)^2:
+/// cos(alpha) = u1^(1 / (e + 1)) inverts the CDF of cos(alpha), phi = 2 pi u2.
+inline Vec3 sample_phong_lobe(const Vec3& r, float exponent, float u1, float u2) {
+  const float cos_a = std::pow(u1, 1.0f / (exponent + 1.0f));
+  const float sin_a = std::sqrt(std::max(0.0f, 1.0f - cos_a * cos_a));
+  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  Vec3 t, b;
+  orthonormal_basis(r, t, b);
+  return normalize(t * (sin_a * std::cos(phi)) + b * (sin_a * std::sin(phi)) + r * cos_a);
 }
 
 /// A sampled scattering direction with weight f cos / pdf.
@@ -72,24 +86,13 @@ inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, 
   }
   if (m.type == Material::Type::Diffuse) {
     s.wi = sample_cosine_hemisphere(n, u1, u2);
-    s.weight = m.diffuse;
+    s.weight = m.diffuse;  // f cos / pdf = (kd / pi) cos / (cos / pi)
     s.pdf = pdf_bsdf(m, n, wo, s.wi);
     s.valid = true;
     return s;
   }
-  const float ps = glossy_lobe_probability(m);
-  if (u0 < ps) {
-    // Phong lobe around the mirror direction: cos(alpha) = u1^(1 / (e + 1)).
-    const Vec3 r = reflect(-wo, n);
-    const float cos_a = std::pow(u1, 1.0f / (m.exponent + 1.0f));
-    const float sin_a = std::sqrt(std::max(0.0f, 1.0f - cos_a * cos_a));
-    const float phi = 2.0f * std::numbers::pi_v<float> * u2;
-    Vec3 t, b;
-    orthonormal_basis(r, t, b);
-    s.wi = normalize(t * (sin_a * std::cos(phi)) + b * (sin_a * std::sin(phi)) + r * cos_a);
-  } else {
-    s.wi = sample_cosine_hemisphere(n, u1, u2);
-  }
+  s.wi = u0 < glossy_lobe_probability(m) ? sample_phong_lobe(reflect(-wo, n), m.exponent, u1, u2)
+                                          : sample_cosine_hemisphere(n, u1, u2);
   const float pdf = pdf_bsdf(m, n, wo, s.wi);
   if (!(pdf > 0)) return s;
   s.weight = eval_bsdf(m, n, wo, s.wi) * (dot(s.wi, n) / pdf);
