@@ -1,5 +1,4 @@
 // `ao`: ambient occlusion, the unoccluded fraction of cosine-distributed rays of a fixed length.
-#include "rayscout/core/sampling.h"
 #include "rayscout/render/renderer.h"
 #include "wavefront.h"
 
@@ -19,11 +18,9 @@ class AoIntegrator final : public WavefrontIntegrator {
     const PathSampler sampler = ctx.sampler(state);
     const int n = ctx.config->ao_samples;
     const Vec3 weight = state.throughput * (1.0f / float(n));
-    for (int k = 0; k < n; ++k) {
-      const uint32_t dim = kDimLights + 3 * uint32_t(k);
-      const Vec3 wi = sample_cosine_hemisphere(sp.n, sampler.get(dim), sampler.get(dim + 1));
-      out.add_occlusion_ray(spawn_ray(sp, wi, ctx.epsilon, ctx.ao_radius), state.pixel, weight);
-    }
+    for (int k = 0; k < n; ++k)
+      out.add_occlusion_ray(spawn_ray(sp, sample_ao_direction(sampler, sp.n, k), ctx.epsilon, ctx.ao_radius),
+                            state.pixel, weight);
   }
 };
 

@@ -58,8 +58,7 @@ inline void add_area_light_rays(const ShadeContext& ctx, const PathState& state,
   const PathSampler sampler = ctx.sampler(state);
   const int n = ctx.config->light_samples;
   for (int k = 0; k < n; ++k) {
-    const uint32_t dim = kDimLights + 3 * uint32_t(k);
-    const LightSample ls = ctx.lights->sample(sampler.bits(dim), sampler.get(dim + 1), sampler.get(dim + 2));
+    const LightSample ls = sample_light(*ctx.lights, sampler, k);
     const auto shadow = shadow_ray_to(sp, ls.p, ctx.epsilon);
     if (!shadow) continue;
     const auto& [ray, wi, dist] = *shadow;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "rayscout/core/sampling.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/render/sampler.h"
@@ -92,6 +93,19 @@ class WavefrontIntegrator : public Integrator {
   void shade_bounce(const ShadeContext& ctx, Bounce& b) const;
   static void merge_bounce(Bounce& b, std::vector<Vec3>& film);
 };
+
+/// Light sample k of a path vertex: the renderer's next-event estimation and the shadow workload.
+inline LightSample sample_light(const LightSampler& lights, const PathSampler& sampler, int k) {
+  const uint32_t dim = light_sample_dim(k);
+  return lights.sample(sampler.bits(dim), sampler.get(dim + 1), sampler.get(dim + 2));
+}
+
+/// Ambient-occlusion direction k of a path vertex, cosine-distributed around n: the ao
+/// integrator and the ao workload.
+inline Vec3 sample_ao_direction(const PathSampler& sampler, const Vec3& n, int k) {
+  const uint32_t dim = light_sample_dim(k);
+  return sample_cosine_hemisphere(n, sampler.get(dim), sampler.get(dim + 1));
+}
 
 /// Camera rays of samples [sample_begin, sample_end) of spp (sample_end < 0: to spp) of the
 /// pixels of rows [row_begin, row_end) (row_end < 0: to height), pixel-major with samples

@@ -46,7 +46,8 @@ std::string workload_name(Workload w) {
   return "?";
 }
 
-RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload workload, const WorkloadConfig& config) {
+RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload workload,
+                       const WorkloadConfig& config) {
   if (config.width <= 0 || config.height <= 0 || config.spp <= 0)
     throw InputError("workload: width, height and spp must be positive");
   if (uint64_t(config.width) * uint64_t(config.height) * uint64_t(config.spp) > (uint64_t(1) << 32) - 1)
@@ -63,7 +64,8 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   const float ao_radius = ao_radius_for(config.ao_radius, bounds);
   const LightSampler lights(scene);
   const bool to_points = !scene.point_lights.empty();
-  const size_t per_hit = workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));
+  const size_t per_hit =
+      workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));
   // No lights, no shadow rays (the loop below would sample the empty light sampler).
   if (per_hit == 0) return RayBatch{};
 
@@ -86,18 +88,18 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
       switch (workload) {
         case Workload::Primary: break;
         case Workload::Ao:
-          out.set(o, spawn_ray(sp, sample_cosine_hemisphere(sp.n, sampler.get(kDimLights), sampler.get(kDimLights + 1)), eps, ao_radius));
+          out.set(o, spawn_ray(sp, sample_ao_direction(sampler, sp.n, 0), eps, ao_radius));
           break;
-        case Workload::Diffuse:
-          out.set(o, spawn_ray(sp, sample_cosine_hemisphere(sp.n, sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2)), eps));
+        case Workload::Diffuse:  // the direction sample_bsdf draws for a diffuse material
+          out.set(o, spawn_ray(sp, sample_cosine_hemisphere(sp.n, sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2)),
+                               eps));
           break;
         case Workload::Shadow:
           if (to_points) {
             for (const PointLight& light : scene.point_lights)
               out.set(o++, shadow_ray_or_nothing(sp, light.position, eps));
           } else {
-            const LightSample ls = lights.sample(sampler.bits(kDimLights), sampler.get(kDimLights + 1), sampler.get(kDimLights + 2));
-            out.set(o, shadow_ray_or_nothing(sp, ls.p, eps));
+            out.set(o, shadow_ray_or_nothing(sp, sample_light(lights, sampler, 0).p, eps));
           }
           break;
       }

@@ -37,6 +37,10 @@ inline constexpr uint32_t kDimPixel = 0;   ///< 2 dims: position inside the pixe
 inline constexpr uint32_t kDimLens = 2;    ///< 2 dims: thin-lens position
 inline constexpr uint32_t kDimBsdf = 4;    ///< 3 dims: lobe choice, direction
 inline constexpr uint32_t kDimRoulette = 7;  ///< 1 dim: Russian roulette of the path
-inline constexpr uint32_t kDimLights = 8;  ///< 3 dims per light/AO sample k: 8 + 3k ...
+inline constexpr uint32_t kDimLights = 8;  ///< 3 dims per light/AO sample k, see light_sample_dim
+
+/// First of the 3 dimensions of light or AO sample k of a vertex (choice bits, then a point
+/// or a direction), so that no two samples share one.
+inline constexpr uint32_t light_sample_dim(int k) { return kDimLights + 3 * uint32_t(k); }
 
 }  // namespace rayscout

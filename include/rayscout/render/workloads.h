@@ -14,7 +14,8 @@ namespace rayscout {
 /// The ray sets the papers measure (ray-sampling DACRT and shaft-culling papers, "workloads").
 enum class Workload { Primary, Shadow, Ao, Diffuse };
 /// Every workload, in the order of the enum.
-inline constexpr Workload kWorkloads[] = {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse};
+inline constexpr Workload kWorkloads[] = {Workload::Primary, Workload::Shadow, Workload::Ao,
+                                          Workload::Diffuse};
 
 /// Size and randomness of a workload.
 struct WorkloadConfig {
@@ -29,8 +30,10 @@ struct WorkloadConfig {
 /// refine_hit) in the same order; rays of pixels whose primary ray missed are left out.
 /// Shadow: one ray to every point light (or, with no point lights, to one point sampled on
 /// the area lights; none in a scene without lights), ending epsilon before the light.
-/// Ao: one cosine-distributed ray of length ao_radius. Diffuse: one cosine-distributed ray, tmax = inf. Secondary rays start
-/// scene_ray_epsilon off the surface (spawn_ray). Deterministic for a seed, any thread count.
+/// Ao: one cosine-distributed ray of length ao_radius. Diffuse: one cosine-distributed ray,
+/// tmax = inf. Secondary rays start scene_ray_epsilon off the surface (spawn_ray), from the
+/// random numbers the renderer uses at bounce 0 (its first light, AO or BSDF sample).
+/// Deterministic for a seed, any thread count.
 RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload workload,
                        const WorkloadConfig& config);
 
