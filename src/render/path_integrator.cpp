@@ -8,6 +8,8 @@
 namespace rayscout {
 namespace {
 
+constexpr float kMinSurvival = 0.05f;  // Russian roulette's smallest probability to go on
+
 class PathIntegrator final : public WavefrontIntegrator {
  public:
   std::string name() const override { return "path"; }
@@ -41,13 +43,15 @@ class PathIntegrator final : public WavefrontIntegrator {
     Vec3 throughput = state.throughput * bs.weight;
     if (!(max_component(throughput) > 0)) return;
     if (ctx.bounce > ctx.config->rr_depth) {
-      // Russian roulette as pbrt-v3's PathIntegrator: go on with probability p = the largest
-      // throughput component (at least 0.05, at most 1) and weight by 1 / p, so E is unchanged.
-      const float p = std::clamp(max_component(throughput), 0.05f, 1.0f);
+      // Russian roulette: go on with probability p and weight by 1 / p, so E is unchanged. p is
+      // the largest throughput component (pbrt-v4's rule; pbrt-v3 caps it at 0.95), at most
+      // 1 and at least kMinSurvival, which bounds the 1 / p a surviving path is weighted by.
+      const float p = std::clamp(max_component(throughput), kMinSurvival, 1.0f);
       if (sampler.get(kDimRoulette) >= p) return;
       throughput = throughput * (1.0f / p);
     }
-    out.continue_path(spawn_ray(sp, bs.wi, ctx.epsilon), {state.pixel, state.sample, throughput, bs.specular, bs.pdf});
+    out.continue_path(spawn_ray(sp, bs.wi, ctx.epsilon),
+                      {state.pixel, state.sample, throughput, bs.specular, bs.pdf});
   }
 };
 

@@ -41,6 +41,34 @@ void accumulate(std::vector<Vec3>& film, const std::vector<Contribution>& list, 
   tbb::parallel_for(size_t(0), blocks, [&](size_t b) { add(first_own(b * kBlock), first_own((b + 1) * kBlock)); });
 }
 
+// The camera samples' split into passes: all samples of every pixel in one pass unless that
+// batch would exceed max_batch_rays; then passes of whole samples; when even one sample of
+// every pixel exceeds it, bands of rows of one sample each. Passes run band-major.
+class PassPlan {
+ public:
+  struct Pass { int sample_begin, sample_end, row_begin, row_end; };
+
+  explicit PassPlan(const RenderConfig& config) : spp_(config.spp), height_(config.height) {
+    const size_t max_rays = config.camera_batch_limit();
+    const size_t n_pixels = size_t(config.width) * size_t(config.height);
+    per_pass_ = int(std::clamp<size_t>(max_rays / n_pixels, 1, size_t(spp_)));
+    sample_passes_ = (spp_ + per_pass_ - 1) / per_pass_;
+    band_rows_ = int(std::clamp<size_t>(max_rays / size_t(config.width), 1, size_t(height_)));
+    bands_ = (height_ + band_rows_ - 1) / band_rows_;
+  }
+  int passes() const { return bands_ * sample_passes_; }
+  Pass pass(int k) const {
+    const int band = k / sample_passes_, sample_pass = k % sample_passes_;
+    return {sample_pass * per_pass_, std::min(spp_, (sample_pass + 1) * per_pass_), band * band_rows_,
+            std::min(height_, (band + 1) * band_rows_)};
+  }
+
+ private:
+  int spp_, height_;
+  int per_pass_ = 1, sample_passes_ = 1;  // samples per pass, passes per band
+  int band_rows_ = 1, bands_ = 1;
+};
+
 }  // namespace
 
 void RenderConfig::validate() const {
@@ -158,16 +186,9 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   ctx.epsilon = config.ray_epsilon > 0 ? config.ray_epsilon : scene_ray_epsilon(bounds);
   ctx.ao_radius = ao_radius_for(config.ao_radius, bounds);
 
-  const size_t n_pixels = size_t(config.width) * size_t(config.height);
-  std::vector<Vec3> film(n_pixels);
-  // Samples per pass: all of them unless the camera batch would exceed max_batch_rays; when
-  // one sample of every pixel exceeds it, bands of rows of one sample each.
-  const size_t max_rays = config.camera_batch_limit();
-  const int per_pass = int(std::clamp<size_t>(max_rays / n_pixels, 1, size_t(config.spp)));
-  const int sample_passes = (config.spp + per_pass - 1) / per_pass;
-  const int band_rows = int(std::clamp<size_t>(max_rays / size_t(config.width), 1, size_t(config.height)));
-  const int bands = (config.height + band_rows - 1) / band_rows;
-  const int passes = bands * sample_passes;
+  std::vector<Vec3> film(size_t(config.width) * size_t(config.height));
+  const PassPlan plan(config);
+  const int passes = plan.passes();
   auto t0 = SteadyClock::now();
 
   uint64_t rays_traced = 0;
@@ -193,10 +214,9 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   Bounce b;
   for (pass = 0; pass < passes; ++pass) {
     t0 = SteadyClock::now();
-    const int band = pass / sample_passes, sample_pass = pass % sample_passes;
+    const PassPlan::Pass p = plan.pass(pass);
     generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, b.rays, &b.paths,
-                         sample_pass * per_pass, std::min(config.spp, (sample_pass + 1) * per_pass),
-                         band * band_rows, std::min(config.height, (band + 1) * band_rows));
+                         p.sample_begin, p.sample_end, p.row_begin, p.row_end);
     stats.raygen_ms += ms_since(t0);
     for (int bounce = 0; !b.paths.empty(); ++bounce) {
       ctx.bounce = bounce;
