@@ -390,5 +390,69 @@ TEST(Analytic, MirrorReflectsRadianceUnchanged) {
   EXPECT_EQ(testing::mean_channel(render_with(*make_direct_integrator(), scene, cfg), 0), 0.0);
 }
 
+// Surfaces reflect on both sides but light never passes through them, and emitters emit on the
+// side of their normal only. A floor (normal +z) with a point light and an area light under
+// it (facing up at it) is black from above for every integrator, lit from below; the area
+// light is black seen from behind and shows Le in front.
+TEST(Analytic, LightStaysOnItsSideOfASurface) {
+  const float rho = 0.5f, intensity = 3.0f, le = 5.0f;
+  Scene scene;
+  testing::add_part(scene, testing::quad({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}), Material{.diffuse = Vec3{rho}});
+  testing::add_part(scene, testing::quad({2, 2, -0.5f}, {1, 0, 0}, {0, 1, 0}),  // normal +z: emits up
+                    Material{.diffuse = Vec3{0.0f}, .emission = Vec3{le}});
+  scene.point_lights.push_back({{0, 0, -1}, Vec3{intensity}});
+  scene.camera.up = {0, 1, 0};
+  scene.camera.fov_deg = 0.1f;
+  RenderConfig cfg;
+  cfg.width = cfg.height = 2;
+  cfg.spp = 4;
+  cfg.max_depth = 3;
+  cfg.light_samples = 4;
+  auto mean = [&](const Integrator& integrator) { return testing::mean_channel(render_with(integrator, scene, cfg), 0); };
+  scene.camera.eye = {0, 0, 2};  // above the floor, looking down at the point over the light
+  scene.camera.look_at = {0, 0, 0};
+  for (const auto& integrator : {make_direct_integrator(), make_area_integrator(), make_path_integrator()})
+    EXPECT_EQ(mean(*integrator), 0.0) << integrator->name();
+  scene.camera.eye = {0, 0, -0.2f};  // under the floor, looking up at the same point
+  const double lit = rho / std::numbers::pi * intensity;  // E = I / 1^2 from the point light
+  EXPECT_NEAR(mean(*make_direct_integrator()), lit, 0.002 * lit);
+  EXPECT_GT(mean(*make_area_integrator()), lit);  // the area light adds to it
+  scene.camera.eye = {2.5f, 2.5f, 2.0f};  // above the floor right over the area light: unlit
+  scene.camera.look_at = {2.5f, 2.5f, 0.0f};
+  EXPECT_EQ(mean(*make_area_integrator()), 0.0);
+  scene.camera.eye = {2.5f, 2.5f, -2.0f};  // under the light, looking up at its back
+  scene.camera.look_at = {2.5f, 2.5f, 0.0f};
+  EXPECT_EQ(mean(*make_path_integrator()), 0.0);
+  scene.camera.eye = {2.5f, 2.5f, -0.1f};  // between floor and light, looking down at its front
+  scene.camera.look_at = {2.5f, 2.5f, -1.0f};
+  EXPECT_EQ(mean(*make_direct_integrator()), le);
+}
+
+// Mirror walls of reflectance rho that emit Le: every path is one chain of mirror bounces and
+// sees Le (1 + rho + ... + rho^D) after D of them, with no noise, in the path integrator as in
+// direct (emission after a mirror bounce counts in full; there is no light to sample).
+TEST(Analytic, PathFurnaceOfEmissiveMirrors) {
+  const float rho = 0.5f, le = 1.0f;
+  Scene scene;
+  testing::add_part(scene, testing::inward_box({-1, -1, -1}, {1, 1, 1}),
+                    Material{.type = Material::Type::Mirror, .specular = Vec3{rho}, .emission = Vec3{le}});
+  scene.camera = inside_camera(1.0f);
+  RenderConfig cfg;
+  cfg.width = cfg.height = 8;
+  cfg.spp = 2;
+  for (int depth : {0, 1, 6}) {
+    cfg.max_depth = cfg.rr_depth = depth;
+    double expected = 0;
+    for (int k = 0; k <= depth; ++k) expected += le * std::pow(rho, k);
+    for (const auto& integrator : {make_direct_integrator(), make_path_integrator()}) {
+      const Image img = render_with(*integrator, scene, cfg);
+      size_t off = 0;
+      for (const Vec3& p : img.pixels) off += std::fabs(p.x - expected) > 1e-5 * expected;
+      EXPECT_LE(off, img.pixels.size() / 50) << integrator->name() << " max_depth " << depth;  // corner pixels
+      EXPECT_NEAR(testing::mean_channel(img, 0), expected, 0.01 * expected) << integrator->name();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rayscout
