@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <numeric>
 
 #include "rayscout/core/input_error.h"
 
@@ -10,7 +12,8 @@ namespace rayscout {
 
 CameraRays::CameraRays(const Camera& camera, int width, int height)
     : frame_(camera_frame(camera, float(width) / float(height))), eye_(camera.eye),
-      lens_radius_(camera.lens_radius), focus_distance_(camera.focus_distance), width_(width), height_(height) {
+      lens_radius_(camera.lens_radius), focus_distance_(camera.focus_distance), width_(width),
+      height_(height) {
   if (!(lens_radius_ >= 0 && std::isfinite(lens_radius_)))
     throw InputError("camera.lens_radius: must be finite and >= 0");
   if (lens_radius_ > 0 && !(focus_distance_ > 0 && std::isfinite(focus_distance_)))
@@ -48,8 +51,7 @@ void pixel_sample_position(const PathSampler& sampler, int x, int y, int sample,
   // N-rooks: y stratum = (a * sample + b) mod spp with a coprime to spp, a permutation per pixel.
   const uint64_t h = sampler.pixel_sampler().bits(0);
   uint64_t a = 1 + (h % uint64_t(spp));
-  auto gcd = [](uint64_t p, uint64_t q) { while (q) { uint64_t r = p % q; p = q; q = r; } return p; };
-  while (gcd(a, uint64_t(spp)) != 1) ++a;
+  while (std::gcd(a, uint64_t(spp)) != 1) ++a;
   const uint64_t b = (h >> 32) % uint64_t(spp);
   const uint64_t ys = (a * uint64_t(sample) + b) % uint64_t(spp);
   film_x = float(x) + (float(sample) + jx) / float(spp);

@@ -1,4 +1,5 @@
-// Shadow rays of next-event estimation to point lights and area lights, shared by integrators.
+// Next-event estimation (shadow rays to point and area lights), the emission seen at hits, and
+// the MIS weights that join the two: shared by the direct, area and path integrators.
 #pragma once
 
 #include <cmath>

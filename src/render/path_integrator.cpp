@@ -31,15 +31,16 @@ class PathIntegrator final : public WavefrontIntegrator {
     if (ctx.bounce >= max_depth) return;
     const Vec3 wo = -ray.dir;
     const bool last_bounce = ctx.bounce + 1 == max_depth;
-    if (m.type != Material::Type::Mirror) {
+    const bool mirror = m.type == Material::Type::Mirror;
+    if (!mirror) {
       detail::add_point_light_rays(ctx, state, m, sp, wo, out);
       detail::add_area_light_rays(ctx, state, m, sp, wo, out, /*mis=*/!last_bounce);
     }
+    if (last_bounce && !mirror) return;  // only a mirror bounce goes on from the last vertex
     const PathSampler sampler = ctx.sampler(state);
     const BsdfSample bs =
         sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf), sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
     if (!bs.valid) return;
-    if (last_bounce && !bs.specular) return;
     Vec3 throughput = state.throughput * bs.weight;
     if (!(max_component(throughput) > 0)) return;
     if (ctx.bounce > ctx.config->rr_depth) {
