@@ -84,6 +84,7 @@ void RenderConfig::validate() const {
   // offset sends every secondary ray from infinity (an AO image of open sky).
   if (!(ray_epsilon >= 0 && std::isfinite(ray_epsilon))) throw InputError("render: ray_epsilon must be finite and >= 0");
   if (!(ao_radius >= 0 && std::isfinite(ao_radius))) throw InputError("render: ao_radius must be finite and >= 0");
+  if (max_batch_rays < 0) throw InputError("render: max_batch_rays must be >= 0 (0 = 2^24)");
 }
 
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,

@@ -180,6 +180,7 @@ TEST(RenderConfig, ValidateRefusesSettingsOutOfRange) {
   refused([](RenderConfig& c) { c.spp = 1 << 17; });
   refused([](RenderConfig& c) { c.width = c.height = 1 << 15; c.spp = 4; });  // 2^32 rays
   refused([](RenderConfig& c) { c.ao_samples = 0; });
+  refused([](RenderConfig& c) { c.max_batch_rays = -1; });  // was the default, silently
   // An infinite offset once rendered an AO image of open sky (every ray left from infinity).
   for (const float bad : {-1.0f, kInfinity, std::numeric_limits<float>::quiet_NaN()}) {
     refused([&](RenderConfig& c) { c.ray_epsilon = bad; });

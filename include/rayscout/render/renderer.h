@@ -53,14 +53,14 @@ struct RenderConfig {
   bool count = false;      ///< collect TraceStats per batch (slower)
   /// Largest camera batch: above it the samples of each pixel are rendered in passes of whole
   /// samples (each pass a full wavefront), and an image with more pixels than this in bands
-  /// of rows, one sample per pass; this bounds memory (~200-400 bytes per path).
-  /// 0 = 2^24 rays. The image depends on it only through float summation order.
+  /// of rows (at least one row), one sample per pass; this bounds memory (~200-400 bytes per
+  /// path). 0 = 2^24 rays. The image depends on it only through float summation order.
   long max_batch_rays = 0;
   /// max_batch_rays with its default applied.
   size_t camera_batch_limit() const { return max_batch_rays > 0 ? size_t(max_batch_rays) : size_t(1) << 24; }
   /// Throws InputError for sizes and counts out of range (width, height 1..32768, spp
   /// 1..65536, width x height x spp below 2^32, depths >= 0, samples >= 1, ray_epsilon and
-  /// ao_radius finite and >= 0).
+  /// ao_radius finite and >= 0, max_batch_rays >= 0).
   void validate() const;
   /// Called with every ray batch before it is traced (benchmarks record the per-bounce ray
   /// sets of the papers' workloads with it).
