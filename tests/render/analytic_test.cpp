@@ -408,7 +408,9 @@ TEST(Analytic, LightStaysOnItsSideOfASurface) {
   cfg.spp = 4;
   cfg.max_depth = 3;
   cfg.light_samples = 4;
-  auto mean = [&](const Integrator& integrator) { return testing::mean_channel(render_with(integrator, scene, cfg), 0); };
+  auto mean = [&](const Integrator& integrator) {
+    return testing::mean_channel(render_with(integrator, scene, cfg), 0);
+  };
   scene.camera.eye = {0, 0, 2};  // above the floor, looking down at the point over the light
   scene.camera.look_at = {0, 0, 0};
   for (const auto& integrator : {make_direct_integrator(), make_area_integrator(), make_path_integrator()})

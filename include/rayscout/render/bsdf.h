@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "rayscout/core/sampling.h"
@@ -94,7 +95,11 @@ inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, 
   s.wi = u0 < glossy_lobe_probability(m) ? sample_phong_lobe(reflect(-wo, n), m.exponent, u1, u2)
                                           : sample_cosine_hemisphere(n, u1, u2);
   const float pdf = pdf_bsdf(m, n, wo, s.wi);
-  if (!(pdf > 0)) return s;
+  // A density below float's normal range only comes from the Phong lobe's rim (u1 = 0 gives
+  // cos(alpha) = 0, so dot(r, wi) is rounding noise whose e-th power is denormal) without a
+  // diffuse lobe: there cos / pdf overflowed to inf (an infinite path throughput). Such a
+  // direction carries no light worth counting (f cos ~ pdf): the sample is dropped.
+  if (!(pdf >= std::numeric_limits<float>::min())) return s;
   s.weight = eval_bsdf(m, n, wo, s.wi) * (dot(s.wi, n) / pdf);
   s.pdf = pdf;
   s.valid = true;
