@@ -18,21 +18,24 @@ namespace {
 // and with it every floating-point sum, is the same for any number of threads.
 constexpr size_t kShadeChunk = 4096;
 
-// Adds contributions (those not occluded) to the film. Each pixel's contributions are added
-// in array order by one task, so the sums do not depend on the thread count. Contributions
-// come sorted by pixel (paths keep the pixel-major camera order); otherwise sequentially.
+// Adds the contributions of the occlusion rays that nothing occluded to the film. Each pixel's
+// contributions are added in array order by one task, so the sums do not depend on the thread
+// count. Contributions come sorted by pixel (paths keep the pixel-major camera order);
+// otherwise sequentially.
 template <typename Contribution>
-void accumulate(std::vector<Vec3>& film, const std::vector<Contribution>& list, const std::vector<uint8_t>* occluded) {
+void accumulate_unoccluded(std::vector<Vec3>& film, const std::vector<Contribution>& list,
+                           const std::vector<uint8_t>& occluded) {
   auto add = [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i)
-      if (!occluded || !(*occluded)[i]) film[list[i].pixel] += list[i].value;
+      if (!occluded[i]) film[list[i].pixel] += list[i].value;
   };
   const bool sorted = std::is_sorted(list.begin(), list.end(),
                                      [](const Contribution& a, const Contribution& b) { return a.pixel < b.pixel; });
   constexpr size_t kBlock = 1 << 12;
   if (!sorted || list.size() <= kBlock) return add(0, list.size());
   const size_t blocks = (list.size() + kBlock - 1) / kBlock;
-  // A block starts at its first pixel not begun by the block before, and ends with its last pixel complete.
+  // A block starts at its first pixel not begun by the block before, and ends with its last
+  // pixel complete.
   auto first_own = [&](size_t i) {
     if (i >= list.size()) return list.size();
     while (i > 0 && i < list.size() && list[i].pixel == list[i - 1].pixel) ++i;
@@ -229,7 +232,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
       if (!b.occlusion_rays.empty()) {
         trace({bounce, occlusion_kind(), true}, b.occlusion_rays, nullptr, &b.occluded);
         t0 = SteadyClock::now();
-        accumulate(film, b.occlusion, &b.occluded);
+        accumulate_unoccluded(film, b.occlusion, b.occluded);
         stats.shading_ms += ms_since(t0);
       }
       std::swap(b.rays, b.next_rays);
