@@ -107,7 +107,7 @@ class Integrator {
 };
 
 /// The integrators of this module: primary rays, shadow rays to every point light,
-/// mirror reflections up to max_depth.
+/// mirror reflections up to max_depth, and the emission that camera and mirror rays see.
 std::unique_ptr<Integrator> make_direct_integrator();
 /// As direct, plus light_samples shadow rays per hit to points on the area lights.
 std::unique_ptr<Integrator> make_area_integrator();
