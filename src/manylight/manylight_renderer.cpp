@@ -146,17 +146,20 @@ void ManylightRenderer::render_pass() {
 void ManylightRenderer::draw_sample(size_t c, uint32_t pid, int j, Forced forced, double t_hat_value, double sigma2,
                                     Sample& s, Ray& ray) const {
   const ShadingPoint& sp = points_[pid];
-  const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
   manylight_detail::Rng rng(seed_ + passes_ * kGolden64, manylight_detail::kRenderStream | pid,
                             uint64_t(j) | (uint64_t(forced) << 32));
   s.point = pid;
+  // Sec. 3: a VPL cluster from the row, then a VPL uniformly in it: p = P(cluster) / |cluster|.
+  const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
   const size_t l = cluster_choice.sample_bits(rng.bits64());
-  const double pmf_cluster = cluster_choice.probability(l);
   const uint32_t members = clusters_.lights.count(l);
   const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
-  const double p = pmf_cluster / double(members);
+  const double p = cluster_choice.probability(l) / double(members);
   const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
   if (max_component(t) <= 0.0f) {
+    // No ray in any mode (exact, not a skip). Such a sample costs what a skipped one does
+    // (calibrate() charges it t_skip), so it enters mean(q) of eq. (16) with q = 1, and
+    // eq. (17) with y = t V~ / p = 0.
     s.state = SampleState::ZeroContribution;
     s.value = Vec3(0.0f);
     s.q = 1;
@@ -182,21 +185,28 @@ void ManylightRenderer::draw_sample(size_t c, uint32_t pid, int j, Forced forced
   ray = shadow_ray(sp, vpl, offset_);
 }
 
+namespace {
+/// V~ of eq. (8) for a sample of a finished round: r when skipped, (v - r q) / (1 - q) when
+/// traced; 0 for a zero contribution (it multiplies t = 0). A skipped sample's `ray` is stale.
+double estimated_visibility(SampleState state, double r, double q, uint32_t ray, const std::vector<uint8_t>& occluded) {
+  switch (state) {
+    case SampleState::Skipped: return visibility_estimate(true, 0.0, r, q);
+    case SampleState::Traced: return visibility_estimate(false, occluded[ray] ? 0.0 : 1.0, r, q);
+    default: return 0.0;
+  }
+}
+}  // namespace
+
 // Phase B for the samples of one shading cluster: V~ of eq. (8), the pixel estimate of
-// eq. (6), and the cluster statistics.
+// eq. (6), and the cluster statistics of eqs. (16) and (17).
 void ManylightRenderer::resolve_samples(size_t c, std::span<const Sample> samples, const std::vector<uint8_t>& occluded,
                                         bool accumulate) {
   ClusterSampleStats& st = stats_[c];
   const int spp_samples = config_.samples_per_pass;
   for (const Sample& s : samples) {
     if (s.state == SampleState::Empty) continue;
-    double vt = 0;
-    if (s.state == SampleState::Skipped) vt = s.r;
-    else if (s.state == SampleState::Traced) vt = visibility_estimate(false, occluded[s.ray] ? 0.0 : 1.0, s.r, s.q);
-    // A zero-contribution sample costs what a skipped one does (calibrate() charges it t_skip),
-    // so it enters mean(q) of eq. (16) with q = 1, and eq. (17) with y = t V~ / p = 0.
-    if (s.state != SampleState::ZeroContribution) st.add(s.q, s.lum_t * vt);
-    else st.add(1.0, 0.0);
+    const double vt = estimated_visibility(s.state, s.r, s.q, s.ray, occluded);
+    st.add(s.q, s.lum_t * vt);  // a zero contribution has q = 1, lum_t = 0 (draw_sample)
     if (!accumulate) continue;
     for (int k = 0; k < 3; ++k) point_sum_[s.point][k] += double(s.value[k]) * vt / spp_samples;
     if (s.state != SampleState::ZeroContribution) {
@@ -218,14 +228,13 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
   RayBatch rays;
   std::vector<uint8_t> occ;
   size_t nonzero = 0;
-  const double t_hat_base_eval = timings_.t_eval, t_hat_base_skip = timings_.t_skip;
   for (size_t round = 0; round < rounds; ++round) {
     // Phase A: sample VPLs and decide skips with the statistics of earlier rounds.
     tbb::parallel_for(size_t(0), nc, [&](size_t c) {
       const auto& list = cluster_points[c];
       const size_t b = round * per_round, e = std::min(list.size(), b + per_round);
       const ClusterSampleStats& st = stats_[c];
-      const double th = t_hat(t_hat_base_eval, t_hat_base_skip, st.mean_q());
+      const double th = t_hat(timings_.t_eval, timings_.t_skip, st.mean_q());
       const double var = st.variance();
       for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = SampleState::Empty;
       for (size_t i = b; i < e; ++i)
