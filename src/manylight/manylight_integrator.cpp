@@ -40,6 +40,8 @@ class ManylightIntegrator final : public Integrator {
     ManylightRenderer r(scene, accel, config);
     if (o_.pass_seed) r.set_seed(*o_.pass_seed);
     if (config.mode != VisibilityMode::Exact) r.calibrate();
+    if (const std::string w = skipping_saves_nothing_warning(config.mode, r.timings()); !w.empty())
+      fmt::print(stderr, "manylight: warning: {}\n", w);
     const auto& tm = r.timings();
     // Progress per pass, timed from the first pass (the preprocess is done); with a time
     // budget the pass count is the one the time so far predicts.

@@ -100,36 +100,54 @@ void ManylightRenderer::reset(VisibilityMode mode) {
   rays_traced_ = 0;
 }
 
-void ManylightRenderer::calibrate() {
-  if (config_.t_eval > 0 && config_.t_skip > 0) return;
-  const double t0 = now();
+SampleCosts calibrated_costs(double eval_pass_s, double skip_pass_s, double samples, double contributing) {
+  SampleCosts costs;
+  costs.t_skip = skip_pass_s / samples;
+  const double per_ray = contributing > 0 ? (eval_pass_s - (samples - contributing) * costs.t_skip) / contributing : 0;
+  costs.t_eval = std::max(costs.t_skip, per_ray);
+  return costs;
+}
+
+std::string skipping_saves_nothing_warning(VisibilityMode mode, const ManylightTimings& timings) {
+  if (mode == VisibilityMode::Exact || !timings.calibrated || timings.t_eval > timings.t_skip) return "";
+  return "calibration measured no time for the shadow ray (t_eval = t_skip = " + std::to_string(timings.t_skip * 1e6) +
+         " us per sample): skipping saves nothing (t_hat = 0 in eq. 16), so --visibility " + to_string(mode) +
+         " traces every sample as exact does; --costs EVAL,SKIP sets the costs instead";
+}
+
+std::vector<std::vector<uint32_t>> ManylightRenderer::calibration_subset() const {
   const int stride = std::max(1, config_.calibration_stride);
   std::vector<std::vector<uint32_t>> subset(cluster_points_.size());
-  size_t count = 0;
   for (size_t c = 0; c < cluster_points_.size(); ++c)
     for (uint32_t p : cluster_points_[c]) {
       const uint32_t px = points_[p].pixel;
       if ((px % config_.width) % stride == 0 && (px / config_.width) % stride == 0) subset[c].push_back(p);
     }
+  return subset;
+}
+
+void ManylightRenderer::calibrate() {
+  if (config_.t_eval > 0 && config_.t_skip > 0) return;
+  const double t0 = now();
+  const std::vector<std::vector<uint32_t>> subset = calibration_subset();
+  size_t count = 0;
   for (const auto& s : subset) count += s.size();
   const double samples = double(std::max<size_t>(1, count)) * config_.samples_per_pass;
   double best_eval = INFINITY, best_skip = INFINITY;
-  size_t nonzero = 0;
+  size_t contributing = 0;
   // Alternate and keep the minimum: the machine is shared, the minimum is the least disturbed.
   for (int rep = 0; rep < 3; ++rep) {
     double t = now();
-    nonzero = pass(subset, Forced::Zero, false);
+    contributing = pass(subset, Forced::Zero, false);
     best_eval = std::min(best_eval, now() - t);
     t = now();
     pass(subset, Forced::One, false);
     best_skip = std::min(best_skip, now() - t);
   }
-  // Zero-contribution samples never trace a ray in any mode: charge them t_skip and give
-  // t_eval per sample that does trace (the cost model of eq. 11).
-  timings_.t_skip = best_skip / samples;
-  const double n0 = samples - double(nonzero);
-  timings_.t_eval = nonzero ? std::max(timings_.t_skip, (best_eval - n0 * timings_.t_skip) / double(nonzero))
-                            : best_eval / samples;
+  const SampleCosts costs = calibrated_costs(best_eval, best_skip, samples, double(contributing));
+  timings_.t_eval = costs.t_eval;
+  timings_.t_skip = costs.t_skip;
+  timings_.calibrated = true;
   timings_.calibration_ms = (now() - t0) * 1e3;
   reset(config_.mode);
 }

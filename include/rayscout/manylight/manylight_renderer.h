@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "rayscout/core/accelerator.h"
@@ -26,8 +27,26 @@ struct ManylightTimings {
   double vpl_ms = 0, shading_points_ms = 0, cluster_ms = 0, visibility_ms = 0, pmf_ms = 0;
   double calibration_ms = 0;
   double t_eval = 0, t_skip = 0;  ///< seconds per VPL sample with / without the shadow ray
+  bool calibrated = false;        ///< t_eval, t_skip measured by calibrate() (else given or unset)
   double preprocess_ms() const { return vpl_ms + shading_points_ms + cluster_ms + visibility_ms + pmf_ms; }
 };
+
+/// Per-sample costs, seconds.
+struct SampleCosts {
+  double t_eval = 0, t_skip = 0;
+};
+
+/// t_eval and t_skip from the calibration renders (sec. 5): the q = 0 pass took eval_pass_s
+/// and the q = 1 pass skip_pass_s over `samples` samples, `contributing` of which have t > 0.
+/// Only those trace a ray, so t_skip = skip_pass_s / samples and the others are charged
+/// t_skip in the q = 0 pass (the cost model of eq. 11). A ray measured as costing nothing
+/// (timing noise, or no contributing sample) gives t_eval = t_skip: skipping saves nothing.
+SampleCosts calibrated_costs(double eval_pass_s, double skip_pass_s, double samples, double contributing);
+
+/// When calibration measured t_eval <= t_skip, t_hat of eq. (16) is 0 and `mode` traces every
+/// sample as exact does: the warning that says so; "" otherwise (exact, given costs, or a
+/// shadow ray that costs time).
+std::string skipping_saves_nothing_warning(VisibilityMode mode, const ManylightTimings& timings);
 
 /// One point of an RMSE-over-time curve.
 struct ProgressRecord {
@@ -49,7 +68,8 @@ class ManylightRenderer {
   ManylightRenderer(const Scene& scene, const Accelerator& accel, const ManylightConfig& config);
 
   /// Measures t_eval and t_skip by low-resolution renders (every calibration_stride-th pixel
-  /// row and column) with q = 0 and q = 1, unless config gave both. Leaves the image empty.
+  /// row and column) with q = 0 and q = 1 (calibrated_costs), unless config gave both. Leaves
+  /// the image empty.
   void calibrate();
   /// Switches the visibility mode and clears the image and statistics (preprocess is kept).
   void reset(VisibilityMode mode);
@@ -84,6 +104,8 @@ class ManylightRenderer {
   /// Seconds on config.cpu_clock's clock.
   double now() const;
   enum class Forced { None, Zero, One };
+  /// Per shading cluster, its points on every calibration_stride-th pixel row and column.
+  std::vector<std::vector<uint32_t>> calibration_subset() const;
   /// One pass over the given shading clusters' point lists; forced q overrides (calibration).
   /// Returns the number of samples with a non-zero tentative contribution.
   size_t pass(const std::vector<std::vector<uint32_t>>& cluster_points, Forced forced, bool accumulate);

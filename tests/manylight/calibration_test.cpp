@@ -1,0 +1,68 @@
+// Calibration of t_eval and t_skip (sec. 5) and what the renderer does when skipping saves nothing.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "generated_scenes.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/manylight/manylight_integrator.h"
+#include "rayscout/manylight/manylight_renderer.h"
+
+namespace rayscout {
+namespace {
+
+TEST(ManylightCalibration, ZeroContributionSamplesAreChargedTSkip) {
+  // 100 samples, 50 with t > 0: the q = 1 pass took 2 s, so t_skip = 0.02 s; the q = 0 pass
+  // took 10 s = 50 t_eval + 50 * 0.02 s (eq. 11's cost model), so t_eval = 0.18 s.
+  const SampleCosts c = calibrated_costs(10.0, 2.0, 100, 50);
+  EXPECT_DOUBLE_EQ(c.t_skip, 0.02);
+  EXPECT_DOUBLE_EQ(c.t_eval, 0.18);
+}
+
+TEST(ManylightCalibration, AShadowRayMeasuredFreeDisablesSkippingAndSaysSo) {
+  // Timing noise: the q = 0 pass ran faster than the q = 1 pass. t_eval is held at t_skip,
+  // so t_hat (eq. 16) is 0 and every sample is traced (q = 0): said, not silent.
+  const SampleCosts c = calibrated_costs(1.9, 2.0, 100, 50);
+  EXPECT_EQ(c.t_eval, c.t_skip);
+  EXPECT_EQ(t_hat(c.t_eval, c.t_skip, 0.0), 0.0);
+  ManylightTimings tm;
+  tm.t_eval = c.t_eval;
+  tm.t_skip = c.t_skip;
+  tm.calibrated = true;
+  EXPECT_NE(skipping_saves_nothing_warning(VisibilityMode::Proposed, tm).find("traces every sample as exact does"),
+            std::string::npos);
+  EXPECT_NE(skipping_saves_nothing_warning(VisibilityMode::Veach, tm).find("--visibility veach"), std::string::npos);
+  EXPECT_EQ(skipping_saves_nothing_warning(VisibilityMode::Exact, tm), "");
+  tm.t_eval = 0.03;
+  EXPECT_EQ(skipping_saves_nothing_warning(VisibilityMode::Proposed, tm), "");
+  tm.t_eval = tm.t_skip;
+  tm.calibrated = false;  // given costs: the CLI checks those (--costs)
+  EXPECT_EQ(skipping_saves_nothing_warning(VisibilityMode::Proposed, tm), "");
+  // No sample of the calibration subset traces a ray: its cost is unmeasured, not guessed.
+  const SampleCosts none = calibrated_costs(2.1, 2.0, 100, 0);
+  EXPECT_EQ(none.t_eval, none.t_skip);
+}
+
+// A quad lit from behind: no VPL reaches a shading point, so calibration traces no ray and
+// measures nothing for it. The run says that skipping is off instead of skipping nothing silently.
+TEST(ManylightCalibration, TheIntegratorWarnsWhenCalibrationFindsNothingToSave) {
+  Scene scene = testing::scene_from_triangles({Triangle{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}},
+                                               Triangle{{-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}});
+  scene.point_lights[0].position = Vec3{0, 0, -1};
+  auto accel = make_accelerator("brute", scene);
+  RenderConfig rc;
+  rc.width = rc.height = 8;
+  ManylightRunOptions o;
+  o.config.vpl_count = 50;
+  o.config.mode = VisibilityMode::Proposed;
+  o.passes = 1;
+  o.verbose = false;
+  ::testing::internal::CaptureStderr();
+  make_manylight_integrator(o)->render(scene, *accel, rc);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("manylight: warning: calibration measured no time for the shadow ray"), std::string::npos)
+      << err;
+}
+
+}  // namespace
+}  // namespace rayscout
