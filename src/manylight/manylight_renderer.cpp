@@ -85,8 +85,10 @@ ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& acce
                 clusters_.shading.order.begin() + clusters_.shading.begin[c + 1]);
     std::sort(list.begin(), list.end());
   }
-  timings_.t_eval = config_.t_eval;
-  timings_.t_skip = config_.t_skip;
+  if (costs_given()) {
+    timings_.t_eval = config_.t_eval;
+    timings_.t_skip = config_.t_skip;
+  }
   reset(config_.mode);
 }
 
@@ -127,7 +129,7 @@ std::vector<std::vector<uint32_t>> ManylightRenderer::calibration_subset() const
 }
 
 void ManylightRenderer::calibrate() {
-  if (config_.t_eval > 0 && config_.t_skip > 0) return;
+  if (costs_given()) return;
   const double t0 = now();
   const std::vector<std::vector<uint32_t>> subset = calibration_subset();
   size_t count = 0;
@@ -153,7 +155,7 @@ void ManylightRenderer::calibrate() {
 }
 
 void ManylightRenderer::render_pass() {
-  if (config_.mode != VisibilityMode::Exact && !(timings_.t_eval > 0)) calibrate();
+  if (config_.mode != VisibilityMode::Exact && !costs_given() && !timings_.calibrated) calibrate();
   pass(cluster_points_, Forced::None, true);
   ++passes_;
 }

@@ -7,6 +7,7 @@
 #include "rayscout/accelerators.h"
 #include "rayscout/manylight/manylight_integrator.h"
 #include "rayscout/manylight/manylight_renderer.h"
+#include "rayscout/scene/load_scene.h"
 
 namespace rayscout {
 namespace {
@@ -62,6 +63,28 @@ TEST(ManylightCalibration, TheIntegratorWarnsWhenCalibrationFindsNothingToSave) 
   const std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("manylight: warning: calibration measured no time for the shadow ray"), std::string::npos)
       << err;
+}
+
+// One cost alone is not a cost model: both are calibrated, whether a pass or the caller asks.
+// (render_pass() once took a given t_eval with t_skip = 0, where calibrate() measured both.)
+TEST(ManylightCalibration, OneGivenCostAloneIsNotUsed) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  ManylightConfig c;
+  c.width = c.height = 8;
+  c.vpl_count = 50;
+  c.t_eval = 1e-6;
+  ManylightRenderer r(scene, *accel, c);
+  EXPECT_EQ(r.timings().t_eval, 0.0);
+  r.render_pass();
+  EXPECT_TRUE(r.timings().calibrated);
+  EXPECT_GT(r.timings().t_skip, 0.0);
+  c.t_skip = 2e-7;  // both: used as given, never measured
+  ManylightRenderer given(scene, *accel, c);
+  given.render_pass();
+  EXPECT_FALSE(given.timings().calibrated);
+  EXPECT_EQ(given.timings().t_eval, 1e-6);
+  EXPECT_EQ(given.timings().t_skip, 2e-7);
 }
 
 }  // namespace

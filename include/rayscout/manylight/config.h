@@ -58,8 +58,8 @@ struct ManylightConfig {
   float epsilon = 0.1f;        ///< floor of (v - r)^2 in `proposed` (sec. 4.2)
   int samples_per_pass = 1;    ///< VPL samples per shading point per pass (N of eq. 2)
   int points_per_round = 16;   ///< points per cluster per wavefront round (stats update between rounds)
-  double t_eval = 0.0;         ///< seconds per sample with the shadow ray; 0 = calibrate
-  double t_skip = 0.0;         ///< seconds per sample without it; 0 = calibrate
+  double t_eval = 0.0;         ///< seconds per sample with the shadow ray; used only with t_skip
+  double t_skip = 0.0;         ///< seconds per sample without it; unless both are > 0, both are calibrated
   int calibration_stride = 4;  ///< calibration renders every stride-th pixel row and column
 
   /// Clock of time budgets and calibration: false = wall clock; true = process CPU time

@@ -76,7 +76,7 @@ class ManylightRenderer {
   /// Reseeds the per-pass randomness (independent renders over the same preprocess).
   void set_seed(uint64_t seed) { seed_ = seed; }
 
-  /// One pass over every shading point.
+  /// One pass over every shading point; a skipping mode calibrates first if that is not done.
   void render_pass();
   /// Passes until `seconds` of rendering have elapsed (at least one, at most max_passes),
   /// recording the RMSE against `reference` (compare_images; an empty Image = none) after each
@@ -103,6 +103,8 @@ class ManylightRenderer {
   struct Sample;
   /// Seconds on config.cpu_clock's clock.
   double now() const;
+  /// The config gives both costs; one alone is not used (both are calibrated then).
+  bool costs_given() const { return config_.t_eval > 0 && config_.t_skip > 0; }
   enum class Forced { None, Zero, One };
   /// Per shading cluster, its points on every calibration_stride-th pixel row and column.
   std::vector<std::vector<uint32_t>> calibration_subset() const;
