@@ -18,6 +18,14 @@
 namespace rayscout {
 namespace {
 
+/// The summary's costs: where t_eval and t_skip came from, or that exact has none (it never
+/// skips, so it neither calibrates nor reads given costs).
+std::string cost_summary(VisibilityMode mode, const ManylightTimings& tm) {
+  if (mode == VisibilityMode::Exact) return "no t_eval, t_skip (exact never skips a shadow ray)";
+  const std::string costs = fmt::format("t_eval {:.3g} us, t_skip {:.3g} us", tm.t_eval * 1e6, tm.t_skip * 1e6);
+  return tm.calibrated ? fmt::format("calibration {:.2f} s, {}", tm.calibration_ms * 1e-3, costs) : costs + " (given)";
+}
+
 class ManylightIntegrator final : public Integrator {
  public:
   explicit ManylightIntegrator(ManylightRunOptions o) : o_(std::move(o)) {}
@@ -66,12 +74,11 @@ class ManylightIntegrator final : public Integrator {
       if (rc.on_progress) fmt::print(stderr, "\n");  // ends the progress line
       fmt::print(stderr,
                  "manylight: {} VPLs ({} light paths), {} shading clusters x {} VPL clusters; preprocess {:.2f} s "
-                 "(VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f}, pmf {:.2f}); "
-                 "calibration {:.2f} s, t_eval {:.3g} us, t_skip {:.3g} us\n",
+                 "(VPLs {:.2f}, shading points {:.2f}, clustering {:.2f}, visibility {:.2f}, pmf {:.2f}); {}\n",
                  r.vpls().vpls.size(), r.vpls().light_paths, r.clusters().shading.size(),
                  r.clusters().vpl_cluster_count(), tm.preprocess_ms() * 1e-3, tm.vpl_ms * 1e-3,
                  tm.shading_points_ms * 1e-3, tm.cluster_ms * 1e-3, tm.visibility_ms * 1e-3, tm.pmf_ms * 1e-3,
-                 tm.calibration_ms * 1e-3, tm.t_eval * 1e6, tm.t_skip * 1e6);
+                 cost_summary(config.mode, tm));
       fmt::print(stderr, "manylight: visibility {}, {} passes in {:.2f} s, mean skip rate {:.1f} %, {} shadow rays{}\n",
                  to_string(config.mode), r.passes(), records.back().seconds, 100 * r.skip_rate(),
                  r.shadow_rays_traced(),
@@ -98,8 +105,9 @@ class ManylightIntegrator final : public Integrator {
       j["vpls"] = r.vpls().vpls.size();
       j["preprocess_s"] = tm.preprocess_ms() * 1e-3;
       j["calibration_s"] = tm.calibration_ms * 1e-3;
-      j["t_eval_us"] = tm.t_eval * 1e6;
-      j["t_skip_us"] = tm.t_skip * 1e6;
+      const bool has_costs = r.config().mode != VisibilityMode::Exact;  // null for exact (cost_summary)
+      j["t_eval_us"] = has_costs ? nlohmann::json(tm.t_eval * 1e6) : nlohmann::json();
+      j["t_skip_us"] = has_costs ? nlohmann::json(tm.t_skip * 1e6) : nlohmann::json();
       j["skip_rate"] = r.skip_rate();
       for (const auto& p : records)
         j["records"].push_back({{"seconds", p.seconds}, {"passes", p.passes}, {"rmse", p.rmse}, {"skip_rate", p.skip_rate}});

@@ -1,7 +1,11 @@
 // Calibration of t_eval and t_skip (sec. 5) and what the renderer does when skipping saves nothing.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
@@ -63,6 +67,41 @@ TEST(ManylightCalibration, TheIntegratorWarnsWhenCalibrationFindsNothingToSave) 
   const std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("manylight: warning: calibration measured no time for the shadow ray"), std::string::npos)
       << err;
+}
+
+// The run's summary says where the costs came from; exact has none (it printed "calibration
+// 0.00 s, t_eval 0 us, t_skip 0 us", and its log t_eval_us 0, as if a ray cost nothing).
+TEST(ManylightCalibration, TheSummaryNamesTheCostsSource) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  RenderConfig rc;
+  rc.width = rc.height = 8;
+  const auto log = std::filesystem::temp_directory_path() / "rayscout_manylight_costs_log.json";
+  auto summary = [&](VisibilityMode mode, double t_eval, double t_skip) {
+    ManylightRunOptions o;
+    o.config.vpl_count = 50;
+    o.config.mode = mode;
+    o.config.t_eval = t_eval;
+    o.config.t_skip = t_skip;
+    o.passes = 1;
+    o.rmse_log = log.string();
+    ::testing::internal::CaptureStderr();
+    make_manylight_integrator(o)->render(scene, *accel, rc);
+    return ::testing::internal::GetCapturedStderr();
+  };
+  const std::string exact = summary(VisibilityMode::Exact, 0, 0);
+  EXPECT_NE(exact.find("no t_eval, t_skip (exact never skips a shadow ray)"), std::string::npos) << exact;
+  EXPECT_EQ(exact.find("t_eval 0"), std::string::npos) << exact;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(log));
+  EXPECT_TRUE(j["t_eval_us"].is_null());
+  EXPECT_TRUE(j["t_skip_us"].is_null());
+  const std::string given = summary(VisibilityMode::Proposed, 0.7e-6, 0.25e-6);
+  EXPECT_NE(given.find("; t_eval 0.7 us, t_skip 0.25 us (given)"), std::string::npos) << given;
+  EXPECT_EQ(given.find("calibration"), std::string::npos) << given;
+  const std::string calibrated = summary(VisibilityMode::Veach, 0, 0);
+  EXPECT_NE(calibrated.find("; calibration "), std::string::npos) << calibrated;
+  EXPECT_NE(calibrated.find(" s, t_eval "), std::string::npos) << calibrated;
+  std::filesystem::remove(log);
 }
 
 // One cost alone is not a cost model: both are calibrated, whether a pass or the caller asks.
