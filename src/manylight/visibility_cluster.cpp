@@ -74,7 +74,7 @@ Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3>
   c.order.resize(n);
   for (size_t i = 0; i < n; ++i) c.order[i] = uint32_t(i);
   // More clusters than points cannot be made: bisection stops at single points anyway.
-  if (n > 0) bisect(f, c.order, 0, n, ceil_log2(std::min(n, size_t(std::max(1, clusters)))), c.begin);
+  if (n > 0) bisect(f, c.order, 0, n, ceil_log2(cluster_count(n, clusters)), c.begin);
   c.begin.push_back(uint32_t(n));
   return c;
 }

@@ -22,12 +22,13 @@ struct Clustering {
   size_t count(size_t c) const { return begin[c + 1] - begin[c]; }
 };
 
-/// Recursive median bisection of 6-D features (position / scene diagonal, normal * normal_weight)
-/// along the widest dimension, to 2^ceil(log2(clusters)) clusters of (almost) equal size.
 /// How many clusters cluster_points makes of `items` when asked for `wanted`: 2^ceil(log2(wanted))
 /// (600 makes 1024), at most `items`.
 size_t cluster_count(size_t items, int wanted);
 
+/// Recursive median bisection of 6-D features (position / scene diagonal, normal * normal_weight)
+/// along the widest dimension, to cluster_count(positions.size(), clusters) clusters of (almost)
+/// equal size.
 Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3> normals,
                           float diagonal, float normal_weight, int clusters);
 
