@@ -41,22 +41,39 @@ struct ManylightRenderer::Sample {
   SampleState state = SampleState::Empty;
 };
 
-ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& accel, const ManylightConfig& config)
-    : scene_(scene), accel_(accel), config_(config), seed_(config.seed) {
-  if (config_.samples_per_pass <= 0 || config_.points_per_round <= 0)
+namespace {
+/// Throws InputError for a config the renderer cannot use, or not without bias.
+void check_config(const ManylightConfig& config) {
+  if (config.samples_per_pass <= 0 || config.points_per_round <= 0)
     throw InputError("manylight: samples_per_pass and points_per_round must be positive");
-  if (!(config_.epsilon >= 0.0f)) throw InputError("manylight: epsilon must be >= 0");
+  if (!(config.epsilon >= 0.0f)) throw InputError("manylight: epsilon must be >= 0");
   // Without the uniform mix a VPL cluster whose estimated contribution is 0 would never be
   // drawn, and its light would be missing from the image (biased).
-  if (!(config_.uniform_mix > 0.0f && config_.uniform_mix <= 1.0f))
-    throw InputError("manylight: uniform_mix must be in (0, 1], got " + std::to_string(config_.uniform_mix));
-  if (config_.visibility_samples < 1 || config_.visibility_samples > kMaxPairSamples ||
-      config_.refine_samples < 0 || config_.refine_samples > kMaxPairSamples ||
-      config_.contribution_samples < 0 || config_.contribution_samples > kMaxPairSamples)
+  if (!(config.uniform_mix > 0.0f && config.uniform_mix <= 1.0f))
+    throw InputError("manylight: uniform_mix must be in (0, 1], got " + std::to_string(config.uniform_mix));
+  if (config.visibility_samples < 1 || config.visibility_samples > kMaxPairSamples ||
+      config.refine_samples < 0 || config.refine_samples > kMaxPairSamples ||
+      config.contribution_samples < 0 || config.contribution_samples > kMaxPairSamples)
     throw InputError("manylight: visibility_samples must be in [1, " + std::to_string(kMaxPairSamples) +
                      "], refine_samples and contribution_samples in [0, " + std::to_string(kMaxPairSamples) + "]");
-  if (!(config_.r_floor >= 0.0f && config_.r_floor <= 1.0f))
-    throw InputError("manylight: r_floor must be in [0, 1], got " + std::to_string(config_.r_floor));
+  if (!(config.r_floor >= 0.0f && config.r_floor <= 1.0f))
+    throw InputError("manylight: r_floor must be in [0, 1], got " + std::to_string(config.r_floor));
+}
+
+/// Per shading cluster, its points in pixel order: neighbours follow each other (sec. 4.1).
+std::vector<std::vector<uint32_t>> processing_order(const Clustering& shading) {
+  std::vector<std::vector<uint32_t>> lists(shading.size());
+  for (size_t c = 0; c < lists.size(); ++c) {
+    lists[c].assign(shading.order.begin() + shading.begin[c], shading.order.begin() + shading.begin[c + 1]);
+    std::sort(lists[c].begin(), lists[c].end());
+  }
+  return lists;
+}
+}  // namespace
+
+ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& accel, const ManylightConfig& config)
+    : scene_(scene), accel_(accel), config_(config), seed_(config.seed) {
+  check_config(config_);
   offset_ = manylight_detail::ray_offset(scene);
   // Preprocess times on the configured clock; the split of VisibilityCluster into its
   // phases is wall-clock, scaled to the measured total.
@@ -77,14 +94,7 @@ ManylightRenderer::ManylightRenderer(const Scene& scene, const Accelerator& acce
   timings_.cluster_ms = clusters_.cluster_ms * scale;
   timings_.visibility_ms = clusters_.visibility_ms * scale;
   timings_.pmf_ms = clusters_.pmf_ms * scale;
-  // Within a cluster, points in pixel order: neighbours follow each other (sec. 4.1).
-  cluster_points_.resize(clusters_.shading.size());
-  for (size_t c = 0; c < cluster_points_.size(); ++c) {
-    auto& list = cluster_points_[c];
-    list.assign(clusters_.shading.order.begin() + clusters_.shading.begin[c],
-                clusters_.shading.order.begin() + clusters_.shading.begin[c + 1]);
-    std::sort(list.begin(), list.end());
-  }
+  cluster_points_ = processing_order(clusters_.shading);
   if (costs_given()) {
     timings_.t_eval = config_.t_eval;
     timings_.t_skip = config_.t_skip;
