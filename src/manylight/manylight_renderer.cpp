@@ -6,6 +6,7 @@
 #include <span>
 #include <string>
 
+#include <fmt/core.h>
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/input_error.h"
@@ -122,9 +123,10 @@ SampleCosts calibrated_costs(double eval_pass_s, double skip_pass_s, double samp
 
 std::string skipping_saves_nothing_warning(VisibilityMode mode, const ManylightTimings& timings) {
   if (mode == VisibilityMode::Exact || !timings.calibrated || timings.t_eval > timings.t_skip) return "";
-  return "calibration measured no time for the shadow ray (t_eval = t_skip = " + std::to_string(timings.t_skip * 1e6) +
-         " us per sample): skipping saves nothing (t_hat = 0 in eq. 16), so --visibility " + to_string(mode) +
-         " traces every sample as exact does; --costs EVAL,SKIP sets the costs instead";
+  return fmt::format("calibration measured no time for the shadow ray (t_eval = t_skip = {:.3g} us per sample): "
+                     "skipping saves nothing (t_hat = 0 in eq. 16), so --visibility {} traces every sample as exact "
+                     "does; --costs EVAL,SKIP sets the costs instead",
+                     timings.t_skip * 1e6, to_string(mode));
 }
 
 std::vector<std::vector<uint32_t>> ManylightRenderer::calibration_subset() const {
