@@ -33,8 +33,9 @@ Clustering cluster_points(std::span<const Vec3> positions, std::span<const Vec3>
                           float diagonal, float normal_weight, int clusters);
 
 /// Everything sampling needs: clusters, r per pair, and per shading cluster a distribution over
-/// VPL clusters proportional to (1 - uniform_mix) C r' + uniform_mix |V| / N, where C is the
-/// estimated unoccluded contribution of the VPL cluster and r' = max(r, r_floor).
+/// VPL clusters P(v) = (1 - uniform_mix) C r' / (the row's sum of C r') + uniform_mix |V| / N,
+/// where C is the estimated unoccluded contribution of VPL cluster v, r' = max(r, r_floor),
+/// |V| its size and N the VPL count (uniform alone when every C r' of the row is 0).
 struct VisibilityClusters {
   Clustering shading;               ///< over shading points (invalid points excluded)
   Clustering lights;                ///< over VPLs
