@@ -237,8 +237,11 @@ void run_scene(const Scene& scene, const std::string& sname, const Options& o, s
       sets = make_ray_sets(scene, acc, o.width, o.height, split(o.sweep ? std::string("shadow,ao,diffuse") : o.workloads));
     const ShaftStats& st = acc.collection_stats();
     const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
-    fmt::print("\n### {} over {} (budget_rel {}, dir_res {})\n{}\n", acc.name(), v.base == "wide" ? "WideBvh" : "Bvh2",
-               cfg.budget_mib > 0 ? -1.0 : cfg.budget_rel, cfg.dir_res, st.summary());
+    // budget_mib, when set, overrides budget_rel (ShaftConfig): the heading names the one in force.
+    const std::string budget =
+        cfg.budget_mib > 0 ? fmt::format("budget_mib {}", cfg.budget_mib) : fmt::format("budget_rel {}", cfg.budget_rel);
+    fmt::print("\n### {} over {} ({}, dir_res {})\n{}\n", acc.name(), v.base == "wide" ? "WideBvh" : "Bvh2", budget,
+               cfg.dir_res, st.summary());
     fmt::print("BVH build {:.1f} ms, {:.2f} MiB; collection build {:.1f} ms ({:.2f}x BVH), {:.2f} MiB ({:.2f}x BVH)\n",
                acc.bvh_build_ms(), bvh_mib, st.build_ms, st.build_ms / acc.bvh_build_ms(),
                st.memory_bytes() / 1048576.0, st.memory_bytes() / 1048576.0 / bvh_mib);
