@@ -47,16 +47,6 @@ size_t record_bytes(RayFileKind kind) {
   return 0;
 }
 
-std::string printable(const char* magic) {
-  std::string s;
-  for (int i = 0; i < 4; ++i) {
-    const unsigned char c = static_cast<unsigned char>(magic[i]);
-    if (c >= 32 && c < 127) s.push_back(char(c));
-    else { char buf[8]; std::snprintf(buf, sizeof buf, "\\x%02X", c); s += buf; }
-  }
-  return s;
-}
-
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& message) {
   throw InputError(file.string() + ": " + message);
 }
@@ -89,7 +79,7 @@ std::string read_records(const std::filesystem::path& file, std::optional<RayFil
     for (RayFileKind k : {RayFileKind::Rays, RayFileKind::Hits, RayFileKind::Occlusion})
       if (std::memcmp(head, magic_of(k), 4) == 0) kind = k;
   if (got >= 4 && (!kind || std::memcmp(head, magic_of(*kind), 4) != 0))
-    fail(file, "bad magic '" + printable(head) + "', expected " +
+    fail(file, "bad magic '" + printable(std::string_view(head, 4)) + "', expected " +
                    (kind ? std::string("'") + magic_of(*kind) + "' (" + what_of(*kind) + ")"
                          : std::string("'RAYS', 'HITS' or 'OCCL'")));
   if (got < kRayFileHeaderBytes)
