@@ -47,8 +47,9 @@ size_t record_bytes(RayFileKind kind) {
   return 0;
 }
 
+// The file name is quoted as input: a control byte in it must not reach the terminal.
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& message) {
-  throw InputError(file.string() + ": " + message);
+  throw InputError(printable(file.string()) + ": " + message);
 }
 
 std::string header(RayFileKind kind, uint64_t count) {

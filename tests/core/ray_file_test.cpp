@@ -188,6 +188,13 @@ TEST_F(RayFileTest, BadMagicIsNamed) {
   EXPECT_NE(e2.find("bad magic '\\x89PNG'"), std::string::npos) << e2;
 }
 
+TEST_F(RayFileTest, ControlBytesInTheFileNameAreEscaped) {
+  // The name is input: printed raw, "<ESC>[2J" in it would clear the terminal.
+  const std::string e = error_of([&] { read_rays(path("no\x1b[2Jpe.rays")); });
+  EXPECT_NE(e.find("no\\x1b[2Jpe.rays: cannot open ray file"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\x1b'), std::string::npos) << e;
+}
+
 TEST_F(RayFileTest, BadVersionIsNamed) {
   write_rays(path("r.rays"), testing::random_rays(3, 1));
   std::string b = slurp(path("r.rays"));
