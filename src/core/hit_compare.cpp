@@ -22,6 +22,8 @@ float t_scale(const HitCompareConfig& config, size_t i, float t_ref) {
   return world / len;
 }
 
+bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
+
 }  // namespace
 
 bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray) {
@@ -66,7 +68,8 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     ++d.both_hit;
     // Equal distances differ by 0, infinite ones too (a hit at t = +-inf: inf - inf is NaN).
     const float diff = g.t == r.t ? 0.0f : std::fabs(g.t - r.t) / t_scale(config, i, r.t);
-    const bool t_close = diff <= config.rel_tol;
+    // Bit-identical tells t = -0 from +0 (== does not), as it does u and v.
+    const bool t_close = exact ? same_bits(g.t, r.t) : diff <= config.rel_tol;
     if (r.prim != g.prim) {
       if (t_close && !exact) {
         ++d.ties;
@@ -81,8 +84,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     } else if (!t_close) {
       ++d.t_mismatch;
       note(i, "distance");
-    } else if (exact && (std::bit_cast<uint32_t>(g.u) != std::bit_cast<uint32_t>(r.u) ||
-                         std::bit_cast<uint32_t>(g.v) != std::bit_cast<uint32_t>(r.v))) {
+    } else if (exact && !(same_bits(g.u, r.u) && same_bits(g.v, r.v))) {
       ++d.uv_mismatch;
       note(i, "barycentrics");
     }

@@ -160,6 +160,17 @@ TEST(HitCompare, ToleranceZeroAllowsNoTiesAndComparesBarycentrics) {
   EXPECT_TRUE(d.ok());
 }
 
+// Bit-identical means the bits of t too: -0 == +0, yet a hit at t = -0 (a ray starting on
+// the triangle's plane) is not the same result as one at +0.
+TEST(HitCompare, ToleranceZeroTellsTheSignOfAZeroDistance) {
+  const HitBatch ref = batch({{0.0f, 3, 0.2f, 0.3f}});
+  const HitBatch got = batch({{-0.0f, 3, 0.2f, 0.3f}});
+  HitDiff d = compare_hits(ref, got, 0.0f);
+  EXPECT_EQ(d.t_mismatch, 1u);
+  EXPECT_FALSE(d.ok());
+  EXPECT_TRUE(compare_hits(ref, got, 1e-6f).ok());
+}
+
 TEST(HitCompare, GrazingContactsOnlyWhenAllowed) {
   // ray 0: the reference touches an edge (v = 0) the candidate passed by;
   // ray 1: the candidate hits at the origin (t = 0) of a ray leaving a surface;

@@ -46,7 +46,7 @@ struct HitDiff {
   size_t rays = 0;          ///< rays compared
   size_t both_hit = 0;      ///< rays both batches hit
   size_t hit_miss = 0;      ///< one hits, the other misses
-  size_t other_prim = 0;    ///< both hit, different triangle and different t
+  size_t other_prim = 0;    ///< both hit, different triangle, t not within tolerance (any t when rel_tol = 0)
   size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * scale
   size_t uv_mismatch = 0;   ///< rel_tol = 0 only: same triangle and t, different u or v bits
   size_t ties = 0;          ///< different triangle at the same t (within tolerance, rel_tol > 0): not an error
