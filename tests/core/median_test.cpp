@@ -15,5 +15,9 @@ TEST(Median, MiddleValueOrMeanOfTheTwoMiddleOnes) {
   EXPECT_EQ(median({5.0, 5.0, 1.0, 100.0, 2.0}), 5.0);  // an outlier does not move it
 }
 
+TEST(Median, MeanOfTwoHugeMiddleValuesIsFinite) {
+  EXPECT_EQ(median({1e308, 1.5e308}), 1.25e308);  // 0.5 * (a + b) gave inf
+}
+
 }  // namespace
 }  // namespace rayscout

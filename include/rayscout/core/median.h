@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <numeric>
 #include <vector>
 
 namespace rayscout {
@@ -10,7 +11,7 @@ namespace rayscout {
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  return n % 2 ? v[n / 2] : std::midpoint(v[n / 2 - 1], v[n / 2]);  // (a + b) / 2 overflows above DBL_MAX / 2
 }
 
 }  // namespace rayscout
