@@ -3,7 +3,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 namespace rayscout {
@@ -17,6 +16,13 @@ T parse_number(const std::string& key, const std::string& text) {
   if (ec != std::errc() || ptr != end)
     throw InputError("option '" + key + "': '" + text + "' is not a number");
   return value;
+}
+
+// The shortest text that reads back as x: 1.0000001 must not print as 1 next to a bound of 1.
+std::string shortest(double x) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, end);
 }
 
 }  // namespace
@@ -79,11 +85,9 @@ double AcceleratorOptions::get_double(const std::string& key, double fallback) c
 
 double AcceleratorOptions::get_double(const std::string& key, double fallback, double lo, double hi) const {
   const double value = get_double(key, fallback);
-  if (value < lo || value > hi) {
-    std::ostringstream s;
-    s << "option '" << key << "': " << value << " is not in [" << lo << ", " << hi << "]";
-    throw InputError(s.str());
-  }
+  if (value < lo || value > hi)
+    throw InputError("option '" + key + "': " + shortest(value) + " is not in [" + shortest(lo) + ", " + shortest(hi) +
+                     "]");
   return value;
 }
 

@@ -1,0 +1,39 @@
+// AcceleratorOptions: typed access and the errors that name the option.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "rayscout/core/accelerator_options.h"
+
+namespace rayscout {
+namespace {
+
+std::string error_of(const AcceleratorOptions& o, double lo, double hi) {
+  try {
+    o.get_double("fraction", 0.5, lo, hi);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Printed with six digits, 1.0000001 read "1 is not in [0, 1]".
+TEST(AcceleratorOptions, OutOfRangeDoubleIsPrintedAsGiven) {
+  AcceleratorOptions o;
+  o.set("fraction=1.0000001");
+  EXPECT_EQ(error_of(o, 0.0, 1.0), "option 'fraction': 1.0000001 is not in [0, 1]");
+  o.set("fraction=5e-7");
+  EXPECT_EQ(error_of(o, 1e-6, 4096.0), "option 'fraction': 5e-07 is not in [1e-06, 4096]");
+}
+
+TEST(AcceleratorOptions, RepeatedKeyAndUnusedKeyAreErrors) {
+  const std::string list[] = {"skip=on", "skip=off"};
+  EXPECT_THROW(AcceleratorOptions::from_list(list), InputError);
+  AcceleratorOptions o;
+  o.set("skpi=on");
+  EXPECT_TRUE(o.get_bool("skip", true));  // the misspelt key is not read...
+  EXPECT_THROW(o.check_all_used("bvh"), InputError);  // ...and so reported
+}
+
+}  // namespace
+}  // namespace rayscout
