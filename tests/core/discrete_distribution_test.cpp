@@ -66,6 +66,8 @@ TEST(DiscreteDistribution, RejectsBadWeights) {
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{0.0, 0.0}, 24), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, -1.0}, 24), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, NAN}, 24), std::invalid_argument);
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, INFINITY}, 24), std::invalid_argument);
+  EXPECT_THROW(DiscreteDistribution(std::vector<double>{}, 24), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>(5, 1.0), 4), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0}, 54), std::invalid_argument);
 }
