@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "rayscout/core/bounds3.h"
@@ -73,8 +74,20 @@ inline bool intersect_triangle(const Vec3& org, const RayPrecomp& rp, const Tria
   return true;
 }
 
+/// gamma(n) = n eps / (1 - n eps), eps = 2^-24 (half float's ulp of 1): the relative error
+/// bound of n float operations (Higham; pbrt-v3 sec. 3.9.1).
+constexpr float float_gamma(int n) {
+  constexpr float eps = 0.5f * std::numeric_limits<float>::epsilon();
+  return float(n) * eps / (1.0f - float(n) * eps);
+}
+/// The slab test's far-distance scale, 1 + 2 gamma(3) (Ize 2013, sec. 3): every box kernel
+/// (scalar and SIMD) must use this one value to cull exactly the same boxes.
+inline constexpr float kSlabFarScale = 1.0f + 2.0f * float_gamma(3);
+
 /// Robust slab test (Ize, "Robust BVH Ray Traversal", JCGT 2013): the far distance is
-/// scaled up by 1 + 2 gamma(3) so that rounding never culls a box the ray touches. The near
+/// scaled up by 1 + 2 gamma(3) so that rounding never culls a box the ray touches at t >= 0
+/// (a negative far distance moves away from zero: bvh's intersect_box_robust mirrors it for
+/// its widened tmin; DACRT's SIMD kernels repeat this one exactly). The near
 /// and far planes of each axis are chosen by the sign of the reciprocal direction, so a zero
 /// direction component (+-0, reciprocal +-inf) gives -inf / +inf for a ray inside the slab,
 /// and NaN (0 * inf) for a ray lying exactly on one of its planes; the operand order of the
@@ -82,12 +95,11 @@ inline bool intersect_triangle(const Vec3& org, const RayPrecomp& rp, const Tria
 /// Returns the entry distance in tnear_out.
 inline bool intersect_box(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
                           float tmax, float& tnear_out) {
-  constexpr float kRobust = 1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
   float tnear = tmin, tfar = tmax;
   for (int axis = 0; axis < 3; ++axis) {
     const bool negative = std::signbit(inv_dir[axis]);
     const float t0 = ((negative ? box.hi : box.lo)[axis] - org[axis]) * inv_dir[axis];
-    const float t1 = ((negative ? box.lo : box.hi)[axis] - org[axis]) * inv_dir[axis] * kRobust;
+    const float t1 = ((negative ? box.lo : box.hi)[axis] - org[axis]) * inv_dir[axis] * kSlabFarScale;
     tnear = t0 > tnear ? t0 : tnear;  // NaN t0 keeps tnear
     tfar = t1 < tfar ? t1 : tfar;     // NaN t1 keeps tfar
   }
