@@ -2,7 +2,6 @@
 #include "rayscout/core/ray_file.h"
 
 #include <algorithm>
-#include <bit>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -18,9 +17,6 @@
 
 namespace rayscout {
 namespace {
-
-static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
-
 
 const char* magic_of(RayFileKind kind) {
   switch (kind) {
@@ -96,8 +92,9 @@ std::string read_records(const std::filesystem::path& file, std::optional<RayFil
   const uint64_t want = too_many ? UINT64_MAX : count * rec;
   std::string data;
   std::error_code ec;
+  // Reserve what the file holds, never what a corrupt count says (nor file_size's error value).
   if (std::filesystem::is_regular_file(file, ec))
-    data.reserve(size_t(std::min<uint64_t>(want, std::filesystem::file_size(file, ec))));
+    if (const uint64_t size = std::filesystem::file_size(file, ec); !ec) data.reserve(size_t(std::min(want, size)));
   uint64_t body = 0;  // bytes after the header; beyond `want` only counted
   std::vector<char> chunk(size_t(1) << 20);
   while (in.read(chunk.data(), std::streamsize(chunk.size())) || in.gcount() > 0) {
