@@ -7,7 +7,8 @@
 
 namespace rayscout {
 
-/// The scenes folder: $RAYSCOUT_SCENES, else ../shared/scenes beside the source tree.
+/// The scenes folder: $RAYSCOUT_SCENES, else $RAYSCOUT_DEFAULT_SCENES (which CTest sets),
+/// else the build's default, ../shared/scenes beside the source tree.
 std::filesystem::path scenes_dir();
 
 /// scenes_dir() / relative when that file exists, else nullopt (callers skip with a message).
