@@ -24,8 +24,8 @@ CommandRegistration registration{[](CLI::App& app) {
   auto opts = std::make_shared<DiffOptions>();
   auto* cmd = app.add_subcommand("diff", "Compare image A with reference B: RMSE, relative MSE, PSNR, max error");
   set_memory_hint(*cmd, "compare smaller images");
-  cmd->add_option("a", opts->a, "image (.png, .exr, .pfm)")->required()->check(file_path());
-  cmd->add_option("b", opts->b, "reference image")->required()->check(file_path());
+  cmd->add_option("A", opts->a, "image (.png, .exr, .pfm)")->required()->check(file_path());
+  cmd->add_option("B", opts->b, "reference image")->required()->check(file_path());
   cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)")->check(file_path());
   cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)")
       ->capture_default_str()

@@ -66,6 +66,8 @@ expect_empty_path(--rays trace --scene cornell)
 expect_empty_path(--out trace --scene cornell --rays ${WORK}/x.rays)
 expect_empty_path(--out rays --scene cornell)
 expect_empty_path(--out diff a.png b.png)
+# diff's positionals are named A and B, as its description and compare-hits name them.
+expect(2 "^rayscout: error: B is required\nRun 'rayscout diff --help'" diff a.png)
 expect_empty_path(--hits-a compare-hits a.occl b.occl)
 # A misspelt integrator or workload is a usage error naming the option, found as the command line
 # is parsed, not after a warning that --max-depth is "ignored by --integrator pth".
