@@ -227,7 +227,7 @@ class DacrtBench {
       if (!contains(o_.views, v.name)) continue;
       auto scene = scene_of(v);
       if (!scene) {
-        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} ({}) | | | | | | |\n", v.name, v.file, scenes_dir_note());
+        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} ({}) | | | | | | |\n", v.name, v.file, scenes_dir_origin());
         continue;
       }
       auto afra = make("dacrt", *scene), rs = make("dacrt-rs", *scene);
@@ -276,7 +276,7 @@ class DacrtBench {
       if (!contains(o_.views, v.name)) continue;
       auto scene = scene_of(v);
       if (!scene) {
-        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} ({}) | | |\n", v.name, v.file, scenes_dir_note());
+        if (!rendered() || !v.scene_json.empty()) fmt::print("| {} | missing {} ({}) | | |\n", v.name, v.file, scenes_dir_origin());
         continue;
       }
       std::vector<std::unique_ptr<Accelerator>> accs;

@@ -135,17 +135,10 @@ inline std::string machine_description() {
   return s;
 }
 
-/// Where the meshes of the bench scenes were looked for, for the skip lines:
-/// "RAYSCOUT_SCENES=/x" or "RAYSCOUT_SCENES is not set, default /y".
-inline std::string scenes_dir_note() {
-  const char* env = std::getenv("RAYSCOUT_SCENES");
-  return (env && *env ? "RAYSCOUT_SCENES=" : "RAYSCOUT_SCENES is not set, default ") + scenes_dir().string();
-}
-
 /// Prints "skipping NAME: WHY (RAYSCOUT_SCENES=...)" to stdout, beside the tables: a scene whose
 /// files are missing leaves a gap in them, not an error.
 inline void print_skip(const std::string& name, const std::string& why) {
-  fmt::print("skipping {}: {} ({})\n", name, why, scenes_dir_note());
+  fmt::print("skipping {}: {} ({})\n", name, why, scenes_dir_origin());
 }
 
 /// The scene `arg` names ("cornell", or a scene or mesh file), or nullopt after a skip line when

@@ -11,6 +11,11 @@ std::filesystem::path scenes_dir() {
   return RAYSCOUT_DEFAULT_SCENES;
 }
 
+std::string scenes_dir_origin() {
+  const char* env = std::getenv("RAYSCOUT_SCENES");
+  return (env && *env ? "RAYSCOUT_SCENES=" : "RAYSCOUT_SCENES is not set, default ") + scenes_dir().string();
+}
+
 std::optional<std::filesystem::path> find_scene_file(const std::string& relative) {
   std::filesystem::path p = scenes_dir() / relative;
   std::error_code ec;

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -156,10 +155,7 @@ class JsonSceneLoader {
   static std::string scenes_dir_hint(const std::string& file, const std::filesystem::path& resolved) {
     std::error_code ec;
     if (!file.starts_with(kScenesPrefix) || std::filesystem::exists(resolved, ec)) return "";
-    const char* env = std::getenv("RAYSCOUT_SCENES");
-    const std::string from = env && *env ? "RAYSCOUT_SCENES = " + scenes_dir().string()
-                                         : "the default " + scenes_dir().string() + " (RAYSCOUT_SCENES is unset)";
-    return " (\"" + file + "\" is read from " + from + "; set RAYSCOUT_SCENES to the folder that holds the scenes)";
+    return " (\"" + file + "\": " + scenes_dir_origin() + "; set RAYSCOUT_SCENES to the folder that holds the scenes)";
   }
 
   std::filesystem::path resolve_path(const std::string& file) const {

@@ -270,23 +270,25 @@ TEST(JsonScene, RepeatedFilesAndScenesDirPrefix) {
 TEST(JsonScene, MissingScenesDirFileNamesTheVariable) {
   TempDir scenes, dir;
   const std::string json = dir.write("r.json", R"({"meshes": [{"file": "$RAYSCOUT_SCENES/q.ply"}]})");
-  const testing::ScopedEnv env("RAYSCOUT_SCENES", scenes.path().string());
-  try {
-    load_scene(json);
-    FAIL() << "a missing mesh file loaded";
-  } catch (const InputError& e) {
-    const std::string expected = "meshes[0].file: " + (scenes.path() / "q.ply").string() +
-                                 ": cannot open: No such file or directory (\"$RAYSCOUT_SCENES/q.ply\" is read from "
-                                 "RAYSCOUT_SCENES = " + scenes.path().string() +
-                                 "; set RAYSCOUT_SCENES to the folder that holds the scenes)";
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  const std::string missing = "meshes[0].file: " + (scenes.path() / "q.ply").string() +
+                              ": cannot open: No such file or directory (\"$RAYSCOUT_SCENES/q.ply\": ";
+  const std::string advice = "; set RAYSCOUT_SCENES to the folder that holds the scenes)";
+  {
+    const testing::ScopedEnv env("RAYSCOUT_SCENES", scenes.path().string());
+    const std::string what = testing::input_error_of([&] { load_scene(json); });
+    EXPECT_NE(what.find(missing + "RAYSCOUT_SCENES=" + scenes.path().string() + advice), std::string::npos) << what;
   }
-  try {
-    load_scene(dir.write("s.json", R"({"meshes": [{"file": "q.ply"}]})"));
-    FAIL() << "a missing mesh file loaded";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).find("RAYSCOUT_SCENES"), std::string::npos) << e.what();
+  {
+    // Unset (an empty value counts as unset): the message names the default that was used.
+    const testing::ScopedEnv unset("RAYSCOUT_SCENES", "");
+    const testing::ScopedEnv fallback("RAYSCOUT_DEFAULT_SCENES", scenes.path().string());
+    const std::string what = testing::input_error_of([&] { load_scene(json); });
+    EXPECT_NE(what.find(missing + "RAYSCOUT_SCENES is not set, default " + scenes.path().string() + advice),
+              std::string::npos)
+        << what;
   }
+  const std::string what = testing::input_error_of([&] { load_scene(dir.write("s.json", R"({"meshes": [{"file": "q.ply"}]})")); });
+  EXPECT_EQ(what.find("RAYSCOUT_SCENES"), std::string::npos) << what;
 }
 
 TEST(JsonScene, ConflictingMaterialNamesKeepTheFirstAndWarn) {
