@@ -1,0 +1,103 @@
+// Edge cases of DACRT's ray filtering against brute force: negative tmin (hits behind the
+// origin, every box's far distance negative), tmin == tmax, rays starting on a triangle or a
+// box face, degenerate triangles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "box_kernels.h"
+#include "dacrt_rays.h"
+#include "generated_scenes.h"
+#include "rayscout/accelerators.h"
+#include "rayscout/core/hit_compare.h"
+
+namespace rayscout {
+namespace {
+
+using testing::TestMesh;
+
+// Every DACRT flavour: both methods, and the full method sampling deep down with few rays.
+const std::vector<std::pair<const char*, std::vector<std::string>>> kFlavours = {
+    {"dacrt", {"parallel=off"}},
+    {"dacrt-rs", {"parallel=off"}},
+    {"dacrt-rs", {"min_rays=64", "samples=16", "sample_budget=0", "parallel=off"}},
+    {"dacrt-rs", {"min_rays=64", "samples=16", "delta_r=1", "delta_t=2", "bins=2", "parallel=off"}},
+};
+
+void expect_brute_force_hits(const Scene& scene, const RayBatch& rays, const std::string& what) {
+  const auto [ref, ref_occ] = testing::brute_force(scene.triangles, rays);
+  size_t hits = 0;
+  for (uint32_t p : ref.prim) hits += p != kInvalidId;
+  EXPECT_GT(hits, 0u) << what << ": the rays should hit something";
+  for (const auto& [name, opts] : kFlavours) {
+    const auto accel = make_accelerator(name, scene, testing::options_of(opts));
+    HitBatch got;
+    std::vector<uint8_t> occ;
+    accel->intersect(rays, got);
+    accel->occluded(rays, occ);
+    const HitDiff d = compare_hits(ref, got, 0.0f);
+    EXPECT_TRUE(d.ok()) << what << ", " << name << " " << testing::label_of(opts) << ": " << d.hit_miss
+                        << " hit/miss, " << d.other_prim << " other triangle; first " << d.first;
+    size_t differ = 0;
+    for (size_t i = 0; i < occ.size(); ++i) differ += occ[i] != ref_occ[i];
+    EXPECT_EQ(differ, 0u) << what << ", " << name << " " << testing::label_of(opts) << " occluded";
+  }
+}
+
+class DacrtEdgeRays : public ::testing::TestWithParam<TestMesh> {};
+
+TEST_P(DacrtEdgeRays, NegativeTminMatchesBruteForce) {
+  const Scene scene = testing::scene_from_triangles(GetParam().triangles);
+  const RayBatch nasty = testing::nasty_rays(scene.triangles, 31);
+  RayBatch ahead, reversed, segment;
+  for (size_t i = 0; i < nasty.size(); ++i) {
+    const Ray r = nasty[i];
+    if (!(max_component(abs(r.dir)) > 0.0f) || !is_finite(r.dir)) continue;
+    // The origin moved 4 units on along the ray: its hits now lie behind it.
+    const float s = 4.0f / length(r.dir);
+    ahead.push_back({r.org + r.dir * s, i % 2 ? -kInfinity : -s - 1.0f, r.dir, i % 3 ? kInfinity : 0.5f});
+    // The ray turned round, hits only behind the origin (closest = most negative t).
+    reversed.push_back({r.org, -kInfinity, -r.dir, 0.0f});
+    // A segment around the origin.
+    segment.push_back({r.org, -0.3f, r.dir, 0.3f});
+  }
+  expect_brute_force_hits(scene, ahead, "origin moved ahead");
+  expect_brute_force_hits(scene, reversed, "reversed");
+  expect_brute_force_hits(scene, segment, "segment around the origin");
+}
+
+// A ray with tmin < 0 reaching a flat box (triangles in one axis plane) behind its origin:
+// the slab test's far distance is negative there, and core's scale 1 + 2 gamma(3) moves it
+// away from zero, below the near distance, so core's intersect_box culls the box (its doc:
+// conservative for t >= 0 only). DACRT filters with boxes grown by pad_for(magnitude),
+// 2^-19 or more of any slab distance, far beyond the scale's 2 gamma(3) ~ 3.6e-7, and keeps it.
+TEST(DacrtEdgeRays, FlatBoxBehindTheOriginIsKept) {
+  const Bounds3 flat{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 0.0f}};
+  const Vec3 org{0.3f, 0.6f, 0.5f}, inv{kInfinity, kInfinity, 1.0f};  // direction (0, 0, 1)
+  float tnear = 0.0f;
+  EXPECT_FALSE(intersect_box(org, inv, flat, -1.0f, kInfinity, tnear)) << "core's test, unpadded";
+  EXPECT_TRUE(intersect_box(Vec3(org.x, org.y, -org.z), inv, flat, -1.0f, kInfinity, tnear)) << "the same box ahead is kept";
+  const dacrt::RayRecord r{org.x, org.y, org.z, -1.0f, inv.x, inv.y, inv.z, kInfinity};
+  EXPECT_TRUE(dacrt::ray_hits_box(r, dacrt::padded(flat, dacrt::pad_for(1.0f)), tnear)) << "DACRT's filter";
+
+  // The same through the whole recursion: rays along +z (zero, negative-zero and unnormalised
+  // x, y components) from above a grid on z = 0, whose nodes' boxes are all flat, hitting it
+  // at t < 0; and rays starting on the grid (t = 0), tmin == tmax.
+  const Scene scene = testing::scene_from_triangles(testing::grid(32));
+  testing::Rng rng(41);
+  RayBatch rays;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 o{rng.uniform(), rng.uniform(), i % 4 == 3 ? 0.0f : rng.uniform(0.1f, 2.0f)};
+    const float zero = i % 2 ? -0.0f : 0.0f, len = i % 3 == 0 ? 1.0f : 3.0f;
+    const float tmin = i % 5 == 0 ? -kInfinity : -o.z / len;  // exactly at the grid, or beyond
+    rays.push_back({o, tmin, {zero, -zero, len}, i % 7 == 0 ? tmin : kInfinity});
+  }
+  expect_brute_force_hits(scene, rays, "grid behind the origin");
+}
+
+INSTANTIATE_TEST_SUITE_P(Nasty, DacrtEdgeRays, ::testing::ValuesIn(testing::nasty_meshes()),
+                         [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace rayscout
