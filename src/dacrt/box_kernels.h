@@ -49,9 +49,14 @@ inline Bounds3 padded(const Bounds3& b, float pad) { return {b.lo - Vec3(pad), b
 /// The padding for coordinates up to magnitude m: 2^-18 m, about 32 ulps.
 inline float pad_for(float m) { return m * (1.0f / 262144.0f); }
 
-/// The tmax used to filter a ray: t + |t| kHitSlack (+inf stays +inf, a retired ray's -inf
-/// becomes NaN, which every box test rejects).
-inline float filter_tmax(float t) { return t + std::fabs(t) * kHitSlack; }
+/// The tmax used to filter a ray: t + |t| kHitSlack, never below t (max_ps's operand order:
+/// -inf + inf = NaN gives t). A hit at t = -inf (tmin = -inf, an overflowed distance) must
+/// still let in the boxes of triangles tied with it at -inf, which the smaller id wins. A
+/// retired ray (tmin = +inf) still fails every box test.
+inline float filter_tmax(float t) {
+  const float grown = t + std::fabs(t) * kHitSlack;
+  return grown > t ? grown : t;
+}
 
 /// intersect_box for one ray record against box with tmax = filter_tmax(current t), so a box
 /// entered at or before the current hit (entry <= t) is kept.
@@ -112,6 +117,7 @@ struct BoxX16 {
     const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
     tnear = f[3];
     tfar = _mm512_add_ps(f[7], _mm512_mul_ps(_mm512_abs_ps(f[7]), _mm512_set1_ps(kHitSlack)));  // filter_tmax
+    tfar = _mm512_max_ps(tfar, f[7]);
     for (int a = 0; a < 3; ++a) {
       const __m512 o = f[a], inv = f[4 + a];
       const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo[a], o), inv);
@@ -222,6 +228,7 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     const __m256 ix = _mm256_i32gather_ps(base + 4, off, 4), iy = _mm256_i32gather_ps(base + 5, off, 4);
     const __m256 iz = _mm256_i32gather_ps(base + 6, off, 4), t = _mm256_i32gather_ps(base + 7, off, 4);
     __m256 tfar = _mm256_add_ps(t, _mm256_mul_ps(_mm256_and_ps(t, abs_mask), slack));  // filter_tmax
+    tfar = _mm256_max_ps(tfar, t);
     avx2::slab(lox, hix, ox, ix, robust, tnear, tfar);
     avx2::slab(loy, hiy, oy, iy, robust, tnear, tfar);
     avx2::slab(loz, hiz, oz, iz, robust, tnear, tfar);

@@ -96,6 +96,42 @@ TEST(DacrtEdgeRays, FlatBoxBehindTheOriginIsKept) {
   expect_brute_force_hits(scene, rays, "grid behind the origin");
 }
 
+// Hits at an infinite distance: a normal but tiny direction (2e-38) overflows t for triangles
+// 100 units away, to -inf behind the origin (tmin = -inf) and +inf ahead. Brute force keeps
+// such hits (tmin <= t <= tmax) and breaks their ties by the smaller id like any other. Here
+// 64 triangles of one plane with one centroid, each twice (ids i and i + 64), are split by
+// position, so tied triangles meet in different nodes: a ray whose t is already -inf must still
+// enter the other node (its filter tmax was -inf + inf = NaN, which culled every box). Any hit
+// too, with tmax = -inf (the only hit at -inf) and tmin = tmax = +inf (only at +inf).
+TEST(DacrtEdgeRays, HitsAtInfiniteDistancesMatchBruteForce) {
+  std::vector<Triangle> tris;
+  testing::Rng rng(5);
+  const Vec3 c{0.5f, 0.5f, 100.0f};
+  for (int i = 0; i < 64; ++i) {
+    Vec3 a = rng.direction() * 0.4f, b = rng.direction() * 0.4f;
+    a.z = b.z = 0.0f;
+    tris.push_back({c + a, c + b, c - a - b});
+  }
+  for (size_t i = 0; i < 64; ++i) tris.push_back(tris[i]);
+  const Scene scene = testing::scene_from_triangles(tris);
+  RayBatch rays;
+  for (int i = 0; i < 2000; ++i) {
+    const float dz = i % 2 ? 2e-38f : -2e-38f;
+    const float tmin = i % 4 == 3 ? kInfinity : -kInfinity, tmax = i % 8 == 2 ? -kInfinity : kInfinity;
+    rays.push_back({{rng.uniform(0.3f, 0.7f), rng.uniform(0.3f, 0.7f), 0.0f}, tmin, {0.0f, 0.0f, dz}, tmax});
+  }
+  const auto [ref, ref_occ] = testing::brute_force(scene.triangles, rays);
+  size_t at_minus_inf = 0, at_plus_inf = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (ref.prim[i] == kInvalidId) continue;
+    at_minus_inf += ref.t[i] == -kInfinity;
+    at_plus_inf += ref.t[i] == kInfinity;
+  }
+  EXPECT_GT(at_minus_inf, 500u);
+  EXPECT_GT(at_plus_inf, 500u);
+  expect_brute_force_hits(scene, rays, "hits at +-inf");
+}
+
 INSTANTIATE_TEST_SUITE_P(Nasty, DacrtEdgeRays, ::testing::ValuesIn(testing::nasty_meshes()),
                          [](const auto& info) { return info.param.name; });
 
