@@ -30,10 +30,6 @@
 
 namespace rayscout::dacrt {
 
-/// The far-distance scale of intersect_box (Ize 2013), repeated for the SIMD kernel.
-inline constexpr float kRobustScale =
-    1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
-
 /// Relative slack on the current hit distance when filtering. intersect_box keeps a box
 /// entered at t_entry <= t, but a flat box (coplanar triangles) can compute its entry a few
 /// ulps beyond the t its own triangle reports, which would cull an exact tie that the
@@ -66,18 +62,7 @@ inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear) {
 
 /// As above, also giving the exit distance tfar (the tmax-clipped far end of the overlap).
 inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear, float& tfar) {
-  // intersect_box's slab loop, repeated to keep its far end.
-  tnear = r.tmin;
-  tfar = filter_tmax(r.t);
-  const float o[3] = {r.ox, r.oy, r.oz}, inv[3] = {r.ix, r.iy, r.iz};
-  for (int a = 0; a < 3; ++a) {
-    const bool negative = std::signbit(inv[a]);
-    const float t0 = ((negative ? box.hi : box.lo)[a] - o[a]) * inv[a];
-    const float t1 = ((negative ? box.lo : box.hi)[a] - o[a]) * inv[a] * kRobustScale;
-    tnear = t0 > tnear ? t0 : tnear;
-    tfar = t1 < tfar ? t1 : tfar;
-  }
-  return tnear <= tfar;
+  return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, r.tmin, filter_tmax(r.t), tnear, tfar);
 }
 
 /// Which child a sample ray votes for: 0 (left), 1 (right) or -1 (none), from whether it
@@ -113,7 +98,7 @@ struct BoxX16 {
     for (int a = 0; a < 3; ++a) { lo[a] = _mm512_set1_ps(b.lo[a]); hi[a] = _mm512_set1_ps(b.hi[a]); }
   }
   __mmask16 test(const __m512 (&f)[8], __mmask16 valid, __m512& tnear, __m512& tfar) const {
-    const __m512 robust = _mm512_set1_ps(kRobustScale);
+    const __m512 robust = _mm512_set1_ps(kSlabFarScale);
     const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
     tnear = f[3];
     tfar = _mm512_add_ps(f[7], _mm512_mul_ps(_mm512_abs_ps(f[7]), _mm512_set1_ps(kHitSlack)));  // filter_tmax
@@ -213,7 +198,7 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
 #elif defined(__AVX2__)
   const __m256 lox = _mm256_set1_ps(box.lo.x), loy = _mm256_set1_ps(box.lo.y), loz = _mm256_set1_ps(box.lo.z);
   const __m256 hix = _mm256_set1_ps(box.hi.x), hiy = _mm256_set1_ps(box.hi.y), hiz = _mm256_set1_ps(box.hi.z);
-  const __m256 robust = _mm256_set1_ps(kRobustScale), slack = _mm256_set1_ps(kHitSlack);
+  const __m256 robust = _mm256_set1_ps(kSlabFarScale), slack = _mm256_set1_ps(kHitSlack);
   const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
   const float* base = reinterpret_cast<const float*>(rays);
   constexpr size_t kAhead = 32;
@@ -276,7 +261,7 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
 #if defined(__AVX512F__)
   const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
   const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
-  const __m512 robust = _mm512_set1_ps(kRobustScale), tmin = _mm512_set1_ps(r.tmin),
+  const __m512 robust = _mm512_set1_ps(kSlabFarScale), tmin = _mm512_set1_ps(r.tmin),
                tmax = _mm512_set1_ps(filter_tmax(r.t));
   const __m512i one = _mm512_set1_epi32(1);
   // One ray for all boxes: its near and far planes are chosen once, by the sign of its inverse
@@ -313,7 +298,7 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
 #elif defined(__AVX2__)
   const __m256 ox = _mm256_set1_ps(r.ox), oy = _mm256_set1_ps(r.oy), oz = _mm256_set1_ps(r.oz);
   const __m256 ix = _mm256_set1_ps(r.ix), iy = _mm256_set1_ps(r.iy), iz = _mm256_set1_ps(r.iz);
-  const __m256 robust = _mm256_set1_ps(kRobustScale), tmin = _mm256_set1_ps(r.tmin),
+  const __m256 robust = _mm256_set1_ps(kSlabFarScale), tmin = _mm256_set1_ps(r.tmin),
                tmax = _mm256_set1_ps(filter_tmax(r.t));
   // Returns the hit mask as all-ones lanes.
   auto test = [&](const BoxSoa& b, int i, __m256& tnear, __m256& tfar) {

@@ -92,9 +92,9 @@ inline constexpr float kSlabFarScale = 1.0f + 2.0f * float_gamma(3);
 /// direction component (+-0, reciprocal +-inf) gives -inf / +inf for a ray inside the slab,
 /// and NaN (0 * inf) for a ray lying exactly on one of its planes; the operand order of the
 /// comparisons below ignores NaN, which leaves that axis unconstrained: conservative.
-/// Returns the entry distance in tnear_out.
+/// Returns the entry distance in tnear_out and the exit distance (clipped to tmax) in tfar_out.
 inline bool intersect_box(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
-                          float tmax, float& tnear_out) {
+                          float tmax, float& tnear_out, float& tfar_out) {
   float tnear = tmin, tfar = tmax;
   for (int axis = 0; axis < 3; ++axis) {
     const bool negative = std::signbit(inv_dir[axis]);
@@ -104,7 +104,14 @@ inline bool intersect_box(const Vec3& org, const Vec3& inv_dir, const Bounds3& b
     tfar = t1 < tfar ? t1 : tfar;     // NaN t1 keeps tfar
   }
   tnear_out = tnear;
+  tfar_out = tfar;
   return tnear <= tfar;
+}
+/// As above, the entry distance only.
+inline bool intersect_box(const Vec3& org, const Vec3& inv_dir, const Bounds3& box, float tmin,
+                          float tmax, float& tnear_out) {
+  float tfar;
+  return intersect_box(org, inv_dir, box, tmin, tmax, tnear_out, tfar);
 }
 
 }  // namespace rayscout
