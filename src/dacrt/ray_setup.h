@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -30,13 +31,15 @@ inline void setup_ray(const RayBatch& rays, size_t i, RayRecord* rec, RayShear* 
 }
 
 /// Fills rec, shear and rid (= i) for rays [begin, end); returns max |origin coordinate|
-/// over them (0 for none; NaN coordinates are ignored, as std::max does).
+/// over them (0 for none). Infinite and NaN coordinates are left out: such rays miss (their
+/// direction is NaN, see Accelerator::intersect), and an infinite padding would keep every
+/// ray in every box.
 inline float setup_rays(const RayBatch& rays, size_t begin, size_t end, RayRecord* rec, RayShear* shear,
                         uint32_t* rid) {
   size_t i = begin;
   float magnitude = 0.0f;
 #if defined(__AVX512F__)
-  const __m512 one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
+  const __m512 one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps(), flt_max = _mm512_set1_ps(FLT_MAX);
   __m512 mag = zero;
   const __m512i lo_lanes = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
   const __m512i hi_lanes = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
@@ -48,10 +51,10 @@ inline float setup_rays(const RayBatch& rays, size_t begin, size_t end, RayRecor
     const __m512 oz = _mm512_loadu_ps(rays.oz.data() + i), tmin = _mm512_loadu_ps(rays.tmin.data() + i);
     const __m512 dx = _mm512_loadu_ps(rays.dx.data() + i), dy = _mm512_loadu_ps(rays.dy.data() + i);
     const __m512 dz = _mm512_loadu_ps(rays.dz.data() + i), tmax = _mm512_loadu_ps(rays.tmax.data() + i);
-    // max(|o|, acc) keeps acc for a NaN coordinate, as std::max(acc, |o|).
-    mag = _mm512_max_ps(_mm512_abs_ps(ox), mag);
-    mag = _mm512_max_ps(_mm512_abs_ps(oy), mag);
-    mag = _mm512_max_ps(_mm512_abs_ps(oz), mag);
+    for (const __m512 o : {ox, oy, oz}) {
+      const __m512 a = _mm512_abs_ps(o);
+      mag = _mm512_mask_max_ps(mag, _mm512_cmp_ps_mask(a, flt_max, _CMP_LE_OQ), a, mag);  // finite only
+    }
     // RayPrecomp: kz = max_axis(|d|), kx, ky the next axes, swapped when d[kz] < 0.
     const __m512 ax = _mm512_abs_ps(dx), ay = _mm512_abs_ps(dy), az = _mm512_abs_ps(dz);
     const __mmask16 xy = _mm512_cmp_ps_mask(ax, ay, _CMP_GE_OQ), xz = _mm512_cmp_ps_mask(ax, az, _CMP_GE_OQ),
@@ -115,7 +118,8 @@ inline float setup_rays(const RayBatch& rays, size_t begin, size_t end, RayRecor
   for (; i < end; ++i) {
     setup_ray(rays, i, rec, shear);
     rid[i] = uint32_t(i);
-    magnitude = std::max(magnitude, std::max(std::fabs(rays.ox[i]), std::max(std::fabs(rays.oy[i]), std::fabs(rays.oz[i]))));
+    for (const float o : {rays.ox[i], rays.oy[i], rays.oz[i]})
+      if (std::fabs(o) <= FLT_MAX) magnitude = std::max(magnitude, std::fabs(o));
   }
   return magnitude;
 }

@@ -11,6 +11,7 @@
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/core/hit_compare.h"
+#include "rayscout/dacrt/dacrt.h"
 
 namespace rayscout {
 namespace {
@@ -130,6 +131,74 @@ TEST(DacrtEdgeRays, HitsAtInfiniteDistancesMatchBruteForce) {
   EXPECT_GT(at_minus_inf, 500u);
   EXPECT_GT(at_plus_inf, 500u);
   expect_brute_force_hits(scene, rays, "hits at +-inf");
+}
+
+// No triangles (the scene loader refuses such scenes; a library caller may not): every ray
+// misses, as for brute force, and the call takes no scratch memory.
+TEST(DacrtEdgeRays, NoTrianglesMissEverything) {
+  const std::vector<Triangle> none;
+  const RayBatch rays = testing::random_rays(100, 3);
+  const auto [ref, ref_occ] = testing::brute_force(none, rays);
+  for (const DacrtConfig& config : {DacrtConfig::afra(), DacrtConfig::ray_sampled()}) {
+    const Dacrt dacrt(none, config);
+    HitBatch got;
+    std::vector<uint8_t> occ;
+    dacrt.intersect(rays, got);
+    EXPECT_TRUE(compare_hits(ref, got, 0.0f).ok());
+    dacrt.occluded(rays, occ);
+    EXPECT_EQ(occ, ref_occ);
+    EXPECT_EQ(dacrt.last_trace_memory_bytes(), 0u);
+  }
+}
+
+// Degenerate triangles (a point, two equal vertices, three collinear ones; zero-volume boxes,
+// det = 0 for every ray) among ordinary ones, and rays aimed at them: the hits of brute force.
+TEST(DacrtEdgeRays, DegenerateTrianglesMatchBruteForce) {
+  std::vector<Triangle> tris = testing::random_soup(300, 9);
+  testing::Rng rng(3);
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 a = rng.point(0.0f, 1.0f), b = rng.point(0.0f, 1.0f);
+    if (i % 3 == 0) tris.push_back({a, a, a});
+    else if (i % 3 == 1) tris.push_back({a, b, a});
+    else tris.push_back({a, (a + b) * 0.5f, b});
+  }
+  const Scene scene = testing::scene_from_triangles(tris);
+  RayBatch rays = testing::nasty_rays(scene.triangles, 43);
+  for (size_t i = 300; i < tris.size(); ++i) {
+    const Vec3 o = rng.point(-0.5f, 1.5f);
+    rays.push_back({o, 0.0f, tris[i].v1 - o, kInfinity});
+  }
+  expect_brute_force_hits(scene, rays, "degenerate triangles");
+}
+
+// A ray with an infinite origin coordinate misses (Accelerator::intersect gives it a NaN
+// direction and keeps its origin). It must not set the box padding: pad_for(inf) grew every
+// box to infinity, and one such ray made the whole batch test every ray against every
+// triangle. Its batch does the work of the same batch with a NaN origin there instead (never
+// counted in the padding; the NaN direction itself passes every box test).
+TEST(DacrtEdgeRays, AnInfiniteOriginDoesNotDisableFiltering) {
+  const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
+  const RayBatch plain = testing::pinhole_rays(testing::kInsideEye, testing::kInsideLook, 60.0f, 64, 64);
+  auto with_origin = [&](float x) {
+    RayBatch rays = plain;
+    rays.push_back({{x, 1.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
+    return rays;
+  };
+  const RayBatch nan_origin = with_origin(std::numeric_limits<float>::quiet_NaN());
+  const auto [ref, ref_occ] = testing::brute_force(scene.triangles, nan_origin);
+  for (const float bad : {kInfinity, -kInfinity}) {
+    const RayBatch rays = with_origin(bad);
+    for (const char* name : {"dacrt", "dacrt-rs"}) {
+      const auto accel = make_accelerator(name, scene);
+      TraceStats want, got;
+      HitBatch want_hits, got_hits;
+      accel->intersect(nan_origin, want_hits, &want);
+      accel->intersect(rays, got_hits, &got);
+      EXPECT_TRUE(compare_hits(ref, got_hits, 0.0f).ok()) << name;
+      EXPECT_EQ(got.ray_tri_tests, want.ray_tri_tests) << name << ", origin " << bad;
+      EXPECT_EQ(got.ray_box_tests, want.ray_box_tests) << name << ", origin " << bad;
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Nasty, DacrtEdgeRays, ::testing::ValuesIn(testing::nasty_meshes()),
