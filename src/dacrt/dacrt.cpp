@@ -76,6 +76,19 @@ struct Dacrt::Arena {
   Buffer<uint8_t> bin_idx;
   Bounds3 box, cb;
   bool triangles_ready = false;
+
+  /// Fills boxes (|tris| entries), box and cb at the first call.
+  void prepare_triangles(std::span<const Triangle> tris, dacrt::TriBox* out) {
+    if (triangles_ready) return;
+    box = cb = Bounds3{};
+    for (size_t p = 0; p < tris.size(); ++p) {
+      const Bounds3 b = tris[p].bounds();
+      out[p] = dacrt::TriBox(b);
+      box.extend(b);
+      cb.extend(b.center());
+    }
+    triangles_ready = true;
+  }
 };
 
 Dacrt::Dacrt(std::span<const Triangle> triangles, const DacrtConfig& config, std::string name)
@@ -124,16 +137,7 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   uint32_t* tid = take(a.tid, tasks * nt);
   uint8_t* bin_idx = take(a.bin_idx, tasks * nt);
   dacrt::TriBox* const boxes = take(a.boxes, nt);
-  if (!a.triangles_ready) {
-    a.box = a.cb = Bounds3{};
-    for (size_t p = 0; p < nt; ++p) {
-      const Bounds3 b = triangles_[p].bounds();
-      boxes[p] = dacrt::TriBox(b);
-      a.box.extend(b);
-      a.cb.extend(b.center());
-    }
-    a.triangles_ready = true;
-  }
+  a.prepare_triangles(triangles_, boxes);
   const Bounds3 box = a.box, cb = a.cb;
 
   // Ray records, shears and ids in contiguous blocks (one per thread when parallel).

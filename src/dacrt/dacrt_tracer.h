@@ -127,14 +127,7 @@ class DacrtTracer {
     const bool sample = cfg_.samples_rays() && nr >= cfg_.min_rays_sampling;
     if (!split(rid, nr, tid, nt, cb, sample, s)) { leaf(rid, nr, tid, nt); return; }
 
-    int first = 0;  // lines 18-24: the child visited first
-    if (s.sampled && cfg_.sampled_order && s.votes[0] + s.votes[1] > 0) {
-      // Algorithm 1, line 18; dacrt-rs weighs the votes by depth (DacrtConfig::depth_weighted_votes).
-      first = first_child_by_votes(s.votes[0], s.votes[1], s.n_left, nt - s.n_left, cfg_.depth_weighted_votes);
-    } else {
-      // Afra: one ray (the first of the set) decides, by its direction along the split axis.
-      first = ctx_.rays[rid[0]].goes_up(s.axis) ? 0 : 1;
-    }
+    const int first = first_child(rid, nt, s);
     // Lines 25-34: each child in order, its rays filtered against its box (with the hit
     // distances the first child left) or, when sampling says most would hit it, passed on
     // unfiltered (eq. 5 in place of line 25's threshold, see DacrtConfig::skip_threshold).
@@ -153,6 +146,14 @@ class DacrtTracer {
         node(rid, h, ctid, cnt, s.cb[c]);
       }
     }
+  }
+
+  // Lines 18-24: the child visited first, 0 (left) or 1 (right).
+  int first_child(const uint32_t* rid, size_t nt, const Split& s) const {
+    if (s.sampled && cfg_.sampled_order && s.votes[0] + s.votes[1] > 0)  // line 18, weighed by depth in dacrt-rs
+      return first_child_by_votes(s.votes[0], s.votes[1], s.n_left, nt - s.n_left, cfg_.depth_weighted_votes);
+    // Afra: one ray (the first of the set) decides, by its direction along the split axis.
+    return ctx_.rays[rid[0]].goes_up(s.axis) ? 0 : 1;
   }
 
   // alpha of box measured again: the share of N_s sample rays of rid[0, nr) hitting it with
