@@ -9,6 +9,7 @@
 #include "rayscout/bvh/bvh2.h"
 #include "rayscout/bvh/wide_bvh.h"
 #include "rayscout/core/record_transpose.h"
+#include "rayscout/core/triangle.h"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -17,8 +18,7 @@
 namespace rayscout::detail {
 
 // The far-distance scale of core's intersect_box (Ize 2013): 1 + 2 gamma(3) ...
-inline constexpr float kRobustScale =
-    1.0f + 2.0f * 3.0f * 0.5f * 1.1920929e-07f / (1.0f - 3.0f * 0.5f * 1.1920929e-07f);
+inline constexpr float kRobustScale = kSlabFarScale;
 // ... and its mirror for a negative far distance, which must move towards zero to stay
 // conservative (traversal widens tmin below 0, see CullInterval).
 inline constexpr float kRobustScaleNegative = 2.0f - kRobustScale;
