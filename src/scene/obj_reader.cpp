@@ -12,6 +12,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "polygon.h"
 #include "rayscout/scene/mesh.h"
 #include "text_parse.h"
 
@@ -70,6 +71,8 @@ class ObjReader {
     });
     check_forward_indices();
     if (mesh_.faces.empty()) throw InputError(detail::display_name(path_) + ": no faces (empty mesh)");
+    if (const size_t kept = detail::ear_clip_concave(mesh_, polygons_))
+      mesh_.warnings.push_back(detail::concave_fans_kept(detail::display_name(path_), kept));
     resolve_materials();
     return std::move(mesh_);
   }
@@ -102,7 +105,8 @@ class ObjReader {
     ++count;
   }
 
-  // f v1 v2 v3 ...: a polygon, fanned into triangles from its first vertex.
+  // f v1 v2 v3 ...: a polygon, fanned into triangles from its first vertex (ear-clipped at the
+  // end of the file if the fan leaves it).
   void face(size_t line, const char* q, const char* end) {
     poly_.clear();
     for (std::string_view tok = next_token(q, end); !tok.empty(); tok = next_token(q, end))
@@ -110,10 +114,7 @@ class ObjReader {
     if (poly_.size() < 3)
       fail_at(path_, line, detail::face_too_small(poly_.size()));
     if (current_ == UINT32_MAX) current_ = material_index("default", line);
-    for (size_t k = 1; k + 1 < poly_.size(); ++k) {
-      mesh_.faces.push_back({poly_[0], poly_[k], poly_[k + 1]});
-      mesh_.face_materials.push_back(current_);
-    }
+    detail::add_polygon(poly_, current_, mesh_, polygons_);
   }
 
   // One face vertex, v, v/vt, v//vn or v/vt/vn: returns the position index; the texcoord and
@@ -244,6 +245,7 @@ class ObjReader {
   size_t num_vt_ = 0, num_vn_ = 0;
   MaxRef max_v_, max_vt_, max_vn_;
   std::vector<uint32_t> poly_;
+  std::vector<detail::FannedPolygon> polygons_;  // of 4 or more vertices, for ear_clip_concave
 };
 
 }  // namespace

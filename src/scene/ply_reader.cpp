@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "polygon.h"
 #include "rayscout/scene/mesh.h"
 #include "text_parse.h"
 
@@ -379,17 +380,18 @@ Vec3 vertex_position(InstanceReader& in, const std::vector<double>& values, cons
   return v;
 }
 
-// Appends one face, fan-triangulated; its indices are checked against the declared vertex count
-// before any conversion to an integer.
-void add_face(InstanceReader& in, const std::vector<double>& indices, size_t vertex_count, Mesh& mesh) {
+// Appends one face, fan-triangulated (ear-clipped later if the fan leaves it); its indices are
+// checked against the declared vertex count before any conversion to an integer.
+void add_face(InstanceReader& in, const std::vector<double>& indices, size_t vertex_count, Mesh& mesh,
+              std::vector<detail::FannedPolygon>& polygons, std::vector<uint32_t>& poly) {
   if (indices.size() < 3) in.fail(detail::face_too_small(indices.size()));
-  for (double idx : indices)
+  poly.clear();
+  for (double idx : indices) {
     if (!(idx >= 0 && idx < double(vertex_count)))
       in.fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertex_count) + " vertices)");
-  for (size_t j = 1; j + 1 < indices.size(); ++j) {
-    mesh.faces.push_back({uint32_t(indices[0]), uint32_t(indices[j]), uint32_t(indices[j + 1])});
-    mesh.face_materials.push_back(0);
+    poly.push_back(uint32_t(idx));
   }
+  detail::add_polygon(poly, 0, mesh, polygons);
 }
 
 }  // namespace
@@ -407,6 +409,8 @@ Mesh read_ply(const std::filesystem::path& path) {
   // A header may declare absurd counts; never reserve more than the data could hold.
   mesh.positions.reserve(std::min(vertices.count, data.size() / 3));
   std::vector<double> values, indices;
+  std::vector<detail::FannedPolygon> polygons;  // of 4 or more vertices
+  std::vector<uint32_t> poly;                   // one face's indices
   for (const Element& el : header.elements) {
     const bool is_vertex = el.name == "vertex", is_face = el.name == "face";
     const int face_prop = is_face ? face_index_property(path, el) : -1;
@@ -416,11 +420,13 @@ Mesh read_ply(const std::filesystem::path& path) {
       in.begin(el, k);
       read_values(in, el, face_prop, values, indices);
       if (is_vertex) mesh.positions.push_back(vertex_position(in, values, vertices));
-      if (is_face) add_face(in, indices, vertices.count, mesh);
+      if (is_face) add_face(in, indices, vertices.count, mesh, polygons, poly);
     }
   }
   in.finish_file();
   if (mesh.faces.empty()) throw InputError(detail::display_name(path) + ": no faces (empty mesh)");
+  if (const size_t kept = detail::ear_clip_concave(mesh, polygons))
+    mesh.warnings.push_back(detail::concave_fans_kept(detail::display_name(path), kept));
   return mesh;
 }
 

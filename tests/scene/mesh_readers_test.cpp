@@ -59,6 +59,49 @@ TEST(ObjReader, ExactCoordinatesAndFanOrder) {
   expect_vec(s.camera.look_at, s.bounds().center());
 }
 
+// A concave polygon's fan covers area outside it (the chevron A B C D, reflex at D: fan triangle
+// A B C covers the notch, A C D is turned over). It is ear-clipped instead: the triangles tile the
+// polygon (area 1, not the fan's 3) and keep its winding, in the fan's place among the ids.
+void expect_chevron_tiled(const Scene& s, const Vec3& normal) {
+  ASSERT_EQ(s.triangles.size(), 4u);  // a triangle, the chevron (2), a triangle
+  float area = 0;
+  for (size_t t = 1; t <= 2; ++t) {
+    EXPECT_GT(dot(s.triangles[t].normal(), normal), 0.0f) << "triangle " << t << " turned over";
+    area += s.triangles[t].area();
+  }
+  EXPECT_FLOAT_EQ(area, 1.0f);
+  EXPECT_EQ(s.triangles[0].v0.x, 10.0f);
+  EXPECT_EQ(s.triangles[3].v0.x, 20.0f);
+}
+
+TEST(ObjReader, ConcavePolygonIsEarClippedNotFanned) {
+  TempDir dir;
+  const std::string others = "v 10 0 0\nv 11 0 0\nv 10 1 0\nv 20 0 0\nv 21 0 0\nv 20 1 0\n";
+  const auto obj = [&](const std::string& corners, const std::string& face) {
+    return corners + others + "f 5 6 7\n" + face + "\nf 8 9 10\n";
+  };
+  // In the xy plane, counter-clockwise seen from +z.
+  const std::string xy = "v 0 0 0\nv 2 1 0\nv 0 2 0\nv 1 1 0\n";
+  expect_chevron_tiled(load_scene(dir.write("xy.obj", obj(xy, "f 1 2 3 4"))), Vec3(0, 0, 1));
+  // Relative indices, in the yz plane, turned so that the projection is mirrored (C B A D).
+  const std::string yz = "v 0 0 0\nv 0 1 2\nv 0 2 0\nv 0 1 1\n";
+  expect_chevron_tiled(load_scene(dir.write("yz.obj", obj(yz, "f -8 -9 -10 -7"))), Vec3(1, 0, 0));
+  // A concave polygon that its first vertex sees whole (the L from its reflex corner) keeps its fan.
+  const Scene l = load_scene(dir.write("l.obj", "v 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4 5 6\n"));
+  ASSERT_EQ(l.triangles.size(), 4u);
+  for (size_t t = 0; t < 4; ++t) EXPECT_EQ(l.triangles[t].v0, Vec3(1, 1, 0));
+}
+
+TEST(PlyReader, ConcavePolygonIsEarClippedNotFanned) {
+  TempDir dir;
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 10\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
+      "10 0 0\n11 0 0\n10 1 0\n0 0 0\n2 1 0\n0 2 0\n1 1 0\n20 0 0\n21 0 0\n20 1 0\n"
+      "3 0 1 2\n4 3 4 5 6\n3 7 8 9\n";
+  expect_chevron_tiled(load_scene(dir.write("c.ply", text)), Vec3(0, 0, 1));
+}
+
 // A bare mesh with emitters is lit by them alone, as a JSON scene without lights: a point light
 // added beside them made a path-traced Cornell box 2-7 times too bright.
 TEST(ObjReader, BareMeshWithEmittersGetsNoPointLight) {

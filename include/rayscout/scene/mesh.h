@@ -12,7 +12,8 @@
 namespace rayscout {
 
 /// Triangles of one mesh file in file order (polygons fan-triangulated in place:
-/// v0 v1 v2, v0 v2 v3, ...), with the materials its faces use (from the MTL for OBJ).
+/// v0 v1 v2, v0 v2 v3, ..., or ear-clipped where the fan leaves a concave polygon), with the
+/// materials its faces use (from the MTL for OBJ).
 struct Mesh {
   std::vector<Vec3> positions;
   std::vector<std::array<uint32_t, 3>> faces;  ///< indices into positions
