@@ -185,6 +185,7 @@ class ObjReader {
   void read_library(size_t line, const std::string& name, const std::filesystem::path& mtl) {
     std::error_code ec;
     if (!std::filesystem::exists(mtl, ec)) {
+      library_missing_ = true;
       mesh_.warnings.push_back(detail::at_line(path_, line, "material library '" + name + "' not found; its materials get defaults"));
       return;
     }
@@ -206,10 +207,13 @@ class ObjReader {
     check(max_vn_, num_vn_, "normal", "normal");
   }
 
-  // The mesh's materials, in order of first use: from the libraries, else a grey diffuse.
+  // The mesh's materials, in order of first use: from the libraries, else a grey diffuse. An
+  // undefined name is warned about at its first use; when a library is missing, that explains
+  // them all, and one warning lists them (Crytek Sponza without its MTL: 24 warnings otherwise).
   void resolve_materials() {
     std::unordered_map<std::string_view, const Material*> library;  // names are unique (read_mtl)
     for (const Material& m : library_) library.emplace(m.name, &m);
+    std::vector<size_t> undefined;
     for (size_t i = 0; i < used_names_.size(); ++i) {
       const std::string& name = used_names_[i];
       if (auto it = library.find(name); it != library.end()) {
@@ -218,11 +222,25 @@ class ObjReader {
       }
       Material m;
       m.name = name;
-      if (name != "default")
-        mesh_.warnings.push_back(detail::at_line(
-            path_, used_lines_[i], "material '" + name + "' is not defined in any material library; using a grey diffuse"));
+      if (name != "default") undefined.push_back(i);
       mesh_.materials.push_back(m);
     }
+    if (undefined.empty()) return;
+    if (!library_missing_) {
+      for (size_t i : undefined)
+        mesh_.warnings.push_back(detail::at_line(path_, used_lines_[i], "material '" + used_names_[i] +
+                                                                            "' is not defined in any material library; using a grey diffuse"));
+      return;
+    }
+    constexpr size_t kListed = 5;
+    std::string names;
+    for (size_t k = 0; k < undefined.size() && k < kListed; ++k) names += (k ? ", " : "") + detail::quoted(used_names_[undefined[k]]);
+    if (undefined.size() > kListed) names += ", ...";
+    const size_t n = undefined.size();
+    mesh_.warnings.push_back(detail::at_line(
+        path_, used_lines_[undefined[0]],
+        std::to_string(n) + (n == 1 ? " material (" : " materials (") + names + ") not defined, as a material library is missing; " +
+            (n == 1 ? "it gets" : "they get") + " a grey diffuse"));
   }
 
   uint32_t material_index(const std::string& name, size_t line) {
@@ -241,6 +259,7 @@ class ObjReader {
   std::vector<std::string> used_names_;                  // usemtl names in order of first use
   std::vector<size_t> used_lines_;                       // the line of each name's first use
   std::unordered_map<std::string, uint32_t> used_index_;
+  bool library_missing_ = false;                         // an mtllib file was not found
   uint32_t current_ = UINT32_MAX;                        // faces before any usemtl: "default"
   size_t num_vt_ = 0, num_vn_ = 0;
   MaxRef max_v_, max_vt_, max_vn_;

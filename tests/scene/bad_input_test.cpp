@@ -353,7 +353,7 @@ TEST(SceneBadInput, ControlBytesInWarningsAreEscaped) {
     for (const char c : w) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || c == 0x7f) << "control byte in: " << w;
   expect_contains(obj.warnings[0], {"esc.mtl:1: material 'bright\\x1b[2J': Kd + Ks reaches 2"});
   expect_contains(obj.warnings[1], {"esc.obj:2: material library 'gone\\x1b.mtl' not found"});
-  expect_contains(obj.warnings[2], {"esc.obj:8: material 'nope\\x07' is not defined"});
+  expect_contains(obj.warnings[2], {"esc.obj:8: 1 material ('nope\\x07') not defined"});
   std::string all;
   for (const std::string& w : json.warnings) all += w + "\n";
   expect_contains(all, {"dim.obj: material 'bright\\x1b[2J' differs from an earlier definition",

@@ -223,9 +223,22 @@ TEST(ObjReader, MissingMtlAndUnknownMaterialAreWarnings) {
   EXPECT_EQ(s.material_of(0).name, "x");
   ASSERT_EQ(s.warnings.size(), 2u);
   EXPECT_NE(s.warnings[0].find("w.obj:1: material library 'nothere.mtl' not found"), std::string::npos);
-  // Review: the warning had no line; it names the first usemtl of the name.
-  EXPECT_NE(s.warnings[1].find("w.obj:5: material 'x' is not defined in any material library; using a grey diffuse"),
+  // The missing library explains the undefined name; the warning names its first usemtl.
+  EXPECT_NE(s.warnings[1].find("w.obj:5: 1 material ('x') not defined, as a material library is missing; it gets a grey diffuse"),
             std::string::npos) << s.warnings[1];
+  // Every name of a missing library in one warning, not one each (Crytek Sponza without its MTL: 25).
+  std::string many = "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (int i = 0; i < 7; ++i) many += "usemtl m" + std::to_string(i) + "\nf 1 2 3\n";
+  const Scene m = load_scene(dir.write("many.obj", many));
+  ASSERT_EQ(m.warnings.size(), 2u);
+  EXPECT_NE(m.warnings[1].find("many.obj:5: 7 materials ('m0', 'm1', 'm2', 'm3', 'm4', ...) not defined, as a material library "
+                               "is missing; they get a grey diffuse"),
+            std::string::npos) << m.warnings[1];
+  // Without a missing library, an undefined name is most likely a typo: a warning of its own.
+  const Scene u = load_scene(dir.write("u.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\nusemtl y\nf 1 2 3\n"));
+  ASSERT_EQ(u.warnings.size(), 2u);
+  EXPECT_NE(u.warnings[0].find("u.obj:4: material 'x' is not defined in any material library; using a grey diffuse"),
+            std::string::npos) << u.warnings[0];
 }
 
 // A material defined twice: the later definition is used, and said. An illumination model
