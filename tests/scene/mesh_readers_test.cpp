@@ -474,6 +474,19 @@ TEST(GltfReader, EmbeddedTriangleWithNodeTranslation) {
   EXPECT_EQ(s.materials.size(), 1u);
 }
 
+// Of several scenes, the default one ("scene") is loaded, else the first (docs/scene-format.md).
+TEST(GltfReader, DefaultSceneElseTheFirst) {
+  TempDir dir;
+  const std::string members = R"("scenes": [{"nodes": [0]}, {"nodes": [1]}],
+    "nodes": [{"mesh": 0, "translation": [0, 0, 5]}, {"mesh": 0, "translation": [0, 0, 9]}])";
+  std::string gltf = triangle_gltf(members);
+  EXPECT_EQ(load_scene(dir.write("first.gltf", gltf)).triangles[0].v0.z, 5.0f);
+  gltf.replace(gltf.find(R"("scene": 0)"), 10, R"("scene": 1)");
+  EXPECT_EQ(load_scene(dir.write("second.gltf", gltf)).triangles[0].v0.z, 9.0f);
+  gltf.erase(gltf.find(R"("scene": 1, )"), 12);
+  EXPECT_EQ(load_scene(dir.write("none.gltf", gltf)).triangles[0].v0.z, 5.0f);
+}
+
 // KHR_materials_emissive_strength scales emissiveFactor, per material, in file order.
 TEST(GltfReader, EmissiveStrength) {
   TempDir dir;
