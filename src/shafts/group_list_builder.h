@@ -254,7 +254,9 @@ class GroupListBuilder {
   }
 
   /// Lines 9-14: the children go on the stack so that the nearest along the shaft's centre
-  /// direction is popped first (Bvh2: by the split axis; k-ary: by box centre).
+  /// direction is popped first (Bvh2: by the split axis; k-ary: by box centre). The paper's
+  /// lines pop the far one first and its traversal pushes the list, popping the near entry
+  /// first; ours keeps the list near first and seeds in list order: same entry order.
   void push_children_far_first(uint32_t node, uint64_t mask) {
     const auto kids = tree_.children(node);
     const Vec3& dir = group_.center_dir();
@@ -293,8 +295,9 @@ inline constexpr float kFirstReach = 4.0f;
 /// What a list build does on overflow, for one shaft (budget pilots) and for a group (the
 /// build) alike: first near_retries rebuilds at min_prob with the sample rays' hit distances
 /// clamped to kFirstReach voxel diagonals, then half that, and so on (ShaftConfig::
-/// near_retries, ours); then the paper's raised thresholds (sec. 4.3) min_prob + (i+1)/20 for
-/// i < retries, distances still clamped. `clamp(reach)` clamps the distances;
+/// near_retries, ours); then raised thresholds min_prob + (i+1)/20 for i < retries, distances
+/// still clamped (sec. 4.3 only says "raised gradually"; the step is the reference
+/// implementation's). `clamp(reach)` clamps the distances;
 /// `rebuild(min_prob, clamped)` rebuilds the lists that overflowed and returns whether all fit
 /// now (clamped: a rebuild of the first kind). Returns whether all fit (else the caller falls
 /// back to cullNodeSubtree(root), GroupListBuilder::fallback).

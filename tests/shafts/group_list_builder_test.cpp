@@ -16,7 +16,9 @@ namespace {
 /// Algorithm 1 of Hendrich et al. 2019 for one shaft, transcribed line by line (k-ary: children
 /// ordered by the split axis for Bvh2, else by box centre along the shaft's centre direction),
 /// with the one shortcut the builder takes too: a node whose box contains the voxel (grown by
-/// voxel_margin_box) passes lines 5 and 8 for certain. The reference GroupListBuilder must match.
+/// voxel_margin_box) passes lines 5 and 8 for certain, and lines 9-14 popping the near child
+/// first (the paper pops the far one and reverses the list when seeding; docs/shafts.md). The
+/// reference GroupListBuilder must match.
 class Algorithm1 {
  public:
   Algorithm1(const TreeView& tree, const Shaft& shaft, const detail::ShaftSamples& samples)
@@ -220,7 +222,7 @@ TEST(OverflowPolicy, ClampsNearFirstThenRaisesTheThreshold) {
   EXPECT_EQ(calls.size(), 2u) << "stops at the first rebuild that fits";
   EXPECT_TRUE(run(0, 10, 1, calls));
   EXPECT_FALSE(calls[0].clamped);
-  EXPECT_EQ(calls[0].reach, -1.0f) << "near_retries = 0: the paper's rule, no clamp";
+  EXPECT_EQ(calls[0].reach, -1.0f) << "near_retries = 0: raised thresholds only, no clamp";
   EXPECT_DOUBLE_EQ(calls[0].min_prob, 0.55);
 }
 

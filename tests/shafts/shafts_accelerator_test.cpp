@@ -127,7 +127,7 @@ TEST_P(ShaftsBoth, OverflowingListsRetryNearFirstAndStayConservative) {
   const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 300 : 1500, 3));
   ShaftConfig config = fine_config(1000, 3);
   config.max_list = 10;
-  config.near_retries = 0;  // the paper's rule only
+  config.near_retries = 0;  // raised thresholds only (the paper's rule)
   const ShaftsAccelerator paper(scene, base, config);
   config.near_retries = 5;
   const ShaftsAccelerator near(scene, base, config);

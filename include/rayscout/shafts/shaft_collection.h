@@ -85,7 +85,7 @@ class ShaftCollection {
                                std::span<const Triangle> tris, const TraceFn& trace,
                                const RayBatch& sample_rays, const ShaftConfig& config);
 
-  /// The ray's candidates (Algorithm "traversal", sec. 4.5).
+  /// The ray's candidates (traversal, paper sec. 4.5).
   Candidates lookup(const Ray& ray) const {
     ShaftCoord c;
     if (!grid_.classify(ray, c)) return {};

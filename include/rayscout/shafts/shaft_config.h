@@ -60,10 +60,11 @@ struct ShaftConfig {
   /// On overflow the list is first rebuilt with its sample rays' hit distances clamped to
   /// 4, 2, 1, 1/2, ... voxel diagonals, near_retries times (ours, not the paper's): nodes far
   /// from the voxel, which fewer of the shaft's rays reach, stop being expanded before the
-  /// list gives up depth near the voxel, which all of them cross. 0 = the paper's rule only.
+  /// list gives up depth near the voxel, which all of them cross. 0 = raised thresholds only.
   int near_retries = 5;
   /// Then the threshold becomes min_prob + (i+1)/20 for i < retries (distances still
-  /// clamped); after that the list is the single node cullNodeSubtree(root).
+  /// clamped; the reference implementation's step, sec. 4.3 only says "raised gradually");
+  /// after that the list is the single node cullNodeSubtree(root) (ours).
   int retries = 10;
   /// Which shafts get lists; Camera and CameraVoxels sample from scene.camera.
   ShaftSelect select = ShaftSelect::Occupied;
