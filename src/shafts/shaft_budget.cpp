@@ -115,25 +115,47 @@ double predicted_bytes(const BuildInputs& in, double n) {
 /// whose predicted memory is 80-97 % of the budget, at most 8 predictions (two usually settle
 /// it; the build's rounds only correct a miss). Memory grows like n (entry tables) when most
 /// voxels are listed and like n^(2/3) for surfaces: the first step assumes exponent 1.2, later
-/// steps measure it. The grid quantises n, so every step predicts the grid actually built; if
-/// none lands in the band, the largest count predicted within 97 % is kept.
+/// steps measure it. The grid quantises n, so every step predicts the grid actually built; a
+/// step that lands on a grid predicted before goes on to the grid next to the current one
+/// instead (else it predicted the same grid up to the last pilot). If none lands in the band,
+/// the largest grid predicted within 97 % is kept.
 double pilot_voxel_count(const BuildInputs& in, size_t budget) {
-  const double cells = 6.0 * in.config.dir_res * in.config.dir_res;
+  const double cells = 6.0 * in.config.dir_res * in.config.dir_res, max_n = kMaxShafts / cells;
+  auto voxels = [&](double m) {
+    return double(ShaftGrid(in.box, ShaftGrid::cubical_resolution(in.box, m), 1).voxel_count());
+  };
   double n = 4096, prev_n = 0, prev_mem = 0, feasible_n = 1;
+  // Grids predicted so far bound the answer: the largest within 97 % and the smallest above.
+  double feasible_voxels = 0, over_voxels = kInfinity;
   for (int it = 0; it < 8; ++it) {
-    const double real_n = double(ShaftGrid(in.box, ShaftGrid::cubical_resolution(in.box, n), 1).voxel_count());
+    const double real_n = voxels(n);
     const double mem = std::max(1.0, predicted_bytes(in, n));
-    if (mem <= 0.97 * double(budget)) {
-      feasible_n = std::max(feasible_n, n);
+    const bool over = mem > 0.97 * double(budget);
+    if (over) {
+      over_voxels = std::min(over_voxels, real_n);
+    } else {
       if (mem >= 0.8 * double(budget)) return n;
+      if (real_n > feasible_voxels) {
+        feasible_voxels = real_n;
+        feasible_n = n;
+      }
     }
     double slope = 1.2;
     if (prev_n > 0 && std::fabs(std::log(real_n / prev_n)) > 1e-3)
       slope = std::clamp(std::log(mem / prev_mem) / std::log(real_n / prev_n), 0.5, 1.5);
     prev_n = real_n;
     prev_mem = mem;
+    const double at = n;
     n = std::clamp(real_n * std::pow(0.9 * double(budget) / mem, 1.0 / slope), real_n / 64.0, real_n * 64.0);
-    n = std::clamp(n, 1.0, kMaxShafts / cells);
+    n = std::clamp(n, 1.0, max_n);
+    auto known = [&](double v) { return v == real_n || v <= feasible_voxels || v >= over_voxels; };
+    if (known(voxels(n))) {
+      // Within one quantisation step of a predicted grid: the next grid down (over the budget)
+      // or up (under the band); if that one is known too, no grid lies between the bounds.
+      n = at;
+      for (int k = 0; k < 1000 && voxels(n) == real_n; ++k) n = std::clamp(n * (over ? 0.98 : 1.02), 1.0, max_n);
+      if (known(voxels(n))) return feasible_n;
+    }
   }
   return feasible_n;
 }
