@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <tuple>
@@ -226,6 +227,100 @@ TEST_P(ShaftsBoth, DeduplicationKeepsListsEqual) {
     }
   EXPECT_EQ(stored.size(), st.unique_lists);
   EXPECT_EQ(nonempty, st.listed_shafts - st.empty_lists);
+}
+
+// The build figures the collection reports, recomputed from what a lookup sees: every listed
+// voxel's entry table and every stored list (ids and entry-box rows, each stored list once)
+// is counted exactly once, and the length statistics are those of the shafts' lists; with
+// and without deduplication and entry boxes, through the budget search and a fixed grid.
+TEST_P(ShaftsBoth, StatsMatchTheStoredLists) {
+  const Base base = GetParam();
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(small_scale() ? 400 : 1200, 19));
+  for (int variant = 0; variant < 4; ++variant) {
+    ShaftConfig c;
+    if (variant < 3) c = fine_config(small_scale() ? 125 : 343, 3);
+    else c.budget_mib = 0.25;
+    c.dedup = variant != 1;
+    if (variant == 2) c.entry_boxes = base == Base::Binary;  // the other way round from the default
+    const ShaftsAccelerator acc(scene, base, c);
+    const ShaftCollection& col = acc.collection();
+    const ShaftStats& st = col.stats();
+    const bool boxes = col.entry_codec() != nullptr;
+    const std::string what = acc.name() + " variant " + std::to_string(variant) + "\n" + st.summary();
+    const ShaftGrid& g = col.grid();
+    const uint32_t cells = g.cells_per_voxel();
+    auto words = [&](size_t len) { return len + (boxes ? (6 * len + 3) / 4 : 0); };
+    size_t listed_voxels = 0, listed = 0, empty = 0, total_len = 0, all_words = 0;
+    int max_len = 0;
+    std::vector<size_t> histogram(32, 0);
+    std::map<const uint32_t*, size_t> stored;  // list start -> length
+    for (uint32_t v = 0; v < g.voxel_count(); ++v) {
+      if (!col.entry_address({v, 0})) continue;
+      ++listed_voxels;
+      for (uint32_t cell = 0; cell < cells; ++cell) {
+        const Candidates cand = col.lookup({v, cell});
+        if (cand.reaches_nothing) {
+          ++listed;
+          ++empty;
+          continue;
+        }
+        if (cand.list.empty()) continue;  // no list: the root
+        ++listed;
+        const size_t len = cand.list.size();
+        ++histogram[len];
+        total_len += len;
+        max_len = std::max(max_len, int(len));
+        all_words += words(len);
+        EXPECT_EQ(cand.boxes != nullptr, boxes);
+        if (boxes) {
+          EXPECT_EQ(cand.boxes, reinterpret_cast<const uint8_t*>(cand.list.data() + len));
+        }
+        const auto [it, added] = stored.emplace(cand.list.data(), len);
+        EXPECT_EQ(it->second, len) << "two lengths at one offset";
+      }
+    }
+    ASSERT_GT(stored.size(), 10u) << what;
+    EXPECT_EQ(st.voxels, g.voxel_count()) << what;
+    EXPECT_EQ(st.shafts, g.voxel_count() * cells) << what;
+    EXPECT_EQ(st.listed_voxels, listed_voxels) << what;
+    EXPECT_EQ(st.listed_shafts, listed) << what;
+    EXPECT_EQ(st.empty_lists, empty) << what;
+    EXPECT_EQ(st.length_histogram, histogram) << what;
+    EXPECT_EQ(st.max_list, max_len) << what;
+    EXPECT_DOUBLE_EQ(st.mean_list, double(total_len) / double(listed - empty)) << what;
+    EXPECT_EQ(st.unique_lists, stored.size()) << what;
+    if (!c.dedup) {
+      EXPECT_EQ(stored.size(), listed - empty) << what;
+    }
+    // Bytes: the voxel table and one entry table per listed voxel; the list area holds the
+    // stored lists back to back from its start (then 2 padding words with entry boxes).
+    EXPECT_EQ(st.lookup_bytes, (g.voxel_count() + listed_voxels * cells) * sizeof(uint32_t)) << what;
+    size_t unique_words = 0;
+    const uint32_t* expect_at = stored.begin()->first;
+    for (const auto& [at, len] : stored) {
+      EXPECT_EQ(at, expect_at) << "a gap or an overlap in the list area";
+      expect_at = at + words(len);
+      unique_words += words(len);
+    }
+    EXPECT_EQ(st.list_bytes, (unique_words + (boxes ? 2 : 0)) * sizeof(uint32_t)) << what;
+    EXPECT_EQ(st.dedup_saved_bytes, (all_words - unique_words) * sizeof(uint32_t)) << what;
+    if (c.dedup) {
+      EXPECT_GT(st.dedup_saved_bytes, 0u) << what;
+    }
+    EXPECT_EQ(st.memory_bytes(), st.lookup_bytes + st.list_bytes);
+    EXPECT_EQ(acc.build_info().memory_bytes, acc.bvh_memory_bytes() + st.memory_bytes());
+    // Times: the whole build holds the pilots and the kept round's parts.
+    EXPECT_GT(st.build_ms, 0.0) << what;
+    EXPECT_GE(st.build_ms, st.pilot_ms + st.select_ms + st.lists_ms + st.pack_ms) << what;
+    EXPECT_GE(st.build_rounds, 1) << what;
+    if (variant == 3) {
+      EXPECT_EQ(st.budget_bytes, size_t(0.25 * 1048576.0)) << what;
+      EXPECT_GT(st.pilot_ms, 0.0) << what;
+    } else {
+      EXPECT_EQ(st.pilot_ms, 0.0) << what;
+      EXPECT_EQ(st.build_rounds, 1) << what;
+    }
+  }
 }
 
 TEST_P(ShaftsBoth, MemoryBudgetIsRespected) {

@@ -28,6 +28,8 @@ struct ShaftStats {
   double build_ms = 0.0;             ///< collection only (all budget iterations), BVH excluded
   int build_rounds = 0;              ///< builds needed to meet the memory budget
   double pilot_ms = 0.0;             ///< wall: the budget's pilot search before the first round
+  // "Last round" below: the round whose collection is kept, the first when a finer second
+  // round went over the budget.
   double select_ms = 0.0;            ///< last round, wall: choosing the listed voxels / shafts
   double lists_ms = 0.0;             ///< last round, wall: sample rays and Algorithm 1
   double samples_ms = 0.0;           ///< last round: tracing the sample rays (traced per chunk: summed over threads, may exceed lists_ms)
