@@ -38,9 +38,9 @@ void Shaft::set_voxel(const ShaftGrid& grid, uint32_t voxel) {
   }
   // The float support value sums 6 products of unit axes with the components of B (-) V,
   // differences of a box and a padded voxel coordinate, each rounded to half an ulp of its
-  // result. Boxes come from the BVH over the grid box (wide child boxes may overshoot it by a
-  // quantisation step), so the components stay below reach = 2 (diagonal + padding), and the
-  // rounding error below 16 ulps of 2 reach. 64 ulps, about 4e-6 of it, is far below the
+  // result. Boxes come from the BVH whose root box is the grid box and holds every node box
+  // (WideNode keeps its child boxes in float, unquantised), so the components stay below
+  // reach = 2 (diagonal + padding), and the rounding error below 16 ulps of 2 reach. 64 ulps, about 4e-6 of it, is far below the
   // padding. The coordinates themselves do not enter: the tolerance grew with them before,
   // and culling faded with the distance from the world origin (a 10-unit soup at 1e5 saved
   // 21 % of the steps, at the origin 42 %).
