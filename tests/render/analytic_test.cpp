@@ -69,7 +69,7 @@ TEST(Analytic, DirectPointLightInSphere) {
 struct Furnace {
   float rho = 0.5f, le = 2.0f;
   Scene scene;
-  Furnace() {
+  explicit Furnace(float albedo = 0.5f) : rho(albedo) {
     const float r = 1.5f;
     testing::add_part(scene, testing::inward_sphere({0, 0, 0}, r, 3),
                       Material{.diffuse = Vec3{rho}, .emission = Vec3{le}});
@@ -138,6 +138,31 @@ TEST(Analytic, RussianRouletteKeepsTheFurnaceRadiance) {
   // that is 0.5 % of the expected ~2 Le.
   EXPECT_NEAR(testing::mean_channel(on, 0), expected, 0.02 * expected);
   EXPECT_NE(testing::mean_channel(on, 0), testing::mean_channel(off, 0));  // the roulette did play
+}
+
+// The roulette's survival probability has a floor of 0.05 (kMinSurvival), which bounds the
+// 1 / p weight. With rho = 0.02 the throughput at every roulette is below it (rho^3 = 8e-6 at
+// bounce 2, 8e-6 / 0.05 rho = 3.2e-6 after a survival), so a path goes on with probability
+// exactly 0.05 each time: 2 + 0.05 / 0.95 = 2.053 path rays a sample. Without the floor it
+// would be 2 + 8e-6; the radiance Le (1 + rho + rho^2 + ...) is the same either way.
+TEST(Analytic, RussianRouletteSurvivalHasAFloorOfFivePercent) {
+  const Furnace furnace(0.02f);
+  RenderConfig cfg;
+  cfg.width = cfg.height = testing::small_scale() ? 8 : 16;
+  cfg.spp = 64;
+  cfg.max_depth = 12;
+  cfg.rr_depth = 1;
+  RenderStats stats;
+  const auto accel = make_accelerator(fast_accel(), furnace.scene);
+  const Image img = make_path_integrator()->render(furnace.scene, *accel, cfg, &stats);
+  uint64_t path_rays = 0;
+  for (const BatchStats& b : stats.batches) path_rays += b.info.kind == "path" ? b.rays : 0;
+  const double paths = double(cfg.width * cfg.height * cfg.spp);
+  // 4096 paths at the small scale: the 0.05 coin's count has a standard deviation of 0.0034 a path.
+  EXPECT_GT(double(path_rays), 2.03 * paths);
+  EXPECT_LT(double(path_rays), 2.08 * paths);
+  const double expected = furnace.radiance(cfg.max_depth);
+  EXPECT_NEAR(testing::mean_channel(img, 0), expected, 0.01 * expected);
 }
 
 // A closed box whose walls emit Le and reflect with albedo <= 1 holds radiance <= Le (D + 1)
