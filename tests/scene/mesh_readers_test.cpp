@@ -606,6 +606,14 @@ TEST(GltfReader, NodesOutsideATreeAndOutOfRangeIndicesAreErrors) {
   const std::string root_child = triangle_gltf(R"("scenes": [{"nodes": [0, 1]}], "nodes": [{"children": [1]}, {"mesh": 0}])");
   testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("rc.gltf", root_child)); }),
                            {"rc.gltf: scenes[0] lists nodes[1] as a root, but it is a child of nodes[0]: glTF nodes form a tree"});
+  // A child or root index one past the last node is assimp's to refuse, not a parent slot of
+  // the tree check (which has one per node).
+  for (const char* members : {R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [2]}, {"mesh": 0}])",
+                              R"("scenes": [{"nodes": [0, 2]}], "nodes": [{"children": [1]}, {"mesh": 0}])"}) {
+    const std::string msg = testing::input_error_of([&] { load_scene(dir.write("past.gltf", triangle_gltf(members))); });
+    testing::expect_contains(msg, {"past.gltf: assimp cannot read it: "});
+    EXPECT_EQ(msg.find("nodes form a tree"), std::string::npos) << msg;
+  }
   // A node may be a root of several scenes.
   EXPECT_EQ(load_scene(dir.write("scenes.gltf", triangle_gltf(R"("scenes": [{"nodes": [0]}, {"nodes": [0]}], "nodes": [{"mesh": 0}])")))
                 .triangles.size(),
