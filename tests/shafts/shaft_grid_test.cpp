@@ -119,6 +119,42 @@ TEST(Shaft, OverlapsEveryReachablePointAndCullsTheBackSide) {
   EXPECT_GT(culled, tested / 2) << "narrow shafts should cull most random boxes";
 }
 
+// The other direction: points just outside each of the cone's four sides (directions beyond
+// the cell by 5-10 % of its width, far from the voxel) that the exact test culls with a margin
+// of 1e-3 of the diagonal are culled by the float test too. With the cell's faces and bevels
+// there are up to 19 axes, in two rows of 16 slots: a test of the first row alone keeps them.
+TEST(Shaft, FloatTestCullsWhatTheExactTestCullsBeyondEachSide) {
+  const ShaftGrid g(Bounds3{{-3, 0, 1}, {5, 2, 4}}, {6, 3, 4}, 5);
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  const float margin = 1e-3f * length(g.box().diagonal());
+  size_t checked[4] = {};
+  for (uint32_t v = 0; v < g.voxel_count(); v += 5)
+    for (uint32_t c = 0; c < g.cells_per_voxel(); ++c) {
+      const Shaft shaft(g, {v, c});
+      const ShaftGrid::CellRange r = shaft.cell();
+      const double du = r.u1 - r.u0, dv = r.v1 - r.v0;
+      for (int side = 0; side < 4; ++side) {
+        ShaftGrid::CellRange out = r;
+        if (side == 0) { out.u1 = r.u0 - 0.05 * du; out.u0 = r.u0 - 0.1 * du; }
+        if (side == 1) { out.u0 = r.u1 + 0.05 * du; out.u1 = r.u1 + 0.1 * du; }
+        if (side == 2) { out.v1 = r.v0 - 0.05 * dv; out.v0 = r.v0 - 0.1 * dv; }
+        if (side == 3) { out.v0 = r.v1 + 0.05 * dv; out.v1 = r.v1 + 0.1 * dv; }
+        for (int i = 0; i < 4; ++i) {
+          const float rnd[5] = {u01(rng), u01(rng), u01(rng), u01(rng), u01(rng)};
+          const Ray ray = Shaft::sample_ray(shaft.voxel(), out, rnd);
+          const Vec3 p = ray.org + ray.dir * ((20.0f + 20.0f * u01(rng)) / length(ray.dir));
+          if (shaft.overlaps_exact(Bounds3{p - Vec3{margin}, p + Vec3{margin}})) continue;
+          ++checked[side];
+          ASSERT_FALSE(shaft.overlaps(Bounds3{p, p}))
+              << "voxel " << v << " cell " << c << " side " << side << ": the float test kept a point "
+              << margin << " away from the shaft";
+        }
+      }
+    }
+  for (int side = 0; side < 4; ++side) EXPECT_GT(checked[side], 1000u) << "side " << side;
+}
+
 // The float test (used by the build) must keep every box the exact double test keeps, and
 // may keep only slightly more: boxes at random and grazing the shaft (shifted by tiny steps
 // across its separating planes).
