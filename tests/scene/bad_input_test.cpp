@@ -154,6 +154,9 @@ TEST(SceneBadInput, PlyAscii) {
   expect_contains(error_loading(dir, "c.ply", "ply\nformat utf8 1.0\n"), {"c.ply:2: ", "unknown PLY format"});
   expect_contains(error_loading(dir, "d.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
                   {"d.ply:13: ", "face index 7 out of range (3 vertices)"});
+  // An int list may hold a negative index; PLY has no relative indices as OBJ has.
+  expect_contains(error_loading(dir, "neg.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n"),
+                  {"neg.ply:13: ", "face index -1 out of range (3 vertices)"});
   expect_contains(error_loading(dir, "e.ply", kPlyHeader + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
                   {"e.ply:11: ", "not finite"});
   expect_contains(error_loading(dir, "f.ply", kPlyHeader + "0 0 0\n1 0\n0 1 0\n3 0 1 2\n"),
