@@ -205,6 +205,37 @@ TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
   }
 }
 
+// resample=on measures the second child's alpha again with the hit distances the first child
+// left (eqs. 3-5). Behind the near wall every sample ray has its hit already, so alpha = 0 and
+// the far wall's child partitions the rays once, to none: exactly one box test per ray more
+// than the near wall alone. Sampled once, before the near wall, alpha is 1 (every ray meets
+// the far wall's box), the rays are passed on unfiltered and partitioned further down.
+TEST(DacrtCounters, ResampledSecondAlphaPartitionsTheRaysOnceAtTheWallBehindTheHits) {
+  std::vector<Triangle> both = wall(16, 1.0f, 0.0f);
+  const Scene near_only = testing::scene_from_triangles(both);
+  for (const Triangle& t : wall(16, 2.0f, 6.0f)) both.push_back(t);
+  const Scene two_walls = testing::scene_from_triangles(both);
+  const RayBatch rays = testing::pinhole_rays({0, 0, -3}, {0, 0, 1}, 24.0f, 96, 96);
+  auto far_wall_cost = [&](const char* resample) {
+    uint64_t partition_tests[2], tri_tests[2];
+    for (int s = 0; s < 2; ++s) {
+      TraceStats stats;
+      HitBatch hits;
+      auto accel = make_accelerator("dacrt-rs", s == 0 ? near_only : two_walls,
+                                    testing::options_of({resample, "parallel=off"}));
+      accel->intersect(rays, hits, &stats);
+      EXPECT_EQ(std::count(hits.prim.begin(), hits.prim.end(), kInvalidId), 0) << "every ray hits the near wall";
+      partition_tests[s] = dynamic_cast<const Dacrt&>(*accel).last_details().partition_box_tests;
+      tri_tests[s] = stats.ray_tri_tests;
+    }
+    EXPECT_EQ(tri_tests[1], tri_tests[0]) << resample << ": the far wall's triangles are never tested";
+    return partition_tests[1] - partition_tests[0];
+  };
+  EXPECT_EQ(far_wall_cost("resample=on"), rays.size());
+  // Measured: 2 box tests per ray.
+  EXPECT_GT(far_wall_cost("resample=off"), rays.size());
+}
+
 // Rays from both sides of two walls the root splits apart: a big one (512 triangles) at z = 0
 // and a small one (8) at z = 6. Three of five rays look +z from z = -3 and vote for the big
 // wall (they meet it first), two of five look -z from z = 9 and vote for the small one. The
