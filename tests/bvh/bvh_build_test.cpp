@@ -184,15 +184,17 @@ TEST(BvhBuild, BadConfigIsAnInputError) {
   EXPECT_THROW(Bvh2::build(tris, c), InputError);
 }
 
-TEST(BvhBuild, SahTreeIsReasonable) {
-  // A uniform soup: SAH keeps the tree near-balanced and leaves near full.
+TEST(BvhBuild, RandomSoupTreeIsShallowAndItsLeavesHoldSeveralTriangles) {
+  // A uniform soup: SAH keeps the tree near-balanced, at most twice the depth of a balanced
+  // tree (log2 20000 = 14.3; measured 18), and a third of the triangles share leaves (measured
+  // 13069 leaves).
   const auto tris = testing::random_soup(20000, 5);
   const Bvh2 bvh = Bvh2::build(tris);
-  EXPECT_LT(bvh.depth(), 40);
+  EXPECT_LE(bvh.depth(), 28);
   size_t leaves = 0;
   for (const Bvh2Node& n : bvh.nodes) leaves += n.is_leaf();
   EXPECT_EQ(bvh.nodes.size(), 2 * leaves - 1);
-  EXPECT_LT(leaves, tris.size());  // some leaves hold more than one triangle
+  EXPECT_LT(leaves, tris.size() * 3 / 4);
   const WideBvh wide = WideBvh::from_bvh2(bvh, tris);
   EXPECT_LT(wide.nodes.size() * 4, bvh.nodes.size());  // about 7 binary nodes per wide node
   EXPECT_LE(wide.depth(), bvh.depth() / 2 + 2);
