@@ -416,7 +416,7 @@ TEST(ImageIo, PngWithoutFailureReason) {
   EXPECT_NE(msg.find("corrupt.png: cannot read PNG (corrupt data)"), std::string::npos) << msg;
 }
 
-TEST(ImageCompare, KnownValues) {
+TEST(ImageCompare, RmsePsnrRelativeMseAndMaxErrorByHand) {
   Image a(4, 2), b(4, 2);
   for (auto& p : b.pixels) p = Vec3{0.5f};
   ImageError e = compare_images(a, b);

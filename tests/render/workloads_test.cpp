@@ -124,7 +124,7 @@ TEST(Workloads, NoLightsNoShadowRays) {
   EXPECT_EQ(make_workload(scene, *accel, Workload::Shadow, cfg).size(), 0u);
 }
 
-TEST(Workloads, ParseNames) {
+TEST(Workloads, NamesRoundTripAndAnUnknownNameIsAnInputError) {
   for (Workload w : {Workload::Primary, Workload::Shadow, Workload::Ao, Workload::Diffuse})
     EXPECT_EQ(parse_workload(workload_name(w)), w);
   EXPECT_THROW(parse_workload("bogus"), InputError);

@@ -147,7 +147,7 @@ const std::string kPlyHeader =
     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
     "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
 
-TEST(SceneBadInput, PlyAscii) {
+TEST(SceneBadInput, PlyAsciiErrorsNameTheLine) {
   TempDir dir;
   expect_contains(error_loading(dir, "a.ply", "plx\n"), {"a.ply:1: ", "not a PLY file"});
   expect_contains(error_loading(dir, "b.ply", "ply\nformat ascii 1.0\nelement vertex x\n"), {"b.ply:3: ", "element"});
@@ -179,7 +179,7 @@ TEST(SceneBadInput, PlyAscii) {
   expect_contains(error_loading(dir, "k.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"), {"k.ply", "no end_header"});
 }
 
-TEST(SceneBadInput, PlyBinary) {
+TEST(SceneBadInput, PlyBinaryErrorsNameTheElementAndByte) {
   TempDir dir;
   const std::string header =
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"

@@ -141,7 +141,7 @@ TEST(JsonScene, UnusedMaterialWarns) {
   EXPECT_EQ(unused, 1u);
 }
 
-TEST(JsonScene, Transforms) {
+TEST(JsonScene, TransformsMoveTheVerticesAsComputedByHand) {
   TempDir dir;
   dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
   const Scene s = load_scene(dir.write("t.json", R"({"meshes": [

@@ -667,7 +667,7 @@ TEST(GltfReader, MirroredNodeKeepsItsFrontAndTransformsCompose) {
   for (const Triangle* t : {&mirrored, &plain}) EXPECT_GT(t->normal().z, 0.0f);
 }
 
-TEST(GltfReader, BinaryGlb) {
+TEST(GltfReader, BinaryGlbWithItsBufferInTheBinChunkLoads) {
   TempDir dir;
   std::string bin;
   for (float f : {0.f, 0.f, 0.f, 2.f, 0.f, 0.f, 2.f, 2.f, 0.f, 0.f, 2.f, 0.f}) put<float>(bin, f, false);
