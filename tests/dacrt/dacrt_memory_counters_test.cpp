@@ -180,16 +180,26 @@ std::vector<Triangle> wall(int n, float half, float z0) {
   return tris;
 }
 
+// A wall of 512 triangles at z = 0 alone and with a wider one behind it at z = 6; 96 x 96
+// primary rays from z = -3, every one of which hits the near wall.
+struct TwoWalls {
+  Scene near_only = testing::scene_from_triangles(wall(16, 1.0f, 0.0f));
+  Scene two_walls = [] {
+    std::vector<Triangle> both = wall(16, 1.0f, 0.0f);
+    for (const Triangle& t : wall(16, 2.0f, 6.0f)) both.push_back(t);
+    return testing::scene_from_triangles(both);
+  }();
+  RayBatch rays = testing::pinhole_rays({0, 0, -3}, {0, 0, 1}, 24.0f, 96, 96);
+};
+
 // Every ray hits a near wall and, behind it, a far one; the root splits the two walls apart.
 // Visiting the near child first, the rays leave it with tmax at the near wall and none of
 // them reaches the far wall's box: exactly the triangle tests of the near wall alone. The
 // other child first would test both walls for every ray (about twice as many).
 TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
-  std::vector<Triangle> both = wall(16, 1.0f, 0.0f);
-  const Scene near_only = testing::scene_from_triangles(both);
-  for (const Triangle& t : wall(16, 2.0f, 6.0f)) both.push_back(t);
-  const Scene two_walls = testing::scene_from_triangles(both);
-  const RayBatch rays = testing::pinhole_rays({0, 0, -3}, {0, 0, 1}, 24.0f, 96, 96);
+  const TwoWalls w;
+  const Scene &near_only = w.near_only, &two_walls = w.two_walls;
+  const RayBatch& rays = w.rays;
   for (const char* order : {"order=one-ray", "order=sampled", "order=literal-votes", "order=sign-votes", "order=interval-votes"}) {
     const auto options = testing::options_of({order, "parallel=off"});
     TraceStats alone, with_far;
@@ -211,11 +221,9 @@ TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
 // than the near wall alone. Sampled once, before the near wall, alpha is 1 (every ray meets
 // the far wall's box), the rays are passed on unfiltered and partitioned further down.
 TEST(DacrtCounters, ResampledSecondAlphaPartitionsTheRaysOnceAtTheWallBehindTheHits) {
-  std::vector<Triangle> both = wall(16, 1.0f, 0.0f);
-  const Scene near_only = testing::scene_from_triangles(both);
-  for (const Triangle& t : wall(16, 2.0f, 6.0f)) both.push_back(t);
-  const Scene two_walls = testing::scene_from_triangles(both);
-  const RayBatch rays = testing::pinhole_rays({0, 0, -3}, {0, 0, 1}, 24.0f, 96, 96);
+  const TwoWalls w;
+  const Scene &near_only = w.near_only, &two_walls = w.two_walls;
+  const RayBatch& rays = w.rays;
   auto far_wall_cost = [&](const char* resample) {
     uint64_t partition_tests[2], tri_tests[2];
     for (int s = 0; s < 2; ++s) {
