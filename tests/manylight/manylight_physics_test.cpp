@@ -8,11 +8,13 @@
 #include <vector>
 
 #include "exact_sum.h"
+#include "../render/test_scenes.h"
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/vpl.h"
+#include "rayscout/render/bsdf.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/scene/load_scene.h"
 
@@ -114,6 +116,54 @@ TEST(ManylightPhysics, PointLightVplsGiveTheDirectIntegratorsImage) {
   const double direct = image_mean(make_direct_integrator()->render(scene, *accel, rc).pixels);
   EXPECT_GT(direct, 0.05);
   EXPECT_NEAR(ml, direct, 0.02 * direct) << "manylight " << ml << ", direct " << direct;
+}
+
+
+// Russian roulette on a light path keeps E[power] of the next VPL at power x E[weight], the
+// directional albedo, also where a sample's weight exceeds 1 (a Phong lobe of exponent 1 reflects
+// up to (n + 2) / (n + 1) = 1.5 Ks towards the normal): survival min(1, weight) then keeps the
+// whole weight. Inside an emitting glossy sphere every light path makes an emitter VPL, then a
+// VPL where it first meets the sphere, then (surviving) one at the second hit; the second VPLs'
+// summed power matches the first ones' times their albedo (estimated with 256 BSDF samples
+// each). Measured: 0.9 % apart (0.3 % at the small scale, standard errors 0.7 % and 0.9 %);
+// survival without the min(1, .) loses 8 %.
+TEST(ManylightPhysics, LightPathRouletteKeepsTheGlossyAlbedo) {
+  Scene scene;
+  const Material glossy{.type = Material::Type::Glossy, .diffuse = Vec3{0.1f}, .specular = Vec3{0.85f}, .exponent = 1.0f,
+                        .emission = Vec3{1.0f}};
+  testing::add_part(scene, testing::inward_sphere({0, 0, 0}, 1.0f, 3), glossy);
+  const auto accel = make_accelerator("bvh", scene);
+  ManylightConfig c;
+  c.vpl_count = testing::small_scale() ? 15000 : 30000;
+  c.max_vpl_bounces = 2;
+  const VplSet set = generate_vpls(scene, *accel, c);
+  // Per batch: k emitter VPLs, the k first hits (no ray leaves the closed sphere), then the
+  // second hits of the paths that survived.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  double predicted = 0, second = 0;
+  size_t first_hits = 0, second_hits = 0;
+  for (size_t i = 0; i < set.vpls.size();) {
+    size_t k = 0;
+    for (; i < set.vpls.size() && set.vpls[i].kind == Vpl::Kind::Emitter; ++i) ++k;
+    ASSERT_GT(k, 0u);
+    for (size_t j = 0; j < k; ++j, ++i) {
+      ASSERT_LT(i, set.vpls.size());
+      const Vpl& v = set.vpls[i];
+      ASSERT_EQ(v.kind, Vpl::Kind::Surface);
+      double albedo = 0;
+      for (int s = 0; s < 256; ++s) {
+        const BsdfSample bs = sample_bsdf(glossy, v.normal, v.wi, u01(rng), u01(rng), u01(rng));
+        if (bs.valid) albedo += bs.weight.x / 256.0;
+      }
+      predicted += v.power.x * albedo;
+      ++first_hits;
+    }
+    for (; i < set.vpls.size() && set.vpls[i].kind == Vpl::Kind::Surface; ++i, ++second_hits) second += set.vpls[i].power.x;
+  }
+  ASSERT_GT(first_hits, c.vpl_count / 4);
+  ASSERT_GT(second_hits, first_hits / 2);
+  EXPECT_NEAR(second, predicted, 0.04 * predicted) << first_hits << " first hits, " << second_hits << " second";
 }
 
 }  // namespace
