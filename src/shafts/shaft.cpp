@@ -88,7 +88,12 @@ Shaft::Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& 
     }
     if (neg && !pos)
       for (auto& c : n) c = -c;
-    if (pos || neg) axes_[size_t(axis_count_++)] = n;
+    if (!(pos || neg)) continue;
+    // Each side plane is a bevel plane: neighbouring edges differ in one face coordinate,
+    // so cross(e_i, e_i+1) is a multiple of cross(e_i, that face axis). A repeated axis
+    // decides nothing and took a second 16-slot row in most shafts.
+    const auto same = [&](const D3& m) { return dot3(m, n) > 1.0 - 1e-9; };
+    if (std::none_of(axes_.begin(), axes_.begin() + axis_count_, same)) axes_[size_t(axis_count_++)] = n;
   }
   // Float copies of the axes (rounding to float moves a unit axis by ~6e-8, far less than
   // the 1e-4 by which the real cone lies inside the padded cone's planes, so every float

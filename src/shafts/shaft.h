@@ -95,6 +95,8 @@ class Shaft {
   static constexpr int kAxes = 32, kRow = 16;
   /// Conservative: false only when no ray of the shaft can reach any point of b.
   bool overlaps(const Bounds3& b) const { return !b.empty() && overlaps(diff(b)); }
+  /// Culling axes in use (distinct; for tests).
+  int axis_count() const { return axis_count_; }
   /// The exact test in double (reference for tests): same axes, no tolerance.
   bool overlaps_exact(const Bounds3& b) const {
     if (b.empty()) return false;
@@ -129,8 +131,9 @@ class Shaft {
   alignas(64) float pos_[3][kAxes] = {}, neg_[3][kAxes] = {};
   float tol_ = 0.0f;
   int rows_ = 1;  ///< rows of kRow axis slots holding the used axes
-  /// n with cone . n >= 0; at most 3 faces + 12 bevels + 4 sides (fixed storage: shafts are
-  /// copied per group and voxel, and heap allocations showed in the build profile).
+  /// n with cone . n >= 0, no two alike: at most 3 faces + 12 bevels, as the 4 sides repeat
+  /// bevels (room for all 19 candidates; fixed storage: shafts are copied per group and voxel,
+  /// and heap allocations showed in the build profile).
   std::array<std::array<double, 3>, 19> axes_{};
   int axis_count_ = 0;
   Bounds3 voxel_;
