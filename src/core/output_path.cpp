@@ -85,9 +85,20 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
   errno = 0;
   out.write(bytes.data(), std::streamsize(bytes.size()));
   out.close();
-  if (!out)
+  if (!out) {
+    const int error = errno;
+    // The file holds a prefix of the bytes (a full disk, a file size limit): removed, so that
+    // no truncated image or ray file is left to pass for a whole one. Its old contents were
+    // already truncated by the open. Devices (/dev/full) and a link itself are left alone.
+    std::error_code ec;
+    try {
+      if (const std::filesystem::path target = link_target(path, label); std::filesystem::is_regular_file(target, ec))
+        std::filesystem::remove(target, ec);
+    } catch (const InputError&) {  // a link that cannot be followed: nothing was written through it
+    }
     throw InputError(label + ": cannot write " + path.string() + " (" + std::to_string(bytes.size()) + " bytes)" +
-                     (errno ? std::string(": ") + std::strerror(errno) : ""));
+                     (error ? std::string(": ") + std::strerror(error) : ""));
+  }
 }
 
 }  // namespace rayscout

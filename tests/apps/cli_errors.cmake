@@ -351,6 +351,21 @@ if(EXISTS /dev/full)
          --out ${WORK}/full.rays)
   expect(2 "image: cannot write .*full\\.png" diff ${WORK}/ml1.pfm ${WORK}/ml2.pfm --out ${WORK}/full.png)
 endif()
+# A write cut short (here by a 5 KB file size limit, SIGXFSZ ignored so that the write fails
+# with EFBIG) leaves no file behind: a truncated image or ray file stayed, to pass for a whole one.
+if(EXISTS /bin/sh)
+  foreach(command "render --width 64 --height 64 --spp 1 --out ${WORK}/cut-short.pfm"
+                  "rays --scene cornell --width 64 --height 64 --out ${WORK}/cut-short.rays")
+    string(REGEX REPLACE ".* --out " "" written "${command}")
+    file(REMOVE ${written})
+    separate_arguments(args UNIX_COMMAND "${command}")
+    execute_process(COMMAND /bin/sh -c "trap '' XFSZ; ulimit -f 10 && exec \"$0\" \"$@\"" ${RAYSCOUT} ${args}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 2 OR NOT err MATCHES "cannot write .*cut-short.*File too large" OR EXISTS ${written})
+      message(FATAL_ERROR "a write cut short (exit ${rc}) left ${written} behind or said no error:\n${out}${err}")
+    endif()
+  endforeach()
+endif()
 # A scene whose only light is dark is refused when it is read (manylight made all-NaN pixels
 # from it, exit 0, and the other integrators a black image).
 file(WRITE ${WORK}/dark.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],

@@ -28,7 +28,7 @@ void check_distinct_files(std::span<const NamedFile> outputs, std::span<const Na
 
 /// Writes bytes to path, replacing it, and checks the write only after closing the file: a full
 /// disk is often reported only by the last flush. Throws InputError "label: cannot write
-/// path (...)" on any failure.
+/// path (...)" on any failure, after removing a regular file it wrote only in part.
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label);
 
 }  // namespace rayscout
