@@ -213,8 +213,11 @@ void write_stats(const RenderOptions& o, const RenderStats& stats, const Scene& 
     j["counters"] = nullptr;
     j["counters_note"] = accel.name() + " has no work counters";
   }
-  if (o.stats == "-") fmt::print("{}\n", j.dump());
-  else write_file(o.stats, j.dump() + "\n", "--stats");
+  // A scene path need not be UTF-8 (a Latin-1 file name): its bytes become U+FFFD instead of
+  // the JSON library's exception after the image was written.
+  const std::string text = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (o.stats == "-") fmt::print("{}\n", text);
+  else write_file(o.stats, text + "\n", "--stats");
 }
 
 // What was written, where the time went and, with --count, the work per ray.

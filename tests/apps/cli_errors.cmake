@@ -409,6 +409,17 @@ string(JSON json_height ERROR_VARIABLE json_error GET "${out}" height)
 if(NOT rc EQUAL 0 OR json_error OR NOT json_height EQUAL 6 OR NOT err MATCHES "wrote")
   message(FATAL_ERROR "render --stats -: stdout is not the JSON alone (exit ${rc}, ${json_error}):\n${out}\nstderr:\n${err}")
 endif()
+# A scene path that is not UTF-8 (Latin-1 "caf\xe9.obj") still gives valid --stats JSON: it made
+# the JSON library throw after the image was written (exit 1, no stats).
+string(ASCII 233 latin1_e)
+file(WRITE "${WORK}/caf${latin1_e}.obj" "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+execute_process(COMMAND ${RAYSCOUT} render --scene "${WORK}/caf${latin1_e}.obj" --width 4 --height 4 --spp 1
+                        --out ${WORK}/x.png --stats -
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(JSON json_width ERROR_VARIABLE json_error GET "${out}" width)
+if(NOT rc EQUAL 0 OR json_error OR NOT json_width EQUAL 4)
+  message(FATAL_ERROR "render --stats - of a Latin-1 scene path (exit ${rc}, ${json_error}):\n${out}\nstderr:\n${err}")
+endif()
 # Each --integrator name renders with that integrator (the JSON names the one that ran).
 foreach(integrator direct area ao path manylight)
   execute_process(COMMAND ${RAYSCOUT} render --integrator ${integrator} --width 4 --height 4 --spp 1 --vpls 20 --passes 1
