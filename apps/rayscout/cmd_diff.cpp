@@ -44,7 +44,7 @@ CommandRegistration registration{[](CLI::App& app) {
       fmt::print(stderr,
                  "rayscout: warning: {} is a PNG (8-bit sRGB, clamped to [0, 1]) and {} is not: the metrics measure "
                  "the clamping too; compare .exr or .pfm images\n",
-                 png_a ? opts->a : opts->b, png_a ? opts->b : opts->a);
+                 printable(png_a ? opts->a : opts->b), printable(png_a ? opts->b : opts->a));
     if (a.width != b.width || a.height != b.height)
       throw InputError(fmt::format("{} and {}: images differ in size: {}x{} vs {}x{}", opts->a, opts->b, a.width,
                                    a.height, b.width, b.height));
@@ -54,7 +54,7 @@ CommandRegistration registration{[](CLI::App& app) {
     if (e.nonfinite > 0) fmt::print("nonfinite {} channel values (NaN or inf) in the two images\n", e.nonfinite);
     if (!opts->out.empty()) {
       write_image(difference_image(a, b, opts->scale), opts->out);
-      fmt::print("wrote {}\n", opts->out);
+      fmt::print("wrote {}\n", printable(opts->out));
     }
     if (opts->max_rmse >= 0 && !(e.rmse <= opts->max_rmse)) {  // a NaN RMSE fails too
       fmt::print("rmse {:.6g} is {} --max-rmse {:.6g}\n", e.rmse, std::isnan(e.rmse) ? "not a number: fails" : "above",

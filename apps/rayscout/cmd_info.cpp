@@ -28,7 +28,7 @@ void print_info(const std::string& arg) {
   const double load_ms = ms_since(start);
 
   const Bounds3 b = scene.bounds();
-  fmt::print("scene:        {}\n", arg.empty() ? "cornell (built-in)" : arg);
+  fmt::print("scene:        {}\n", arg.empty() ? "cornell (built-in)" : printable(arg));
   fmt::print("load time:    {:.1f} ms\n", load_ms);
   fmt::print("triangles:    {}\n", scene.triangles.size());
   fmt::print("bounds:       min {} max {}\n", vec(b.lo), vec(b.hi));

@@ -65,7 +65,7 @@ void run_rays(const RaysArgs& a) {
     fmt::print(stderr, "rayscout: warning: no {} rays: every primary ray missed the scene (where does the camera look?)\n",
                workload_name(workload));
   fmt::print("wrote {} {} rays ({}x{}, {} spp, seed {}) to {} in {:.0f} ms\n", rays.size(), workload_name(workload),
-             a.config.width, a.config.height, a.config.spp, a.config.seed, a.out, ms_since(start));
+             a.config.width, a.config.height, a.config.spp, a.config.seed, printable(a.out), ms_since(start));
 }
 
 CommandRegistration registration{[](CLI::App& app) {

@@ -225,8 +225,8 @@ void print_summary(const RenderOptions& o, const RenderStats& stats, const Integ
                    const Accelerator& accel, int n_threads, double load_ms, double build_ms) {
   // With --stats - stdout carries only the JSON, so that it can be piped into a parser.
   std::FILE* const summary = o.stats == "-" ? stderr : stdout;
-  fmt::print(summary, "wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", o.out, o.config.width,
-             o.config.height, o.config.spp, integrator.name(), accel.name(), n_threads);
+  fmt::print(summary, "wrote {} ({}x{}, {} spp, integrator {}, accel {}, {} threads)\n", printable(o.out),
+             o.config.width, o.config.height, o.config.spp, integrator.name(), accel.name(), n_threads);
   // Integrators that do not time their batches (manylight) report no tracing share.
   const std::string tracing =
       stats.rays() == 0 ? std::string()

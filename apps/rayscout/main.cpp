@@ -36,11 +36,14 @@ int main(int argc, char** argv) {
   CLI::App app{"rayscout: a ray tracing engine that looks at the rays before tracing them"};
   app.set_version_flag("--version", "rayscout " RAYSCOUT_VERSION);
   app.require_subcommand(1);
-  // CLI11's usage errors read as rayscout's own, and point at the command's --help.
+  // CLI11's usage errors read as rayscout's own, and point at the command's --help. Every error
+  // is printed through printable(): it quotes file names and arguments (a name holding
+  // ESC [ 2 J cleared the terminal), and escaping twice changes nothing.
   app.failure_message([](const CLI::App* top, const CLI::Error& e) {
     std::string command = "rayscout";
     for (const CLI::App* sub : top->get_subcommands()) command += " " + sub->get_name();
-    return fmt::format("rayscout: error: {}\nRun '{} --help' for the options.\n", e.what(), command);
+    return fmt::format("rayscout: error: {}\nRun '{} --help' for the options.\n", rayscout::printable(e.what()),
+                       command);
   });
   for (const auto& add : rayscout::cli::command_registry()) add(app);
   try {
@@ -53,7 +56,7 @@ int main(int argc, char** argv) {
     if (const std::string first = argc > 1 ? argv[1] : ""; first.starts_with("-") && first != "-h" &&
                                                            first != "--help" && first != "--version") {
       fmt::print(stderr, "rayscout: error: unknown option '{}' (options follow the command: rayscout <command> --help)\n",
-                 first);
+                 rayscout::printable(first));
       return 2;
     }
     if (argc > 1 && argv[1][0] != '-') {
@@ -64,7 +67,8 @@ int main(int argc, char** argv) {
         known |= sub->get_name() == argv[1];
       }
       if (!known) {
-        fmt::print(stderr, "rayscout: error: unknown command '{}' (commands: {}; see --help)\n", argv[1], names);
+        fmt::print(stderr, "rayscout: error: unknown command '{}' (commands: {}; see --help)\n",
+                   rayscout::printable(argv[1]), names);
         return 2;
       }
     }
@@ -72,7 +76,7 @@ int main(int argc, char** argv) {
     // bad input files (CLI11's own codes, 100-120, would tell a caller nothing more).
     return app.exit(e) == 0 ? 0 : 2;
   } catch (const rayscout::InputError& e) {
-    fmt::print(stderr, "rayscout: error: {}\n", e.what());
+    fmt::print(stderr, "rayscout: error: {}\n", rayscout::printable(e.what()));
     return 2;
   } catch (const std::bad_alloc&) {
     std::string hint;  // the command's own options, not another command's
@@ -80,7 +84,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "rayscout: error: out of memory{}\n", hint.empty() ? "" : " (" + hint + ")");
     return 1;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "rayscout: error: {}\n", e.what());
+    fmt::print(stderr, "rayscout: error: {}\n", rayscout::printable(e.what()));
     return 1;
   }
   return 0;

@@ -34,7 +34,21 @@ expect(0 "triangles: +32\nbounds: +min \\(-1, 0, -1\\) max \\(1, 2, 1\\)\n.*mate
 string(ASCII 27 esc)
 file(WRITE ${WORK}/esc.mtl "newmtl paint${esc}[2J\nKd 0.5 0.5 0.5\n")
 file(WRITE ${WORK}/esc.obj "mtllib esc.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl paint${esc}[2J\nf 1 2 3\n")
+file(COPY_FILE ${WORK}/esc.obj ${WORK}/esc${esc}c.obj)
 expect_without(0 "\n  paint\\\\x1b\\[2J +diffuse +1 tris" "${esc}" info --scene ${WORK}/esc.obj)
+# So does every error that quotes a path or an argument the CLI checked itself (an output
+# folder, an option CLI11 did not expect, a misspelt command): they printed the bytes raw.
+expect_without(2 "--out .*no\\\\x1b\\[2J/x\\.png: folder .*no\\\\x1b\\[2J does not exist" "${esc}"
+               render --width 8 --height 8 --out ${WORK}/no${esc}[2J/x.png)
+expect_without(2 "not expected: --x\\\\x1b\\[2J\n" "${esc}" render --x${esc}[2J)
+expect_without(2 "unknown command 'r\\\\x1b\\[2J'" "${esc}" r${esc}[2J)
+# The summaries and warnings that name a file escape it too (ESC c resets a terminal; a '['
+# would group a CMake list's arguments).
+expect_without(0 "wrote .*e\\\\x1bc\\.png \\(8x8" "${esc}" render --width 8 --height 8 --spp 1 --out ${WORK}/e${esc}c.png)
+expect_without(0 "wrote .*e\\\\x1bc\\.pfm" "${esc}" render --width 8 --height 8 --spp 1 --out ${WORK}/e${esc}c.pfm)
+expect_without(0 "wrote .*d\\\\x1bc\\.png.*warning: .*e\\\\x1bc\\.png is a PNG.*e\\\\x1bc\\.pfm is not" "${esc}"
+               diff ${WORK}/e${esc}c.png ${WORK}/e${esc}c.pfm --out ${WORK}/d${esc}c.png)
+expect_without(0 "scene: .*esc\\\\x1bc\\.obj" "${esc}" info --scene ${WORK}/esc${esc}c.obj)
 expect(0 "--accel" trace --help)
 expect(0 "^rayscout [0-9]+\\.[0-9]+" --version)
 expect(2 "unknown option '--width' \\(options follow the command" --width 8 render)
