@@ -26,7 +26,8 @@ CommandRegistration registration{[](CLI::App& app) {
   set_memory_hint(*cmd, "compare smaller images");
   cmd->add_option("A", opts->a, "image (.png, .exr, .pfm)")->required()->check(file_path());
   cmd->add_option("B", opts->b, "reference image")->required()->check(file_path());
-  cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)")->check(file_path());
+  cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)")
+      ->check(output_file_path());
   cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)")
       ->capture_default_str()
       ->transform(in_range(0.0f));

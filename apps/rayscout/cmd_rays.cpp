@@ -85,7 +85,7 @@ CommandRegistration registration{[](CLI::App& app) {
       ->capture_default_str()
       ->transform(in_range(0.0f));
   add_accel_options(*cmd, args->accel, "that finds the primary hits");
-  cmd->add_option("--out", args->out, "output RAYS file")->required()->check(file_path());
+  cmd->add_option("--out", args->out, "output RAYS file")->required()->check(output_file_path());
   cmd->callback([args, cmd] {
     if (cmd->count("--ao-radius") > 0 && args->workload != "ao")
       fmt::print(stderr, "rayscout: warning: --ao-radius is ignored by --workload {}\n", args->workload);

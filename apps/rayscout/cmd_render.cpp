@@ -332,7 +332,7 @@ void add_render_options(CLI::App& cmd, RenderOptions& o) {
   cmd.add_option("--stats", o.stats,
                  "write JSON stats to this file ('-' = stdout, which then holds only the JSON: the summary lines go to "
                  "stderr)")->check(file_path());
-  cmd.add_option("--out", o.out, "output image: .png, .exr or .pfm")->capture_default_str()->check(file_path());
+  cmd.add_option("--out", o.out, "output image: .png, .exr or .pfm")->capture_default_str()->check(output_file_path());
 }
 
 // An option the chosen integrator does not read is reported, not dropped silently.

@@ -124,7 +124,7 @@ CommandRegistration registration{[](CLI::App& app) {
       ->capture_default_str()
       ->transform(in_range(1));
   cmd->add_flag("--count", args->count, "add exact work counters (from a separate, untimed run)");
-  cmd->add_option("--out", args->out, "write the hits (HITS file, or OCCL with --occluded)")->check(file_path());
+  cmd->add_option("--out", args->out, "write the hits (HITS file, or OCCL with --occluded)")->check(output_file_path());
   cmd->callback([args] { run_trace(*args); });
 }};
 

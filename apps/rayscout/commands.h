@@ -56,6 +56,11 @@ void add_threads_option(CLI::App& cmd, int& threads);
 /// Cornell box, --stats "" wrote nothing).
 CLI::Validator file_path();
 
+/// file_path() for an output that cannot go to stdout (an image, a ray file, a log): "-" is
+/// refused too, where it would write a file called '-' (rays and trace print their summary on
+/// stdout; only render's --stats takes "-" for stdout).
+CLI::Validator output_file_path();
+
 /// Use with ->transform(in_range(lo, hi)): the option's value must be a number in [lo, hi]
 /// (hi omitted: >= lo, finite). Unlike CLI::Range it rejects NaN and infinity, reads integers
 /// as decimal (CLI11 alone reads "010" as 8) and rejects "-1" for an unsigned option (CLI11

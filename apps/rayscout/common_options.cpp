@@ -14,6 +14,15 @@ CLI::Validator file_path() {
       "");
 }
 
+CLI::Validator output_file_path() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        if (text == "-") return std::string("'-' is not standard output here: name a file (./- for one called '-')");
+        return file_path()(text);
+      },
+      "");
+}
+
 void add_scene_option(CLI::App& cmd, std::string& scene, bool required) {
   const std::string help = "a .json scene file (docs/scene-format.md), a mesh (.obj, .ply, .gltf, .glb) or cornell, "
                            "the built-in Cornell box";

@@ -66,9 +66,10 @@ void add_manylight_options(CLI::App& cmd) {
       ->transform(in_range<uint64_t>(0));
   cmd.add_option("--reference", o.reference, "manylight: reference image (.exr/.pfm); RMSE after every pass")
       ->check(file_path());
-  cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)")->check(file_path());
+  cmd.add_option("--rmse-log", o.rmse_log, "manylight: write RMSE over time (.json or .csv)")
+      ->check(output_file_path());
   cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)")
-      ->check(file_path());
+      ->check(output_file_path());
   cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")
       ->capture_default_str()
       ->transform(in_range(0.0f));

@@ -80,6 +80,19 @@ expect_empty_path(--rays trace --scene cornell)
 expect_empty_path(--out trace --scene cornell --rays ${WORK}/x.rays)
 expect_empty_path(--out rays --scene cornell)
 expect_empty_path(--out diff a.png b.png)
+# "-" is stdout only for render's --stats: as another output it wrote a file called '-' (rays
+# then said "wrote 64 primary rays ... to -").
+foreach(cmdline "rays --scene cornell --width 8 --height 8" "trace --scene cornell --rays x.rays" "render"
+                "render --integrator manylight --skip-image" "render --integrator manylight --rmse-log" "diff a.png b.png")
+  separate_arguments(args UNIX_COMMAND "${cmdline}")
+  set(option --out)
+  if(cmdline MATCHES "(--skip-image|--rmse-log)$")
+    set(option ${CMAKE_MATCH_1})
+    list(REMOVE_AT args -1)
+  endif()
+  expect(2 "^rayscout: error: ${option}: '-' is not standard output here: name a file \\(\\./- for one called '-'\\)\n"
+         ${args} ${option} -)
+endforeach()
 # diff's positionals are named A and B, as its description and compare-hits name them.
 expect(2 "^rayscout: error: B is required\nRun 'rayscout diff --help'" diff a.png)
 expect_empty_path(--hits-a compare-hits a.occl b.occl)
