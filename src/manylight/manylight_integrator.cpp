@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "rayscout/core/file_extension.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/output_path.h"
 #include "rayscout/core/stopwatch.h"
@@ -122,8 +123,10 @@ class ManylightIntegrator final : public Integrator {
 }  // namespace
 
 std::optional<RmseLogFormat> rmse_log_format(const std::string& path) {
-  if (path.ends_with(".json")) return RmseLogFormat::Json;
-  if (path.ends_with(".csv")) return RmseLogFormat::Csv;
+  // In any case, as image extensions are (.PNG is a PNG).
+  const std::string ext = lower_extension(path);
+  if (ext == ".json") return RmseLogFormat::Json;
+  if (ext == ".csv") return RmseLogFormat::Csv;
   return std::nullopt;
 }
 

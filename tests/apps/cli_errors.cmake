@@ -338,6 +338,14 @@ file(WRITE ${WORK}/away.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "
 expect(0 "warning: no diffuse rays: every primary ray missed the scene" rays --scene ${WORK}/away.json --workload diffuse
        --width 8 --height 8 --out ${WORK}/away.rays)
 expect(0 "--ao-radius is ignored by --workload shadow" rays --scene cornell --workload shadow --width 8 --height 8 --ao-radius 1 --out ${WORK}/s.rays)
+# The log's format is read from its extension in any case, as an image's is (log.CSV was refused).
+expect(0 "wrote" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 2 --rmse-log ${WORK}/log.CSV
+       --out ${WORK}/x.pfm)
+file(STRINGS ${WORK}/log.CSV log_lines)
+list(LENGTH log_lines log_count)
+if(NOT log_count EQUAL 3)
+  message(FATAL_ERROR "--rmse-log log.CSV holds ${log_count} lines, expected a header and 2 passes")
+endif()
 expect(0 "--rmse-log without --reference logs passes and skip rates only" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 1 --rmse-log ${WORK}/log.csv --out ${WORK}/x.pfm)
 # --count prints the work per ray even without --stats (64 camera and 64 AO rays).
 expect(0 "work: 128 rays, per ray [0-9.]+ traversal steps, [0-9.]+ ray-box tests, [0-9.]+ ray-triangle tests" render --integrator ao --ao-samples 1 --width 8 --height 8 --spp 1 --count --out ${WORK}/x.png)

@@ -28,8 +28,8 @@ struct ManylightRunOptions {
   std::optional<uint64_t> pass_seed;
 };
 
-/// How an RMSE log is written, by the end of its file name: ".json" or ".csv"; nullopt for
-/// any other name.
+/// How an RMSE log is written, by the end of its file name: ".json" or ".csv" in any case;
+/// nullopt for any other name.
 enum class RmseLogFormat { Json, Csv };
 std::optional<RmseLogFormat> rmse_log_format(const std::string& path);
 
