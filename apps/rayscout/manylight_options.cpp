@@ -2,6 +2,7 @@
 // make_manylight_cli_integrator() reads after parsing.
 #include "manylight_options.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -54,9 +55,10 @@ void add_manylight_options(CLI::App& cmd) {
   cmd.add_option("--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)")
       ->capture_default_str()
       ->transform(in_range(0.0));
+  // At most INT_MAX: the progress line counts passes in an int (2^32 + 1 showed 'pass 2/1').
   cmd.add_option("--passes", o.passes, "manylight: passes when there is no time budget")
       ->capture_default_str()
-      ->transform(in_range<size_t>(1));
+      ->transform(in_range<size_t>(1, size_t(std::numeric_limits<int>::max())));
   cmd.add_option("--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass")
       ->capture_default_str()
       ->transform(in_range(1));

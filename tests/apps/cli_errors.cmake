@@ -186,7 +186,9 @@ expect(2 "--seed: '18446744073709551616' is not a number" ${R} --seed 1844674407
 expect(2 "--width: '100000' is not a number in \\[1, 32768\\]" ${R} --width 100000)
 expect(2 "--vpls: '-1' is not a number" ${R} --integrator manylight --vpls -1)
 expect(2 "--vpls: '0' is not a number" ${R} --integrator manylight --vpls 0)
-expect(2 "--passes: '-1' is not a number >= 1" ${R} --integrator manylight --passes -1)
+expect(2 "--passes: '-1' is not a number in \\[1, 2147483647\\]" ${R} --integrator manylight --passes -1)
+expect(2 "--passes: '4294967297' is not a number in \\[1, 2147483647\\]" ${R} --integrator manylight --passes 4294967297
+       --vpls 20 --time-budget 0.01)  # (the budget ends the render at once where the value is accepted)
 expect(2 "--time-budget: 'inf' is not a number >= 0" ${R} --integrator manylight --time-budget inf)
 expect(2 "--clamp-distance: '-1' is not a number >= 0" ${R} --integrator manylight --clamp-distance -1)
 expect(2 "--visibility-samples: '0' is not a number in \\[1, 65536\\]" ${R} --integrator manylight --visibility-samples 0)
