@@ -147,29 +147,23 @@ CommandRegistration registration{[](CLI::App& app) {
   set_memory_hint(*cmd, "compare smaller files");
   cmd->add_option("A", args->a, "reference HITS or OCCL file")->required()->check(file_path());
   cmd->add_option("B", args->b, "candidate file of the same kind")->required()->check(file_path());
-  cmd->add_option("--tolerance", args->tolerance,
-                  "relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
-                  "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms). 0 = bit-identical: same "
-                  "triangle (no ties), t, u and v, and no grazing contact excused (as --strict)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
+  add_number(*cmd, "--tolerance", args->tolerance,
+             "relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
+             "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms). 0 = bit-identical: same "
+             "triangle (no ties), t, u and v, and no grazing contact excused (as --strict)", 0.0f);
   cmd->add_option("--rays", args->rays,
                   "the RAYS file both were traced from: judge distances in world space, where float "
                   "coordinates have their precision (a hit near the origin far from the world origin)")
       ->check(file_path());
-  cmd->add_option("--edge-eps", args->edge_eps,
-                  "a hit with a barycentric <= this is a grazing (edge/vertex) contact")
-      ->capture_default_str()
-      ->transform(in_range(0.0f, 1.0f));
+  add_number(*cmd, "--edge-eps", args->edge_eps,
+             "a hit with a barycentric <= this is a grazing (edge/vertex) contact", 0.0f, 1.0f);
   cmd->add_option("--hits-a", args->hits_a,
                   "OCCL only: A's closest hits (HITS file) of the same rays, so that a disagreement whose "
                   "blocker is a grazing contact is not counted")->check(file_path());
   cmd->add_option("--hits-b", args->hits_b, "OCCL only: B's closest hits of the same rays")->check(file_path());
-  cmd->add_option("--max-grazing", args->max_grazing,
-                  "largest share of the rays whose disagreement a grazing contact may excuse; above it the "
-                  "files differ (a tracer reporting t = 0 or u = v = 0 would otherwise excuse itself)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f, 1.0f));
+  add_number(*cmd, "--max-grazing", args->max_grazing,
+             "largest share of the rays whose disagreement a grazing contact may excuse; above it the "
+             "files differ (a tracer reporting t = 0 or u = v = 0 would otherwise excuse itself)", 0.0f, 1.0f);
   cmd->add_flag("--strict", args->strict, "count disagreements at grazing contacts as errors too");
   cmd->callback([args, cmd] {
     for (const char* option : {"--tolerance", "--edge-eps", "--max-grazing", "--strict"})

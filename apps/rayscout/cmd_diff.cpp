@@ -28,9 +28,8 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("B", opts->b, "reference image")->required()->check(file_path());
   cmd->add_option("--out", opts->out, "write a false-colour difference image (.png, .exr or .pfm)")
       ->check(output_file_path());
-  cmd->add_option("--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
+  add_number(*cmd, "--scale", opts->scale, "difference shown as red (0 = largest difference; NaN/inf pixels are red)",
+             0.0f);
   cmd->add_option("--max-rmse", opts->max_rmse,
                   "exit with status 1 when the RMSE is above this (or NaN); not given: always exit 0")
       ->transform(in_range(0.0));

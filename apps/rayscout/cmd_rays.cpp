@@ -77,13 +77,11 @@ CommandRegistration registration{[](CLI::App& app) {
                                                 "pixels whose primary ray missed are left out")
       ->capture_default_str()
       ->check(CLI::IsMember(workload_names()));
-  cmd->add_option("--width", args->config.width, "image width in pixels")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--height", args->config.height, "image height in pixels")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--spp", args->config.spp, "camera samples per pixel")->capture_default_str()->transform(in_range(1));
-  cmd->add_option("--seed", args->config.seed, "random seed")->capture_default_str()->transform(in_range<uint64_t>(0));
-  cmd->add_option("--ao-radius", args->config.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
+  add_number(*cmd, "--width", args->config.width, "image width in pixels", 1);
+  add_number(*cmd, "--height", args->config.height, "image height in pixels", 1);
+  add_number(*cmd, "--spp", args->config.spp, "camera samples per pixel", 1);
+  add_number(*cmd, "--seed", args->config.seed, "random seed", 0);
+  add_number(*cmd, "--ao-radius", args->config.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)", 0.0f);
   add_accel_options(*cmd, args->accel, "that finds the primary hits");
   cmd->add_option("--out", args->out, "output RAYS file")->required()->check(output_file_path());
   cmd->callback([args, cmd] {

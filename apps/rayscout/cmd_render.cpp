@@ -292,41 +292,25 @@ void add_render_options(CLI::App& cmd, RenderOptions& o) {
       ->check(CLI::IsMember(integrator_name_list()));
   cmd.footer(integrator_help());
   add_accel_options(cmd, o.accel, "to render with", &o.accel_opts);
-  cmd.add_option("--width", c.width, "image width in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
-  cmd.add_option("--height", c.height, "image height in pixels")->capture_default_str()->transform(in_range(1, 1 << 15));
-  cmd.add_option("--spp", c.spp, "camera samples per pixel (width x height x spp below 2^32)")
-      ->capture_default_str()
-      ->transform(in_range(1, 1 << 16));
-  cmd.add_option("--seed", c.seed,
-                 "random seed (same seed and --max-batch, same image: another batch size can move the last bits of a "
-                 "pixel sum; manylight's skipping modes also need --costs and no --time-budget)")
-      ->capture_default_str()
-      ->transform(in_range<uint64_t>(0));
-  cmd.add_option("--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections")
-      ->capture_default_str()
-      ->transform(in_range(0));
-  cmd.add_option("--rr-depth", c.rr_depth,
-                 "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)")
-      ->capture_default_str()
-      ->transform(in_range(0));
-  cmd.add_option("--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit")
-      ->capture_default_str()
-      ->transform(in_range(1));
-  cmd.add_option("--ao-samples", c.ao_samples, "ao: rays per hit")->capture_default_str()->transform(in_range(1));
-  cmd.add_option("--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
-  cmd.add_option("--ray-epsilon", c.ray_epsilon,
-                 "offset of rays leaving a surface, along its normal (0 = 1e-5 x the larger of the scene's diagonal "
-                 "and its largest coordinate)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
-  cmd.add_option("--max-batch", c.max_batch_rays,
-                 "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced "
-                 "in passes of whole samples that stay under this; an image with more pixels is traced in bands of "
-                 "rows, one sample per pass (0 = 2^24)")
-      ->capture_default_str()
-      ->transform(in_range(0L));
+  add_number(cmd, "--width", c.width, "image width in pixels", 1, 1 << 15);
+  add_number(cmd, "--height", c.height, "image height in pixels", 1, 1 << 15);
+  add_number(cmd, "--spp", c.spp, "camera samples per pixel (width x height x spp below 2^32)", 1, 1 << 16);
+  add_number(cmd, "--seed", c.seed,
+             "random seed (same seed and --max-batch, same image: another batch size can move the last bits of a "
+             "pixel sum; manylight's skipping modes also need --costs and no --time-budget)", 0);
+  add_number(cmd, "--max-depth", c.max_depth, "path: bounces; direct/area: mirror reflections", 0);
+  add_number(cmd, "--rr-depth", c.rr_depth,
+             "path: Russian roulette after this many bounces (pbrt-v3's 3; >= max-depth - 1 = never)", 0);
+  add_number(cmd, "--light-samples", c.light_samples, "area/path: shadow rays to area lights per hit", 1);
+  add_number(cmd, "--ao-samples", c.ao_samples, "ao: rays per hit", 1);
+  add_number(cmd, "--ao-radius", c.ao_radius, "ao: ray length (0 = 10% of the scene diagonal)", 0.0f);
+  add_number(cmd, "--ray-epsilon", c.ray_epsilon,
+             "offset of rays leaving a surface, along its normal (0 = 1e-5 x the larger of the scene's diagonal "
+             "and its largest coordinate)", 0.0f);
+  add_number(cmd, "--max-batch", c.max_batch_rays,
+             "camera rays per pass, which bounds memory (~200-400 bytes a ray): the samples per pixel are traced "
+             "in passes of whole samples that stay under this; an image with more pixels is traced in bands of "
+             "rows, one sample per pass (0 = 2^24)", 0L);
   add_threads_option(cmd, o.threads);
   cmd.add_flag("--count", c.count, "count traversal steps and box/triangle tests (slower); printed, and in --stats");
   cmd.add_option("--stats", o.stats,

@@ -120,9 +120,7 @@ CommandRegistration registration{[](CLI::App& app) {
   add_accel_options(*cmd, args->accel, "to trace with", &args->accel_opts);
   cmd->add_flag("--occluded", args->occluded, "any-hit queries (shadow rays) instead of closest hits");
   add_threads_option(*cmd, args->threads);
-  cmd->add_option("--repeat", args->repeat, "timed repetitions after one warm-up; trace_ms is their median")
-      ->capture_default_str()
-      ->transform(in_range(1));
+  add_number(*cmd, "--repeat", args->repeat, "timed repetitions after one warm-up; trace_ms is their median", 1);
   cmd->add_flag("--count", args->count, "add exact work counters (from a separate, untimed run)");
   cmd->add_option("--out", args->out, "write the hits (HITS file, or OCCL with --occluded)")->check(output_file_path());
   cmd->callback([args] { run_trace(*args); });

@@ -87,4 +87,12 @@ CLI::Validator in_range(T lo, T hi = std::numeric_limits<T>::max()) {
       open ? "min " + CLI::detail::to_string(lo) : range);  // help: "INT:min 1=4" (4 is the default)
 }
 
+/// Adds option `name` holding a number in [lo, hi] (in_range; hi omitted: >= lo), its default
+/// (value's initial value) shown in --help: what every numeric option with a default repeated.
+template <typename T>
+CLI::Option* add_number(CLI::App& cmd, const std::string& name, T& value, const std::string& help,
+                        std::type_identity_t<T> lo, std::type_identity_t<T> hi = std::numeric_limits<T>::max()) {
+  return cmd.add_option(name, value, help)->capture_default_str()->transform(in_range<T>(lo, hi));
+}
+
 }  // namespace rayscout::cli

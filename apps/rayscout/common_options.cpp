@@ -49,7 +49,7 @@ AcceleratorOptions checked_accel_options(const std::string& accel, const std::ve
 }
 
 void add_threads_option(CLI::App& cmd, int& threads) {
-  cmd.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str()->transform(in_range(0));
+  add_number(cmd, "--threads", threads, "worker threads (0 = all cores)", 0);
 }
 
 }  // namespace rayscout::cli

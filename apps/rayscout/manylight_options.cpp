@@ -46,22 +46,16 @@ const ManylightRunOptions& manylight_cli_options() { return parsed_options(); }
 void add_manylight_options(CLI::App& cmd) {
   ManylightRunOptions& o = parsed_options();
   ManylightConfig& c = o.config;
-  cmd.add_option("--vpls", c.vpl_count, "manylight: VPLs to make, at least this many (whole light paths are kept, so a few more)")
-      ->capture_default_str()
-      ->transform(in_range<size_t>(1, 4294967295));
+  add_number(cmd, "--vpls", c.vpl_count,
+             "manylight: VPLs to make, at least this many (whole light paths are kept, so a few more)", 1, 4294967295);
   cmd.add_option("--visibility", parsed_visibility(), "manylight: exact, veach, conservative or proposed")
       ->capture_default_str()
       ->check(CLI::IsMember(visibility_mode_names()));
-  cmd.add_option("--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)")
-      ->capture_default_str()
-      ->transform(in_range(0.0));
+  add_number(cmd, "--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)", 0.0);
   // At most INT_MAX: the progress line counts passes in an int (2^32 + 1 showed 'pass 2/1').
-  cmd.add_option("--passes", o.passes, "manylight: passes when there is no time budget")
-      ->capture_default_str()
-      ->transform(in_range<size_t>(1, size_t(std::numeric_limits<int>::max())));
-  cmd.add_option("--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass")
-      ->capture_default_str()
-      ->transform(in_range(1));
+  add_number(cmd, "--passes", o.passes, "manylight: passes when there is no time budget", 1,
+             size_t(std::numeric_limits<int>::max()));
+  add_number(cmd, "--vpl-samples", c.samples_per_pass, "manylight: VPL samples per shading point per pass", 1);
   cmd.add_option("--pass-seed", o.pass_seed,
                  "manylight: seed of the render passes only (default: --seed, which also makes the VPLs and shading "
                  "points); render a --reference with another one, so that its noise is independent of the run's")
@@ -72,23 +66,14 @@ void add_manylight_options(CLI::App& cmd) {
       ->check(output_file_path());
   cmd.add_option("--skip-image", o.skip_image, "manylight: write the per-pixel skip rate (white = skipped)")
       ->check(output_file_path());
-  cmd.add_option("--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
-  cmd.add_option("--clamp-distance", c.clamp_distance, "manylight: geometry-term clamp distance (0 = off)")
-      ->capture_default_str()
-      ->transform(in_range(0.0f));
-  cmd.add_option("--shading-clusters", c.shading_clusters,
-                 "manylight: shading-point clusters, rounded up to a power of two, at most the shading points")
-      ->capture_default_str()
-      ->transform(in_range(1));
-  cmd.add_option("--vpl-clusters", c.vpl_clusters,
-                 "manylight: VPL clusters, rounded up to a power of two, at most the VPLs")
-      ->capture_default_str()
-      ->transform(in_range(1));
-  cmd.add_option("--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair")
-      ->capture_default_str()
-      ->transform(in_range(1, kMaxPairSamples));
+  add_number(cmd, "--epsilon", c.epsilon, "manylight: floor of (v - r)^2 in proposed", 0.0f);
+  add_number(cmd, "--clamp-distance", c.clamp_distance, "manylight: geometry-term clamp distance (0 = off)", 0.0f);
+  add_number(cmd, "--shading-clusters", c.shading_clusters,
+             "manylight: shading-point clusters, rounded up to a power of two, at most the shading points", 1);
+  add_number(cmd, "--vpl-clusters", c.vpl_clusters,
+             "manylight: VPL clusters, rounded up to a power of two, at most the VPLs", 1);
+  add_number(cmd, "--visibility-samples", c.visibility_samples, "manylight: shadow rays per cluster pair", 1,
+             kMaxPairSamples);
   cmd.add_flag("--cpu-clock", c.cpu_clock, "manylight: time budget and calibration in process CPU time");
   cmd.add_option("--costs", parsed_costs(),
                  "manylight: EVAL,SKIP microseconds per VPL sample with / without its shadow ray, instead of "
