@@ -45,6 +45,14 @@ Image test_image() {
   return img;
 }
 
+// The data of a 2x1 PFM (little-endian floats, as the header's -1.0 says): 0.1, 0.2, ... 0.6.
+std::string two_pixel_pfm_data() {
+  std::string px(24, '\0');
+  const float values[6] = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
+  std::memcpy(px.data(), values, sizeof values);
+  return px;
+}
+
 bool bit_equal(const Image& a, const Image& b) {
   return a.width == b.width && a.height == b.height &&
          std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Vec3)) == 0;
@@ -303,9 +311,7 @@ TEST(ImageIo, PfmHugeHeaderIsCheckedAgainstTheFileSize) {
 // and a header with Windows line ends (CR LF) left the LF as the first data byte, so every
 // float was shifted by a byte (values near 1e8 instead of 0.1 ... 0.6).
 TEST(ImageIo, PfmWithMoreDataThanItsPixelsIsRefused) {
-  std::string px(24, '\0');
-  const float values[6] = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
-  std::memcpy(px.data(), values, sizeof values);
+  const std::string px = two_pixel_pfm_data();
   const fs::path crlf = temp_file("crlf.pfm"), extra = temp_file("extra.pfm"), ok = temp_file("ok.pfm");
   std::ofstream(crlf, std::ios::binary) << "PF\r\n2 1\r\n-1.0\r\n" << px;
   std::ofstream(extra, std::ios::binary) << "PF\n2 1\n-1.0\n" << px << "abcd";
@@ -336,9 +342,7 @@ TEST(ImageIo, PfmSidesAreLimitedAsPngAndExr) {
 // header "-1.0X" read, and one with no separator at all said "truncated PFM data" (the first
 // data byte had gone as the separator), not what was wrong.
 TEST(ImageIo, PfmScaleMustBeFollowedByWhitespace) {
-  std::string px(24, '\0');
-  const float values[6] = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f};
-  std::memcpy(px.data(), values, sizeof values);
+  const std::string px = two_pixel_pfm_data();
   const fs::path letter = temp_file("letter.pfm"), none = temp_file("none.pfm");
   std::ofstream(letter, std::ios::binary) << "PF\n2 1\n-1.0X" << px;
   std::ofstream(none, std::ios::binary) << "PF\n2 1\n-1.0" << px;
