@@ -91,14 +91,15 @@ Shaft::Shaft(const ShaftGrid& grid, uint32_t voxel, const ShaftGrid::CellRange& 
     if (!(pos || neg)) continue;
     // Each side plane is a bevel plane: neighbouring edges differ in one face coordinate,
     // so cross(e_i, e_i+1) is a multiple of cross(e_i, that face axis). A repeated axis
-    // decides nothing and took a second 16-slot row in most shafts.
+    // decides nothing. So at most 3 faces + 12 bevels remain: one 16-slot row. (Were a
+    // rounding to keep a 17th, dropping it would only cull less: still conservative.)
     const auto same = [&](const D3& m) { return dot3(m, n) > 1.0 - 1e-9; };
-    if (std::none_of(axes_.begin(), axes_.begin() + axis_count_, same)) axes_[size_t(axis_count_++)] = n;
+    if (axis_count_ < kAxes && std::none_of(axes_.begin(), axes_.begin() + axis_count_, same))
+      axes_[size_t(axis_count_++)] = n;
   }
   // Float copies of the axes (rounding to float moves a unit axis by ~6e-8, far less than
   // the 1e-4 by which the real cone lies inside the padded cone's planes, so every float
   // axis still has the whole real cone on its positive side: a valid separating axis).
-  rows_ = std::max(1, (axis_count_ + kRow - 1) / kRow);
   for (int a = 0; a < axis_count_; ++a)
     for (int k = 0; k < 3; ++k) {
       const float c = float(axes_[size_t(a)][k]);

@@ -60,29 +60,24 @@ class Shaft {
   /// Conservative: the support value max n.x over B (-) V is rejected only below -tol, tol
   /// above its float rounding error; the float axes are valid separating axes because the
   /// real cone lies inside the padded one by far more than their rounding (see shaft.cpp).
-  /// The axes sit in rows of 16 slots (one AVX-512 register); only the used rows are tested.
+  /// The axes fill one row of 16 float slots (one AVX-512 register).
   bool overlaps(const BoxDiff& d) const {
 #if defined(__AVX512F__)
     const __m512 hx = _mm512_set1_ps(d.hi[0]), lx = _mm512_set1_ps(d.lo[0]);
     const __m512 hy = _mm512_set1_ps(d.hi[1]), ly = _mm512_set1_ps(d.lo[1]);
     const __m512 hz = _mm512_set1_ps(d.hi[2]), lz = _mm512_set1_ps(d.lo[2]);
-    const __m512 limit = _mm512_set1_ps(-tol_);
-    for (int r = 0; r < rows_; ++r) {
-      const int o = r * kRow;
-      // Same operations in the same order as the scalar loop (no contraction).
-      __m512 m = _mm512_mul_ps(_mm512_loadu_ps(pos_[0] + o), hx);
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[0] + o), lx));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(pos_[1] + o), hy));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[1] + o), ly));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(pos_[2] + o), hz));
-      m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[2] + o), lz));
-      if (_mm512_cmp_ps_mask(m, limit, _CMP_LT_OQ)) return false;
-    }
-    return true;
+    // Same operations in the same order as the scalar loop (no contraction).
+    __m512 m = _mm512_mul_ps(_mm512_loadu_ps(pos_[0]), hx);
+    m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[0]), lx));
+    m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(pos_[1]), hy));
+    m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[1]), ly));
+    m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(pos_[2]), hz));
+    m = _mm512_add_ps(m, _mm512_mul_ps(_mm512_loadu_ps(neg_[2]), lz));
+    return _mm512_cmp_ps_mask(m, _mm512_set1_ps(-tol_), _CMP_LT_OQ) == 0;
 #else
     const float limit = -tol_;
     int separated = 0;  // an integer or-reduction vectorises (a float min does not without fast-math)
-    for (int a = 0, end = rows_ * kRow; a < end; ++a) {
+    for (int a = 0; a < kAxes; ++a) {
       const float m = pos_[0][a] * d.hi[0] + neg_[0][a] * d.lo[0] + pos_[1][a] * d.hi[1] + neg_[1][a] * d.lo[1] +
                       pos_[2][a] * d.hi[2] + neg_[2][a] * d.lo[2];
       separated |= m < limit ? 1 : 0;
@@ -90,9 +85,9 @@ class Shaft {
     return separated == 0;
 #endif
   }
-  /// Axis slots of the float test (unused slots are zero axes, which always pass), in rows
-  /// of kRow.
-  static constexpr int kAxes = 32, kRow = 16;
+  /// Axis slots of the float test (unused slots are zero axes, which always pass): room for
+  /// the at most 15 distinct culling axes.
+  static constexpr int kAxes = 16;
   /// Conservative: false only when no ray of the shaft can reach any point of b.
   bool overlaps(const Bounds3& b) const { return !b.empty() && overlaps(diff(b)); }
   /// Culling axes in use (distinct; for tests).
@@ -130,11 +125,10 @@ class Shaft {
   /// pos . hi + neg . lo.
   alignas(64) float pos_[3][kAxes] = {}, neg_[3][kAxes] = {};
   float tol_ = 0.0f;
-  int rows_ = 1;  ///< rows of kRow axis slots holding the used axes
   /// n with cone . n >= 0, no two alike: at most 3 faces + 12 bevels, as the 4 sides repeat
-  /// bevels (room for all 19 candidates; fixed storage: shafts are copied per group and voxel,
-  /// and heap allocations showed in the build profile).
-  std::array<std::array<double, 3>, 19> axes_{};
+  /// bevels (fixed storage: shafts are copied per group and voxel, and heap allocations
+  /// showed in the build profile).
+  std::array<std::array<double, 3>, kAxes> axes_{};
   int axis_count_ = 0;
   Bounds3 voxel_;
   ShaftGrid::CellRange cell_{};
