@@ -2,6 +2,8 @@
 // real_scene_agreement_test.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <span>
 #include <stdexcept>
@@ -94,7 +96,7 @@ TEST(Embree, RaysEmbreeCannotTraceMissInsteadOfAborting) {
   rays.push_back({{nan, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
   rays.push_back({{-kInfinity, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
   rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {nan, 0.0f, 0.0f}, kInfinity});
-  rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {1e30f, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-1e30f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});  // beyond FLT_LARGE
   rays.push_back({{-10.0f, 0.0f, 0.0f}, nan, {1.0f, 0.0f, 0.0f}, kInfinity});
   rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, nan});
   rays.push_back({{-10.0f, 0.0f, 0.0f}, -1.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
@@ -118,6 +120,44 @@ TEST(Embree, RaysEmbreeCannotTraceMissInsteadOfAborting) {
       if (traceable) {
         EXPECT_EQ(hits.prim[i], ref.prim[i]) << "packet " << packet << ", ray " << i;
       }
+    }
+  }
+}
+
+// Found by review: Embree reads a direction component below 1e-18 as +1e-18 and lost the hits
+// of rays whose direction was about 1e-17 long or shorter, and a direction beyond 1.844e18 was
+// not traced at all. Scaled by 2^e, a ray now gets Embree's answer for the ray as given, with
+// tmin and tmax scaled by 2^-e and t by 2^-e, bit for bit.
+TEST(Embree, DirectionsOfAnyLengthGetTheAnswerOfTheUnscaledRay) {
+  const auto tris = testing::random_soup(3000, 12);
+  RayBatch rays = testing::random_rays(2000, 13);
+  for (size_t i = 0; i < rays.size(); i += 3) rays.tmin[i] = 0.05f;
+  for (size_t i = 0; i < rays.size(); i += 5) rays.tmax[i] = 0.8f;
+  for (const int packet : {1, 16}) {
+    EmbreeConfig config;
+    config.packet = packet;
+    const EmbreeAccelerator accel(tris, config);
+    HitBatch ref;
+    std::vector<uint8_t> ref_occ;
+    accel.intersect(rays, ref);
+    accel.occluded(rays, ref_occ);
+    ASSERT_GT(std::count(ref_occ.begin(), ref_occ.end(), 1), 500) << "the test needs rays that hit";
+    for (const int e : {-90, -64, 64, 100}) {  // 2^-64 = 5.4e-20, 2^64 = 1.8e19
+      RayBatch scaled = rays;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        for (auto* d : {&scaled.dx, &scaled.dy, &scaled.dz}) (*d)[i] = std::ldexp((*d)[i], e);
+        scaled.tmin[i] = std::ldexp(rays.tmin[i], -e);
+        scaled.tmax[i] = std::ldexp(rays.tmax[i], -e);
+      }
+      HitBatch got;
+      std::vector<uint8_t> got_occ;
+      accel.intersect(scaled, got);
+      accel.occluded(scaled, got_occ);
+      size_t differ = 0;
+      for (size_t i = 0; i < rays.size(); ++i)
+        differ += got.prim[i] != ref.prim[i] || got.t[i] != std::ldexp(ref.t[i], -e) || got.u[i] != ref.u[i] ||
+                  got.v[i] != ref.v[i] || got_occ[i] != ref_occ[i];
+      EXPECT_EQ(differ, 0u) << "packet " << packet << ", direction scaled by 2^" << e;
     }
   }
 }

@@ -32,12 +32,16 @@ struct EmbreeConfig {
 /// own triangle test, so t differs from ours in the last bits and exact ties may resolve to
 /// another triangle: compare with a tolerance (1e-4 relative), never bit for bit.
 /// Embree has no work counters: intersect/occluded fill only TraceStats::rays.
-/// Rays Embree cannot trace (an origin or direction component NaN or beyond 1.844e18 in
-/// magnitude, a negative or NaN tmin, a NaN tmax, or tmin > tmax: Embree's RayK::valid() and
-/// tnear >= 0) are not handed to it, since its assertion would abort the process; they miss.
-/// Our own accelerators trace them as brute force does (a finite direction of 1e30 still hits).
-/// Likewise Embree's builder leaves out a triangle with a vertex coordinate beyond 1.844e18
-/// in magnitude, which brute force still hits.
+/// Rays Embree cannot trace (an origin coordinate NaN or beyond FLT_LARGE = 1.844e18 in
+/// magnitude, a NaN direction, a negative or NaN tmin, a NaN tmax, or tmin > tmax: Embree's
+/// RayK::valid() and tnear >= 0) are not handed to it, since its assertion would abort the
+/// process; they miss. Our own accelerators trace them as brute force does.
+/// A finite direction of any length is traced: one whose largest component lies outside
+/// [2^-32, 2^32] is scaled by a power of two first, which changes none of Embree's answers
+/// but t's units (unscaled, Embree lost hits of directions shorter than about 1e-16 and
+/// asserted on those beyond FLT_LARGE).
+/// Embree's builder leaves out a triangle with a vertex coordinate of magnitude FLT_LARGE (the
+/// float 1.844e18f) or more, which brute force still hits.
 class EmbreeAccelerator final : public Accelerator {
  public:
   /// Copies the triangles into an Embree vertex buffer and builds the BVH (timed, with the
