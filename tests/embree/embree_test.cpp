@@ -260,10 +260,11 @@ TEST(Embree, BufferErrorIsReportedAndReleasesEverything) {
   }
 }
 
-// Embree's builder leaves out a triangle with a vertex coordinate beyond 1.844e18 in magnitude
-// (FLT_LARGE, as for rays): brute force hits it, Embree does not (EmbreeAccelerator's comment).
+// Embree's builder leaves out a triangle with a vertex coordinate of magnitude FLT_LARGE (the
+// float 1.844e18f) or more: brute force hits it, Embree does not (EmbreeAccelerator's comment).
 TEST(Embree, TrianglesBeyondEmbreesRangeAreLeftOut) {
-  for (const float s : {1.8e18f, 1.9e18f}) {
+  const float large = 1.844e18f;
+  for (const float s : {1.8e18f, std::nextafter(large, 0.0f), large, 1.9e18f}) {
     const std::vector<Triangle> tri = {{{-s, -s, 1}, {s, -s, 1}, {0, s, 1}}};
     RayBatch rays;
     rays.push_back({{0.0f, 0.0f, 0.0f}, 0.0f, {0, 0, 1}, kInfinity});
@@ -271,7 +272,7 @@ TEST(Embree, TrianglesBeyondEmbreesRangeAreLeftOut) {
     EmbreeAccelerator(tri).intersect(rays, embree);
     BruteForce(tri).intersect(rays, brute);
     EXPECT_EQ(brute.prim[0], 0u) << s;
-    EXPECT_EQ(embree.prim[0], s < 1.844e18f ? 0u : kInvalidId) << s;
+    EXPECT_EQ(embree.prim[0], s < large ? 0u : kInvalidId) << s;
   }
 }
 
