@@ -149,7 +149,8 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->add_option("B", args->b, "candidate file of the same kind")->required()->check(file_path());
   add_number(*cmd, "--tolerance", args->tolerance,
              "relative t tolerance: |tA - tB| <= tol * max(1, tA); with --rays in world space: "
-             "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (max norms). 0 = bit-identical: same "
+             "|tA - tB| |d| <= tol * max(1, |o|, |hit point|) (|d| the direction's length, |o| and |hit point| "
+             "their largest coordinate; the hit point is A's). 0 = bit-identical: same "
              "triangle (no ties), t, u and v, and no grazing contact excused (as --strict)", 0.0f);
   cmd->add_option("--rays", args->rays,
                   "the RAYS file both were traced from: judge distances in world space, where float "
