@@ -191,7 +191,10 @@ int main(int argc, char** argv) {
   app.add_option("--clamp-fraction", o.clamp_fraction, "G clamp distance / scene diagonal (0 = off)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e6));
-  app.add_option("--accel", o.accel, "accelerator of the shadow rays (rayscout accelerators lists them)")->capture_default_str();
+  app.add_option("--accel", o.accel,
+                 "accelerator of every ray: light paths, camera paths, cluster visibility and shadow rays "
+                 "(rayscout accelerators lists them)")
+      ->capture_default_str();
   app.add_option("--out-dir", o.out_dir, "folder for rmse_over_time.csv and the images (the default holds the committed results)")
       ->capture_default_str();
   app.add_option("--json", o.json, "results file for manylight_tables.py (the default is the committed results)")
