@@ -185,7 +185,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 4096));
   app.add_option("--reps", o.reps, "independent runs per mode")->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--equal-passes", o.equal_passes,
-                 "render this many passes per mode instead of --budget (paired comparison; 0 = use --budget)")
+                 "render this many passes per mode instead of --budget (paired comparison; 0 = use --budget); "
+                 "the reference still takes --budget x --ref-factor")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
   app.add_option("--clamp-fraction", o.clamp_fraction, "G clamp distance / scene diagonal (0 = off)")
