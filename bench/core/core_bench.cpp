@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
   bool no_variants = false;
   app.add_flag("--no-embree-variants", no_variants, "Leave out the embree robust=off and packet=16 columns");
   bool no_bvh2 = false;
-  app.add_flag("--no-bvh2", no_bvh2, "Leave out the bvh2 column (its numbers print as 0)");
+  app.add_flag("--no-bvh2", no_bvh2, "Skip bvh2: no build or trace (its columns print 0)");
   app.add_option("--column", opt.extra, "Extra column label:accel[:key=value,...] (repeatable), e.g. bvh-p1:bvh:presplit=0.1");
   bool cpu_time = false;
   app.add_flag("--cpu-time", cpu_time,
