@@ -97,6 +97,11 @@ Build prepare(const std::string& name, const Scene& scene, const AcceleratorOpti
   }
   std::string known;
   for (const auto& e : registry()) known += (known.empty() ? "" : ", ") + e.info.name;
+#if !RAYSCOUT_WITH_EMBREE
+  if (name == "embree")
+    throw InputError("accelerator 'embree' is not in this build (configured with -DRAYSCOUT_WITH_EMBREE=OFF; known: " +
+                     known + ")");
+#endif
   throw InputError("unknown accelerator '" + name + "' (known: " + known + ")");
 }
 
