@@ -217,6 +217,10 @@ EmbreeAccelerator::EmbreeAccelerator(std::span<const Triangle> triangles, const 
   const auto start = SteadyClock::now();
   const RTCBuildQuality quality = config_.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
   s.scene = rtcNewScene(s.device);
+  if (!s.scene) {  // out of memory; Embree may report it on the thread rather than the device
+    s.throw_if_error("creating the scene");
+    throw std::runtime_error("embree: rtcNewScene failed");
+  }
   rtcSetSceneFlags(s.scene, config_.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
   rtcSetSceneBuildQuality(s.scene, quality);
   if (!triangles.empty()) s.attach_triangles(triangles, quality);
