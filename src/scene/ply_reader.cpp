@@ -115,6 +115,63 @@ struct Header {
   char eol = '\n';  // '\r' for a file with classic Mac line ends ("ply\r" not followed by '\n')
 };
 
+// "format ascii 1.0" from its second word on ([q, e)).
+Format format_statement(const std::filesystem::path& path, size_t line, const char* q, const char* e) {
+  Format format = Format::Ascii;
+  const std::string_view f = next_token(q, e);
+  if (f == "ascii") format = Format::Ascii;
+  else if (f == "binary_little_endian") format = Format::BinaryLittle;
+  else if (f == "binary_big_endian") format = Format::BinaryBig;
+  else fail_at(path, line, "unknown PLY format '" + std::string(f) + "'");
+  const std::string_view version = next_token(q, e);
+  if (version.empty()) fail_at(path, line, "format line without a version (expected 'format " + std::string(f) + " 1.0')");
+  if (double v; !detail::parse_double(version, v) || v != 1.0)
+    fail_at(path, line, "unsupported PLY version '" + std::string(version) + "' (1.0 is the only one)");
+  detail::expect_line_end(q, e, path, line, "format", "the version");
+  return format;
+}
+
+// "element <name> <count>" from its second word on; `earlier` are the elements before it.
+Element element_statement(const std::filesystem::path& path, size_t line, const char* q, const char* e,
+                          const std::vector<Element>& earlier) {
+  Element el;
+  el.name = std::string(next_token(q, e));
+  const std::string_view c = next_token(q, e);
+  long long n;
+  if (el.name.empty() || !detail::parse_int(c, n) || n < 0) fail_at(path, line, "element: expected 'element <name> <count>'");
+  detail::expect_line_end(q, e, path, line, "element", "the count");
+  // Each vertex element would need its own x, y, z positions; one is all a mesh has.
+  if (el.name == "vertex") {
+    for (const auto& other : earlier)
+      if (other.name == "vertex")
+        fail_at(path, line, "a second vertex element (the first is on line " + std::to_string(other.header_line) + ")");
+    if (n > static_cast<long long>(UINT32_MAX))
+      fail_at(path, line, "element vertex: " + std::string(c) + " vertices, more than 32-bit face indices can address");
+  }
+  el.count = size_t(n);
+  el.header_line = line;
+  return el;
+}
+
+// "property <type> <name>" or "property list <count type> <type> <name>" from its second word on.
+Property property_statement(const std::filesystem::path& path, size_t line, const char* q, const char* e) {
+  Property prop;
+  std::string_view t = next_token(q, e);
+  if (t == "list") {
+    prop.is_list = true;
+    const std::string_view ct = next_token(q, e);
+    if (!scalar_from_name(ct, prop.count_type)) fail_at(path, line, "unknown PLY type '" + std::string(ct) + "'");
+    if (prop.count_type == Scalar::Float32 || prop.count_type == Scalar::Float64)
+      fail_at(path, line, "list count type must be an integer type");
+    t = next_token(q, e);
+  }
+  if (!scalar_from_name(t, prop.type)) fail_at(path, line, "unknown PLY type '" + std::string(t) + "'");
+  prop.name = std::string(next_token(q, e));
+  if (prop.name.empty()) fail_at(path, line, "property without a name");
+  detail::expect_line_end(q, e, path, line, "property", "the name");
+  return prop;
+}
+
 // Reads the header from p (left after end_header); line counts the lines read.
 Header read_header(const std::filesystem::path& path, const char*& p, const char* end, size_t& line) {
   Header h;
@@ -131,70 +188,28 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
   std::string_view hl;
   if (!header_line(hl) || hl != "ply") fail_at(path, 1, "not a PLY file (first line must be 'ply')");
   size_t format_line = 0;  // 0 until the format line
-  bool have_end = false;
   std::unordered_map<std::string, size_t> property_lines;  // of the current element: a header may hold 10^6
-  while (header_line(hl)) {
+  for (;;) {
+    if (!header_line(hl)) fail_at(path, line, "header has no end_header");
     const char* q = hl.data();
     const char* e = q + hl.size();
-    std::string_view key = next_token(q, e);
+    const std::string_view key = next_token(q, e);
     if (key.empty() || key == "comment" || key == "obj_info") continue;
     if (key == "end_header") {
       detail::expect_line_end(q, e, path, line, "end_header", "it");
-      have_end = true;
       break;
     }
     if (key == "format") {
       if (format_line)
         fail_at(path, line, "a second format line (the first is on line " + std::to_string(format_line) + ")");
-      std::string_view f = next_token(q, e);
-      if (f == "ascii") h.format = Format::Ascii;
-      else if (f == "binary_little_endian") h.format = Format::BinaryLittle;
-      else if (f == "binary_big_endian") h.format = Format::BinaryBig;
-      else fail_at(path, line, "unknown PLY format '" + std::string(f) + "'");
-      const std::string_view version = next_token(q, e);
-      if (version.empty()) fail_at(path, line, "format line without a version (expected 'format " + std::string(f) + " 1.0')");
-      if (double v; !detail::parse_double(version, v) || v != 1.0)
-        fail_at(path, line, "unsupported PLY version '" + std::string(version) + "' (1.0 is the only one)");
-      detail::expect_line_end(q, e, path, line, "format", "the version");
+      h.format = format_statement(path, line, q, e);
       format_line = line;
     } else if (key == "element") {
-      Element el;
-      el.name = std::string(next_token(q, e));
-      std::string_view c = next_token(q, e);
-      long long n;
-      if (el.name.empty() || !detail::parse_int(c, n) || n < 0)
-        fail_at(path, line, "element: expected 'element <name> <count>'");
-      detail::expect_line_end(q, e, path, line, "element", "the count");
-      // Each vertex element would need its own x, y, z positions; one is all a mesh has.
-      if (el.name == "vertex") {
-        for (const auto& other : h.elements)
-          if (other.name == "vertex")
-            fail_at(path, line,
-                    "a second vertex element (the first is on line " + std::to_string(other.header_line) + ")");
-        if (n > static_cast<long long>(UINT32_MAX))
-          fail_at(path, line,
-                  "element vertex: " + std::string(c) + " vertices, more than 32-bit face indices can address");
-      }
-      el.count = size_t(n);
-      el.header_line = line;
-      h.elements.push_back(std::move(el));
+      h.elements.push_back(element_statement(path, line, q, e, h.elements));
       property_lines.clear();
     } else if (key == "property") {
       if (h.elements.empty()) fail_at(path, line, "property before any element");
-      Property prop;
-      std::string_view t = next_token(q, e);
-      if (t == "list") {
-        prop.is_list = true;
-        std::string_view ct = next_token(q, e);
-        if (!scalar_from_name(ct, prop.count_type)) fail_at(path, line, "unknown PLY type '" + std::string(ct) + "'");
-        if (prop.count_type == Scalar::Float32 || prop.count_type == Scalar::Float64)
-          fail_at(path, line, "list count type must be an integer type");
-        t = next_token(q, e);
-      }
-      if (!scalar_from_name(t, prop.type)) fail_at(path, line, "unknown PLY type '" + std::string(t) + "'");
-      prop.name = std::string(next_token(q, e));
-      if (prop.name.empty()) fail_at(path, line, "property without a name");
-      detail::expect_line_end(q, e, path, line, "property", "the name");
+      Property prop = property_statement(path, line, q, e);
       Element& el = h.elements.back();
       if (const auto [first, fresh] = property_lines.emplace(prop.name, line); !fresh)
         fail_at(path, line, "a second property " + prop.name + " in element " + el.name + " (the first is on line " +
@@ -204,7 +219,6 @@ Header read_header(const std::filesystem::path& path, const char*& p, const char
       fail_at(path, line, "unknown header keyword '" + std::string(key) + "'");
     }
   }
-  if (!have_end) fail_at(path, line, "header has no end_header");
   if (!format_line) throw InputError(detail::display_name(path) + ": header has no format line");
   return h;
 }
