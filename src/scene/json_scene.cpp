@@ -33,6 +33,12 @@ struct Placement {
   std::string source;            // for messages: mesh file or shape
 };
 
+// Camera keys given in the file; the rest come from the framing camera.
+struct CameraFields {
+  std::optional<Vec3> eye, look_at, up;
+  std::optional<float> fov_deg, lens_radius, focus_distance;
+};
+
 class JsonSceneLoader {
  public:
   explicit JsonSceneLoader(const std::filesystem::path& path) : path_(path), f_(display_name(path)) {}
@@ -53,13 +59,21 @@ class JsonSceneLoader {
     for_each_in_array(root, "lights", [&](const Json& j, const std::string& field) {
       parse_light(j, field, scene, placements);
     });
-    const auto maps = material_maps(root, placements, builder, scene);
+    add_placements(placements, material_maps(root, placements, builder, scene), builder, scene);
+    builder.finish(f_.file());
+    warn_unused_materials(root, builder, scene);
+    set_camera_and_default_light(camera, scene);
+    return scene;
+  }
 
+  // Adds every placement's triangles in list order, its mesh's warnings once however often the
+  // mesh is placed (looked up in a set: a search of the list per warning was quadratic, an OBJ
+  // with 100000 undefined materials took 34 s).
+  void add_placements(const std::vector<Placement>& placements, const std::vector<std::vector<uint32_t>>& maps,
+                      detail::SceneBuilder& builder, Scene& scene) const {
     size_t total = 0;
     for (const auto& pl : placements) total += pl.mesh->faces.size();
     builder.reserve(total);
-    // A mesh's warnings once, however often the mesh is placed. Looked up in a set: a search of
-    // the list per warning was quadratic (an OBJ with 100000 undefined materials took 34 s).
     std::unordered_set<std::string> warned(scene.warnings.begin(), scene.warnings.end());
     for (size_t i = 0; i < placements.size(); ++i) {
       const auto& pl = placements[i];
@@ -67,9 +81,11 @@ class JsonSceneLoader {
         if (warned.insert(w).second) scene.warnings.push_back(w);
       builder.add(*pl.mesh, pl.transform, maps[i], f_.file() + ": " + pl.field + " (" + pl.source + ")");
     }
-    builder.finish(f_.file());
-    warn_unused_materials(root, builder, scene);
+  }
 
+  // The file's camera keys over the framing camera of the finished scene; the framing point light
+  // (with a warning) when the scene has no light.
+  void set_camera_and_default_light(const std::optional<CameraFields>& camera, Scene& scene) {
     const Bounds3 bounds = scene.bounds();
     scene.camera = framing_camera(bounds, camera && camera->fov_deg ? *camera->fov_deg : 60.0f);
     apply_camera(camera.value_or(CameraFields{}), scene.camera);
@@ -77,7 +93,6 @@ class JsonSceneLoader {
       scene.point_lights.push_back(framing_light(bounds, scene.camera));
       scene.warnings.push_back(f_.file() + ": no lights; added a point light near the camera");
     }
-    return scene;
   }
 
   // Calls fn(element, field) for each element of the array root[key], if present.
@@ -296,12 +311,6 @@ class JsonSceneLoader {
     pl.material = Json{{"diffuse", Json::array({0, 0, 0})}, {"emission", Json::array({e.x, e.y, e.z})}};
     placements.push_back(std::move(pl));
   }
-
-  // Camera keys given in the file; the rest come from the framing camera.
-  struct CameraFields {
-    std::optional<Vec3> eye, look_at, up;
-    std::optional<float> fov_deg, lens_radius, focus_distance;
-  };
 
   CameraFields parse_camera(const Json& j) {
     f_.check_keys(j, "camera", {"eye", "look_at", "up", "fov_deg", "lens_radius", "focus_distance"});
