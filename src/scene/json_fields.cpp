@@ -88,32 +88,49 @@ std::string format_vec3(const Vec3& v) {
   return s + "]";
 }
 
+// {"matrix": M}: 16 numbers or 4 rows of 4, row-major, last row 0 0 0 1, not singular.
+Transform matrix_transform(const JsonFields& f, const Json& m, const std::string& mf) {
+  std::vector<double> v;
+  if (m.is_array() && m.size() == 16) {
+    for (size_t i = 0; i < 16; ++i) v.push_back(f.number(m[i], JsonFields::index(mf, i)));
+  } else if (m.is_array() && m.size() == 4) {
+    for (size_t r = 0; r < 4; ++r) {
+      if (!m[r].is_array() || m[r].size() != 4) f.fail(JsonFields::index(mf, r), "expected a row of 4 numbers");
+      for (size_t c = 0; c < 4; ++c) v.push_back(f.number(m[r][c], JsonFields::index(JsonFields::index(mf, r), c)));
+    }
+  } else {
+    f.fail(mf, "expected 16 numbers or 4 rows of 4 numbers (row-major)");
+  }
+  if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1) f.fail(mf, "last row must be 0 0 0 1 (affine transforms only)");
+  Transform t;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) t.m[r][c] = v[size_t(r * 4 + c)];
+  // Float entries: the determinant is finite in double; 0 is the singular case.
+  if (t.determinant() == 0) f.fail(mf, "matrix must not be singular (determinant 0 flattens the mesh)");
+  return t;
+}
+
+// {"axis": [x, y, z], "deg": d}, or an array of them applied first to last.
+Transform rotation(const JsonFields& f, const Json& rj, const std::string& rf) {
+  const auto one = [&](const Json& x, const std::string& xf) {
+    f.check_keys(x, xf, {"axis", "deg"});
+    if (!x.contains("axis")) f.fail(JsonFields::join(xf, "axis"), "missing (rotation axis [x, y, z])");
+    if (!x.contains("deg")) f.fail(JsonFields::join(xf, "deg"), "missing (rotation angle in degrees)");
+    return Transform::rotate(f.direction(x["axis"], JsonFields::join(xf, "axis")), f.number(x["deg"], JsonFields::join(xf, "deg")));
+  };
+  if (!rj.is_array()) return one(rj, rf);
+  Transform r;
+  for (size_t i = 0; i < rj.size(); ++i) r = one(rj[i], JsonFields::index(rf, i)) * r;
+  return r;
+}
+
+// One transform object: a "matrix", or scale, then rotate, then translate.
 Transform parse_single_transform(const JsonFields& f, const Json& j, const std::string& field) {
   f.check_keys(j, field, {"translate", "scale", "rotate", "matrix"});
   if (j.contains("matrix")) {
     if (j.contains("translate") || j.contains("scale") || j.contains("rotate"))
       f.fail(field, "\"matrix\" cannot be combined with translate/scale/rotate");
-    const Json& m = j["matrix"];
-    const std::string mf = JsonFields::join(field, "matrix");
-    std::vector<double> v;
-    if (m.is_array() && m.size() == 16) {
-      for (size_t i = 0; i < 16; ++i) v.push_back(f.number(m[i], JsonFields::index(mf, i)));
-    } else if (m.is_array() && m.size() == 4) {
-      for (size_t r = 0; r < 4; ++r) {
-        if (!m[r].is_array() || m[r].size() != 4) f.fail(JsonFields::index(mf, r), "expected a row of 4 numbers");
-        for (size_t c = 0; c < 4; ++c) v.push_back(f.number(m[r][c], JsonFields::index(JsonFields::index(mf, r), c)));
-      }
-    } else {
-      f.fail(mf, "expected 16 numbers or 4 rows of 4 numbers (row-major)");
-    }
-    if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1)
-      f.fail(mf, "last row must be 0 0 0 1 (affine transforms only)");
-    Transform t;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) t.m[r][c] = v[size_t(r * 4 + c)];
-    // Float entries: the determinant is finite in double; 0 is the singular case.
-    if (t.determinant() == 0) f.fail(mf, "matrix must not be singular (determinant 0 flattens the mesh)");
-    return t;
+    return matrix_transform(f, j["matrix"], JsonFields::join(field, "matrix"));
   }
   Transform s, r, t;
   if (j.contains("scale")) {
@@ -122,21 +139,7 @@ Transform parse_single_transform(const JsonFields& f, const Json& j, const std::
     if (sc.x == 0 || sc.y == 0 || sc.z == 0) f.fail(sf, "scale must not be zero (it flattens the mesh)");
     s = Transform::scale(sc);
   }
-  if (j.contains("rotate")) {
-    const Json& rj = j["rotate"];
-    const std::string rf = JsonFields::join(field, "rotate");
-    auto one = [&](const Json& x, const std::string& xf) {
-      f.check_keys(x, xf, {"axis", "deg"});
-      if (!x.contains("axis")) f.fail(JsonFields::join(xf, "axis"), "missing (rotation axis [x, y, z])");
-      if (!x.contains("deg")) f.fail(JsonFields::join(xf, "deg"), "missing (rotation angle in degrees)");
-      return Transform::rotate(f.direction(x["axis"], JsonFields::join(xf, "axis")), f.number(x["deg"], JsonFields::join(xf, "deg")));
-    };
-    if (rj.is_array()) {
-      for (size_t i = 0; i < rj.size(); ++i) r = one(rj[i], JsonFields::index(rf, i)) * r;
-    } else {
-      r = one(rj, rf);
-    }
-  }
+  if (j.contains("rotate")) r = rotation(f, j["rotate"], JsonFields::join(field, "rotate"));
   if (j.contains("translate")) t = Transform::translate(f.vec3(j["translate"], JsonFields::join(field, "translate")));
   return t * r * s;
 }
@@ -181,7 +184,6 @@ void apply_material(const JsonFields& f, const Json& j, const std::string& field
   }
 }
 
-// An object (scale, then rotate, then translate) or an array of them applied first to last.
 Transform parse_transform(const JsonFields& f, const Json& j, const std::string& field) {
   if (j.is_array()) {
     Transform x;
