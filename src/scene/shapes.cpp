@@ -31,7 +31,8 @@ Mesh make_quad_centered(const Vec3& center, const Vec3& normal, float width, flo
   // normal under- or overflows float, and only the direction matters.
   const Vec3 n = normalize(normal / max_component(abs(normal)));
   Vec3 v = up - n * dot(up, n);
-  if (length(v) < 1e-6f) {  // up parallel to the normal: pick any perpendicular direction
+  // Parallel when the sine of their angle is below 1e-6, as for the camera's up, whatever |up|.
+  if (length(v) < 1e-6f * length(up)) {  // pick any perpendicular direction
     v = std::abs(n.x) < 0.9f ? cross(n, Vec3(1, 0, 0)) : cross(n, Vec3(0, 1, 0));
   }
   v = normalize(v);

@@ -79,6 +79,20 @@ TEST(JsonScene, QuadNormalOfAnyLength) {
   }
 }
 
+// The same for a quad's up: a short one not parallel to the normal was taken for parallel (its
+// projection fell below an absolute 1e-6), so the height ran along z, not along the up asked for.
+TEST(JsonScene, QuadUpOfAnyLength) {
+  TempDir dir;
+  for (const char* up : {"[1e-7, 1e-7, 0]", "[1e20, 1e20, 0]", "[1, 1, 0]"}) {
+    const Scene s = load_scene(dir.write("q.json", std::string(R"({"meshes": [{"shape": "quad", "center": [0, 0, 0],
+        "normal": [0, 1, 0], "size": [4, 1], "up": )") + up + "}]}"));
+    ASSERT_EQ(s.triangles.size(), 2u) << up;
+    const Bounds3 b = s.bounds();  // 4 wide along z, 1 high along x
+    expect_near(b.lo, {-0.5f, 0, -2}, 1e-6f);
+    expect_near(b.hi, {0.5f, 0, 2}, 1e-6f);
+  }
+}
+
 TEST(JsonScene, ShapesWithExactVertices) {
   TempDir dir;
   const Scene s = load_scene(dir.write("shapes.json", R"({
