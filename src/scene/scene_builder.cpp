@@ -56,6 +56,28 @@ std::vector<uint32_t> SceneBuilder::intern_all(const Mesh& mesh, const std::stri
   return map;
 }
 
+namespace {
+
+// The readers reject non-finite coordinates, but a shape's corners are sums (a box from -3e38 to
+// 3e38 is infinitely wide), a transform may overflow, and other importers may not check. Finite is
+// not enough: the watertight ray-triangle test multiplies three coordinate differences (its scaled
+// t), which overflows float beyond ~7e12 (wrong hits, t = inf), and the renderer squares distances
+// (light falloff, the scene diagonal). So every vertex must lie within kMaxCoordinate.
+void check_vertices(const std::vector<Vec3>& pos, bool transformed, const std::string& source) {
+  for (size_t i = 0; i < pos.size(); ++i) {
+    const Vec3& p = pos[i];
+    if (is_finite(p) && max_component(abs(p)) <= kMaxCoordinate) continue;
+    const std::string vertex = "vertex " + std::to_string(i);
+    if (!is_finite(p))
+      throw InputError(source + (transformed ? ": the transform makes " + vertex + " non-finite"
+                                             : ": " + vertex + " is not finite (beyond float range)"));
+    throw InputError(source + ": " + vertex + (transformed ? " (transformed)" : "") + " at (" + format_number(p.x) + ", " +
+                     format_number(p.y) + ", " + format_number(p.z) + ") " + std::string(kBeyondMaxCoordinate));
+  }
+}
+
+}  // namespace
+
 void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<uint32_t>& material_map,
                        const std::string& source) {
   const bool identity = xf.is_identity();
@@ -65,21 +87,7 @@ void SceneBuilder::add(const Mesh& mesh, const Transform& xf, const std::vector<
     for (size_t i = 0; i < mesh.positions.size(); ++i) moved.push_back(xf.apply_point(mesh.positions[i]));
   }
   const std::vector<Vec3>& pos = identity ? mesh.positions : moved;
-  // The readers reject non-finite coordinates, but a shape's corners are sums (a box from
-  // -3e38 to 3e38 is infinitely wide), a transform may overflow, and other importers may not
-  // check. Finite is not enough: the watertight ray-triangle test multiplies three coordinate
-  // differences (its scaled t), which overflows float beyond ~7e12 (wrong hits, t = inf), and
-  // the renderer squares distances (light falloff, the scene diagonal).
-  for (size_t i = 0; i < pos.size(); ++i) {
-    const Vec3& p = pos[i];
-    if (is_finite(p) && max_component(abs(p)) <= kMaxCoordinate) continue;
-    const std::string vertex = "vertex " + std::to_string(i);
-    if (!is_finite(p))
-      throw InputError(source + (identity ? ": " + vertex + " is not finite (beyond float range)"
-                                          : ": the transform makes " + vertex + " non-finite"));
-    throw InputError(source + ": " + vertex + (identity ? "" : " (transformed)") + " at (" + format_number(p.x) + ", " +
-                     format_number(p.y) + ", " + format_number(p.z) + ") " + std::string(kBeyondMaxCoordinate));
-  }
+  check_vertices(pos, !identity, source);
   // Grow geometrically: an exact reserve per mesh would copy everything for every mesh added.
   const size_t need = scene_.triangles.size() + mesh.faces.size();
   if (need > scene_.triangles.capacity()) {
