@@ -50,6 +50,15 @@ std::string_view read_key_but_for_case(std::string_view key) {
   return {};
 }
 
+// "unknown MTL statement 'kd' ignored", and when it is a key rayscout reads in other case, "did you
+// mean 'Kd'?".
+std::string unknown_key_warning(const std::filesystem::path& path, size_t line, std::string_view key) {
+  const std::string_view meant = read_key_but_for_case(key);
+  return detail::at_line(path, line,
+                         "unknown MTL statement '" + std::string(key) + "' ignored" +
+                             (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?"));
+}
+
 // One newmtl definition as written: the MTL values, their defaults where absent.
 struct MtlDefinition {
   std::string name;
@@ -102,12 +111,7 @@ std::vector<MtlDefinition> read_definitions(const std::filesystem::path& path, s
   detail::for_each_statement(data, [&](size_t line, std::string_view key, const char* q, const char* end) {
     if (!is_read_statement(key) && key != "newmtl" && !ignored_mtl_statement(key)) {
       refuse_binary_line({key.data(), size_t(end - key.data())}, any_statement, path, line, "MTL");
-      if (!unknown_keys.emplace(key).second || !warnings) return;
-      const std::string_view meant = read_key_but_for_case(key);
-      warnings->push_back(detail::at_line(
-          path, line,
-          "unknown MTL statement '" + std::string(key) + "' ignored" +
-              (meant.empty() ? "" : "; keys are case-sensitive: did you mean '" + std::string(meant) + "'?")));
+      if (warnings && unknown_keys.emplace(key).second) warnings->push_back(unknown_key_warning(path, line, key));
       return;
     }
     any_statement = true;
