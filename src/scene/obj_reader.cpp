@@ -208,8 +208,8 @@ class ObjReader {
   }
 
   // The mesh's materials, in order of first use: from the libraries, else a grey diffuse. An
-  // undefined name is warned about at its first use; when a library is missing, that explains
-  // them all, and one warning lists them (Crytek Sponza without its MTL: 24 warnings otherwise).
+  // undefined name is warned about at its first use, unless a library is missing, which explains
+  // them all in one warning.
   void resolve_materials() {
     std::unordered_map<std::string_view, const Material*> library;  // names are unique (read_mtl)
     for (const Material& m : library_) library.emplace(m.name, &m);
@@ -226,21 +226,27 @@ class ObjReader {
       mesh_.materials.push_back(m);
     }
     if (undefined.empty()) return;
-    if (!library_missing_) {
-      for (size_t i : undefined)
-        mesh_.warnings.push_back(detail::at_line(path_, used_lines_[i], "material '" + used_names_[i] +
-                                                                            "' is not defined in any material library; using a grey diffuse"));
+    if (library_missing_) {
+      mesh_.warnings.push_back(missing_library_warning(undefined));
       return;
     }
+    for (size_t i : undefined)
+      mesh_.warnings.push_back(detail::at_line(path_, used_lines_[i], "material '" + used_names_[i] +
+                                                                          "' is not defined in any material library; using a grey diffuse"));
+  }
+
+  // The one warning for the materials `undefined` (indices into used_names_) when a library is
+  // missing, naming the first five (Crytek Sponza without its MTL: 24 warnings otherwise).
+  std::string missing_library_warning(const std::vector<size_t>& undefined) const {
     constexpr size_t kListed = 5;
     std::string names;
     for (size_t k = 0; k < undefined.size() && k < kListed; ++k) names += (k ? ", " : "") + detail::quoted(used_names_[undefined[k]]);
     if (undefined.size() > kListed) names += ", ...";
     const size_t n = undefined.size();
-    mesh_.warnings.push_back(detail::at_line(
-        path_, used_lines_[undefined[0]],
-        std::to_string(n) + (n == 1 ? " material (" : " materials (") + names + ") not defined, as a material library is missing; " +
-            (n == 1 ? "it gets" : "they get") + " a grey diffuse"));
+    return detail::at_line(path_, used_lines_[undefined[0]],
+                           std::to_string(n) + (n == 1 ? " material (" : " materials (") + names +
+                               ") not defined, as a material library is missing; " + (n == 1 ? "it gets" : "they get") +
+                               " a grey diffuse");
   }
 
   uint32_t material_index(const std::string& name, size_t line) {
