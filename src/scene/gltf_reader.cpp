@@ -111,6 +111,24 @@ std::vector<size_t> node_list(const nlohmann::json& j, const char* key, size_t n
   return list;
 }
 
+std::string node_name(size_t i) { return "nodes[" + std::to_string(i) + "]"; }
+
+// Each node's parent (SIZE_MAX for none); a node listed as a child twice, or by two parents, is an error.
+std::vector<size_t> node_parents(const nlohmann::json& nodes, const std::string& file) {
+  std::vector<size_t> parent(nodes.size(), SIZE_MAX);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    for (const size_t child : node_list(nodes[i], "children", nodes.size())) {
+      if (parent[child] == i)
+        throw InputError(file + ": " + node_name(i) + " lists " + node_name(child) + " twice as a child");
+      if (parent[child] != SIZE_MAX)
+        throw InputError(file + ": " + node_name(child) + " is a child of " + node_name(parent[child]) + " and of " +
+                         node_name(i) + ": glTF nodes form a tree, one parent each");
+      parent[child] = i;
+    }
+  }
+  return parent;
+}
+
 // glTF nodes form a forest: a node has at most one parent, and a scene's roots have none and are
 // listed once each (glTF 2.0 sec. 3.5.1, 3.5.2). assimp does not check, and copies a node once per
 // path to it: 40 nodes each listing the next one twice took minutes and gigabytes, and a root listed
@@ -118,25 +136,16 @@ std::vector<size_t> node_list(const nlohmann::json& j, const char* key, size_t n
 void check_node_tree(const nlohmann::json& doc, const std::string& file) {
   if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return;
   const nlohmann::json& nodes = doc["nodes"];
-  const auto node = [](size_t i) { return "nodes[" + std::to_string(i) + "]"; };
-  std::vector<size_t> parent(nodes.size(), SIZE_MAX);
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    for (const size_t child : node_list(nodes[i], "children", nodes.size())) {
-      if (parent[child] == i) throw InputError(file + ": " + node(i) + " lists " + node(child) + " twice as a child");
-      if (parent[child] != SIZE_MAX)
-        throw InputError(file + ": " + node(child) + " is a child of " + node(parent[child]) + " and of " + node(i) +
-                         ": glTF nodes form a tree, one parent each");
-      parent[child] = i;
-    }
-  }
+  const std::vector<size_t> parent = node_parents(nodes, file);
   if (!doc.contains("scenes") || !doc["scenes"].is_array()) return;
   for (size_t s = 0; s < doc["scenes"].size(); ++s) {
     std::vector<bool> listed(nodes.size(), false);
     for (const size_t root : node_list(doc["scenes"][s], "nodes", nodes.size())) {
-      const std::string at = file + ": scenes[" + std::to_string(s) + "] lists " + node(root);
+      const std::string at = file + ": scenes[" + std::to_string(s) + "] lists " + node_name(root);
       if (listed[root]) throw InputError(at + " twice as a root");
       if (parent[root] != SIZE_MAX)
-        throw InputError(at + " as a root, but it is a child of " + node(parent[root]) + ": glTF nodes form a tree, one parent each");
+        throw InputError(at + " as a root, but it is a child of " + node_name(parent[root]) +
+                         ": glTF nodes form a tree, one parent each");
       listed[root] = true;
     }
   }
