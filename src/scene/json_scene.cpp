@@ -278,18 +278,24 @@ class JsonSceneLoader {
     f_.expect_object(j, field);
     if (!j.contains("type")) f_.fail(JsonFields::join(field, "type"), "missing (\"point\" or \"area\")");
     const std::string type = f_.string(j["type"], JsonFields::join(field, "type"));
-    if (type == "point") {
-      f_.check_keys(j, field, {"type", "position", "intensity"});
-      if (!j.contains("position")) f_.fail(JsonFields::join(field, "position"), "missing");
-      PointLight l;
-      l.position = f_.position(j["position"], JsonFields::join(field, "position"));
-      if (j.contains("intensity")) l.intensity = f_.color(j["intensity"], JsonFields::join(field, "intensity"));
-      // A dark light is a mistake that would give a silently black image (as for area lights).
-      if (!(max_component(l.intensity) > 0)) f_.fail(JsonFields::join(field, "intensity"), "a point light must emit (> 0)");
-      scene.point_lights.push_back(l);
-      return;
-    }
-    if (type != "area") f_.fail(JsonFields::join(field, "type"), "expected \"point\" or \"area\", found \"" + type + "\"");
+    if (type == "point") scene.point_lights.push_back(point_light(j, field));
+    else if (type == "area") placements.push_back(area_light(j, field));
+    else f_.fail(JsonFields::join(field, "type"), "expected \"point\" or \"area\", found \"" + type + "\"");
+  }
+
+  PointLight point_light(const Json& j, const std::string& field) const {
+    f_.check_keys(j, field, {"type", "position", "intensity"});
+    if (!j.contains("position")) f_.fail(JsonFields::join(field, "position"), "missing");
+    PointLight l;
+    l.position = f_.position(j["position"], JsonFields::join(field, "position"));
+    if (j.contains("intensity")) l.intensity = f_.color(j["intensity"], JsonFields::join(field, "intensity"));
+    // A dark light is a mistake that would give a silently black image (as for area lights).
+    if (!(max_component(l.intensity) > 0)) f_.fail(JsonFields::join(field, "intensity"), "a point light must emit (> 0)");
+    return l;
+  }
+
+  // An area light's geometry (a file, a shape, or a quad's keys) with a black emitting material.
+  Placement area_light(const Json& j, const std::string& field) {
     f_.check_keys(j, field, {"type", "emission", "file", "shape", "transform", "corner", "edge1", "edge2", "center",
                              "normal", "size", "up", "min", "max"});
     if (!j.contains("emission")) f_.fail(JsonFields::join(field, "emission"), "missing (emitted radiance [r, g, b])");
@@ -309,7 +315,7 @@ class JsonSceneLoader {
     const Vec3 e = f_.color(j["emission"], JsonFields::join(field, "emission"));
     if (e.x <= 0 && e.y <= 0 && e.z <= 0) f_.fail(JsonFields::join(field, "emission"), "an area light must emit (> 0)");
     pl.material = Json{{"diffuse", Json::array({0, 0, 0})}, {"emission", Json::array({e.x, e.y, e.z})}};
-    placements.push_back(std::move(pl));
+    return pl;
   }
 
   CameraFields parse_camera(const Json& j) {
