@@ -10,8 +10,8 @@
 namespace rayscout {
 namespace {
 
-// Half the diagonal: a camera at any scene scale (a floor of 1e-6 once put the camera of a
-// 1e-8 scene a hundred widths away); 1 for a point-sized scene.
+// Half the diagonal, without a floor, so that scenes of every scale are framed alike (a floor of
+// 1e-6 put the camera of a 1e-8 scene a hundred widths away); 1 for a point-sized scene.
 float framing_radius(const Bounds3& b) {
   const float r = 0.5f * length(b.diagonal());
   return r > 0.0f && std::isfinite(r) ? r : 1.0f;

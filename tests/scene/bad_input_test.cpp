@@ -55,7 +55,7 @@ TEST(SceneBadInput, ObjMalformedLines) {
   expect_contains(error_loading(dir, "h.obj", "v 0 0 0\nv 1 0 0 v 0 1 0\n"),
                   {"h.obj:2: ", "vertex: unexpected 'v' after the 3 coordinates"});
   expect_contains(error_loading(dir, "i.obj", "v 0 0 0 1 2 3 4 5\n"), {"i.obj:1: ", "vertex: 8 numbers"});
-  // Review: vt and vn lines were only counted, so "vt abc" or a vn of one number passed unseen.
+  // The vt and vn lines were only counted, so "vt abc" or a vn of one number passed unseen.
   // Not stored, they are checked for form only: exporters write NaN normals of degenerate faces.
   expect_contains(error_loading(dir, "vt.obj", kTriangle + "vt 0.5 abc\nf 1 2 3\n"),
                   {"vt.obj:4: texcoord: 'abc' is not a number"});
@@ -103,7 +103,7 @@ TEST(SceneBadInput, EmptyMeshes) {
   expect_contains(error_loading(dir, "tiny.json", R"({"meshes": [{"file": "tri.obj", "transform": {"scale": 1e-30}},
                                                                  {"file": "tri.obj", "transform": {"scale": 1e-25}}]})"),
                   {"tiny.json: meshes[0] (" + (dir.path() / "tri.obj").string() + "): its only triangle has" + why});
-  // Review: an entry that lost every triangle beside others that did not was only a warning, so an
+  // An entry that lost every triangle beside others that did not was only a warning, so an
   // area light whose quad had parallel edges vanished (and the scene got a point light instead).
   expect_contains(error_loading(dir, "flat_light.json", R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area",
                       "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [2, 0, 0], "emission": 1}]})"),
@@ -129,7 +129,7 @@ TEST(SceneBadInput, MtlMalformedLine) {
   dir.write("n.mtl", "Kd 1 1 1\n");
   expect_contains(error_loading(dir, "n.obj", "mtllib n.mtl\n" + kTriangle + "f 1 2 3\n"),
                   {"n.mtl:1: ", "before any newmtl"});
-  // Review: words after the values were ignored, as they are refused after a vertex's.
+  // Words after the values were ignored, as they are refused after a vertex's.
   const std::pair<const char*, const char*> trailing[] = {
       {"Kd 1 0 0 abc", "Kd: unexpected 'abc' after the colour"},
       {"Ke 0.5 0.5 0.5 v", "Ke: unexpected 'v' after the colour"},
@@ -164,7 +164,7 @@ TEST(SceneBadInput, PlyAsciiErrorsNameTheLine) {
   expect_contains(error_loading(dir, "g.ply", kPlyHeader + "0 0 0\n1 0 0\n"), {"g.ply:12: ", "unexpected end of file"});
   expect_contains(error_loading(dir, "h.ply", kPlyHeader + "0 0 0\n1 0 0 5\n0 1 0\n3 0 1 2\n"),
                   {"h.ply:11: more values than the header declares for vertex 1 of 3 ('5')"});
-  // Review: a vertex count larger than the data read the face line as one more vertex, and the
+  // A vertex count larger than the data read the face line as one more vertex, and the
   // message did not say which vertex of how many.
   std::string count_lie = kPlyHeader;
   count_lie.replace(count_lie.find("vertex 3"), 8, "vertex 10");
@@ -226,7 +226,7 @@ TEST(SceneBadInput, PlyHeaderLayoutAndCounts) {
                                                  "property list uchar double vertex_indices\nend_header\n"
                                                  "0 0 0\n1 0 0\n0 1 0\n3 0 1 1e30\n"),
                   {"fidx.ply:13: ", "face index 1e+30 out of range (3 vertices)"});
-  // Review: these said "face index 1.500000" and "vertex coordinate is not finite" (which one?).
+  // These said "face index 1.500000" and "vertex coordinate is not finite" (which one?).
   expect_contains(error_loading(dir, "half.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                                                  "property float y\nproperty float z\nelement face 1\n"
                                                  "property list uchar float vertex_indices\nend_header\n"
@@ -247,7 +247,7 @@ TEST(SceneBadInput, PlyHeaderLayoutAndCounts) {
   expect_contains(error_loading(dir, "empty_el.ply", bin), {"empty_el.ply: face 0 (byte", "face index 3 out of range"});
 }
 
-// Audit: a property declared twice, integers beyond their type, data after the last element and
+// A property declared twice, integers beyond their type, data after the last element and
 // format versions other than 1.0 were accepted.
 TEST(SceneBadInput, PlyPropertyDeclaredTwice) {
   TempDir dir;
@@ -300,7 +300,7 @@ TEST(SceneBadInput, PlyFormatVersion) {
   EXPECT_EQ(load_scene(dir.write("v1.ply", "ply\nformat ascii 1.0\n" + rest)).triangles.size(), 1u);
 }
 
-// Review: words after a header statement were ignored ("property float z junk", "element face 1 2",
+// Words after a header statement were ignored ("property float z junk", "element face 1 2",
 // "end_header x"), and a second format line silently replaced the first, so ascii data was read
 // as binary ("unexpected end of data"). As in OBJ and MTL, they are errors.
 TEST(SceneBadInput, PlyHeaderStatementsEndWithTheirValues) {
@@ -327,7 +327,7 @@ TEST(SceneBadInput, PlyHeaderStatementsEndWithTheirValues) {
                                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")).triangles.size(), 1u);
 }
 
-// Audit: a NUL in a quoted token ended the message there (what() is a C string).
+// A NUL in a quoted token ended the message there (what() is a C string).
 TEST(SceneBadInput, ControlBytesInQuotedInputAreEscaped) {
   TempDir dir;
   expect_contains(error_loading(dir, "nul.obj", std::string("v 0 0 0\nv 1 a\0b 0\n", 18)),
@@ -338,7 +338,7 @@ TEST(SceneBadInput, ControlBytesInQuotedInputAreEscaped) {
                   {"nul.json: meshes[0].a\\x00b: unknown key"});
 }
 
-// Review: warnings quoted names raw, so an OBJ's "usemtl <ESC>[2J" cleared the terminal that
+// Warnings quoted names raw, so an OBJ's "usemtl <ESC>[2J" cleared the terminal that
 // `rayscout info` printed it to. Warnings escape control bytes as errors do.
 TEST(SceneBadInput, ControlBytesInWarningsAreEscaped) {
   TempDir dir;
@@ -363,7 +363,7 @@ TEST(SceneBadInput, ControlBytesInWarningsAreEscaped) {
                         "esc.json: materials.unused\\x1b: no triangle uses this material"});
 }
 
-// Review: the OS reads a path up to its first NUL, so "ok.obj\u0000junk.obj" loaded ok.obj (and
+// The OS reads a path up to its first NUL, so "ok.obj\u0000junk.obj" loaded ok.obj (and
 // "mtllib red.mtl<NUL>junk" read red.mtl); messages quoting a path were cut at a NUL, and
 // printed other control bytes raw.
 TEST(SceneBadInput, NulInAFileNameIsAnErrorAndPathsInMessagesAreEscaped) {
@@ -393,12 +393,12 @@ TEST(SceneBadInput, ObjSmallestIndexAndDirectoryMtllib) {
   std::filesystem::create_directory(dir.path() / "lib");
   expect_contains(error_loading(dir, "dir.obj", "mtllib lib\n" + kTriangle + "f 1 2 3\n"),
                   {"dir.obj:1: ", "material library 'lib' is a directory, not a file"});
-  // Review: "/dev/zero: is a device, not a file" did not name the OBJ that referenced it.
+  // "/dev/zero: is a device, not a file" did not name the OBJ that referenced it.
   expect_contains(error_loading(dir, "dev.obj", kTriangle + "mtllib /dev/zero\nf 1 2 3\n"),
                   {"dev.obj:4: material library '/dev/zero' is a device, not a file"});
 }
 
-// Review: random bytes given as an OBJ were read as a few unknown statements and gave "no faces
+// Random bytes given as an OBJ were read as a few unknown statements and gave "no faces
 // (empty mesh)". A line the reader would ignore that holds a byte no text has is an error.
 TEST(SceneBadInput, BinaryDataIsNotReadAsObjOrMtl) {
   TempDir dir;
@@ -428,7 +428,7 @@ std::string json_error(const TempDir& dir, const std::string& json) {
   return error_loading(dir, "scene.json", json);
 }
 
-// Review: these said "unknown mesh format ''", and an empty "file" gave "meshes[0].file: : unknown ...".
+// These said "unknown mesh format ''", and an empty "file" gave "meshes[0].file: : unknown ...".
 TEST(SceneBadInput, NoExtensionAndEmptyFileName) {
   TempDir dir;
   expect_contains(error_loading(dir, "mesh", kTriangle + "f 1 2 3\n"),
@@ -500,7 +500,7 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
                   {"scene.json: lights[0].intensity: a point light must emit (> 0)"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 0, "shape": "quad", "corner": [0,0,1], "edge1": [1,0,0], "edge2": [0,1,0]}]})"),
                   {"scene.json: lights[0].emission: an area light must emit (> 0)"});
-  // Review: an empty key was named by its object alone ("(root): unknown key", "meshes[0].: unknown key").
+  // An empty key was named by its object alone ("(root): unknown key", "meshes[0].: unknown key").
   expect_contains(json_error(dir, R"({"": 1, "meshes": [{"file": "tri.obj"}]})"),
                   {"scene.json: (root): unknown empty key \"\" (expected one of: meshes, camera, lights, materials)"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "": 1}]})"),
@@ -509,14 +509,14 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": {"name": "x"}},
                                                   {"file": "tri.obj", "material": {"name": "x", "diffuse": 0.1}}]})"),
                   {"scene.json: meshes[1].material.name: material \"x\" is already defined"});
-  // Review: an empty material name was taken (an MTL's newmtl needs one), listed as "materials.".
+  // An empty material name was taken (an MTL's newmtl needs one), listed as "materials.".
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "materials": {"": {"diffuse": 0.5}}})"),
                   {"scene.json: materials: a material name must not be empty"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": {"name": ""}}]})"),
                   {"scene.json: meshes[0].material.name: a material name must not be empty"});
 }
 
-// Audit: keys of the other form of a shape were ignored.
+// Keys of the other form of a shape were ignored.
 TEST(SceneBadInput, JsonShapeKeysOfAnotherForm) {
   TempDir dir;
   expect_contains(json_error(dir, R"({"meshes": [{"shape": "quad", "corner": [0, 0, 0], "edge1": [1, 0, 0], "edge2": [0, 1, 0], "up": [0, 0, 1]}]})"),
@@ -534,7 +534,7 @@ TEST(SceneBadInput, JsonShapeKeysOfAnotherForm) {
                   {"scene.json: lights[0].size: does not belong to an area light given by a file"});
 }
 
-// Audit: a singular matrix gave "no triangles (empty scene)", unlike "scale": 0.
+// A singular matrix gave "no triangles (empty scene)", unlike "scale": 0.
 TEST(SceneBadInput, JsonSingularMatrix) {
   TempDir dir;
   for (const char* m : {"[0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,1]", "[[1,0,0,5], [0,1,0,0], [1,1,0,0], [0,0,0,1]]"})

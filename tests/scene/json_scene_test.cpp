@@ -125,7 +125,7 @@ TEST(JsonScene, ShapesWithExactVertices) {
   expect_near(box.hi, {1, 2, 3}, 0);
 }
 
-// Audit: "comment" was taken for a material name in "materials" ("expected an object, found string").
+// "comment" was taken for a material name in "materials" ("expected an object, found string").
 TEST(JsonScene, CommentIsAllowedInMaterials) {
   TempDir dir;
   write_room(dir);

@@ -262,7 +262,7 @@ TEST(ObjReader, RedefinedMaterialWarnsAndBadIllumOrUnreadableLibraryIsAnError) {
   }
 }
 
-// Review: a library named again was read again, each time warning that every one of its
+// A library named again was read again, each time warning that every one of its
 // materials was "defined again" (3000 mtllib lines of a 1000-material MTL: 3M warnings, 388 MB).
 // It is read once, whatever the spelling of its path; a missing one is said once.
 TEST(ObjReader, MaterialLibraryNamedAgainIsReadOnce) {
@@ -278,7 +278,7 @@ TEST(ObjReader, MaterialLibraryNamedAgainIsReadOnce) {
   expect_contains(s.warnings[0], {"again.obj:4: material library 'gone.mtl' not found"});
   EXPECT_EQ(s.material_of(0).name, "m7");
   EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.5f));
-  // Review: an OBJ named without a folder ("again.obj", not "./again.obj") said a missing
+  // An OBJ named without a folder ("again.obj", not "./again.obj") said a missing
   // library twice, once as "gone.mtl" and once as "./gone.mtl".
   const std::filesystem::path cwd = std::filesystem::current_path();
   std::filesystem::current_path(dir.path());
@@ -289,7 +289,7 @@ TEST(ObjReader, MaterialLibraryNamedAgainIsReadOnce) {
   expect_contains(bare.warnings[0], {"bare.obj:1: material library 'gone.mtl' not found"});
 }
 
-// Review: "kd 1 0 0" (lower case) was ignored without a word, and the material stayed grey. An
+// "kd 1 0 0" (lower case) was ignored without a word, and the material stayed grey. An
 // unknown MTL key is warned about once per file; the statements rayscout ignores on purpose are not.
 TEST(ObjReader, UnknownMtlStatementIsWarnedAboutOnce) {
   TempDir dir;
@@ -306,7 +306,7 @@ TEST(ObjReader, UnknownMtlStatementIsWarnedAboutOnce) {
   EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.8f));  // the default grey, as said
 }
 
-// Audit: OBJ refused 1e-50 ("out of float range") where JSON reads 0. Every text reader now
+// OBJ refused 1e-50 ("out of float range") where JSON reads 0. Every text reader now
 // gives what JSON gives: the nearest float (a denormal, or 0 with the sign); overflow stays an error.
 TEST(ObjReader, UnderflowGivesTheNearestFloatAsInJson) {
   TempDir dir;
@@ -569,7 +569,7 @@ TEST(GltfReader, BrokenContainersSayWhatIsWrong) {
                   {"bom.gltf: starts with a byte order mark"});
   expect_contains(input_error_of([&] { load_scene(dir.write("arr.gltf", "[1, 2]")); }), {"arr.gltf: the JSON is array, not an object"});
   expect_contains(input_error_of([&] { load_scene(dir.write("obj.gltf", "{}")); }), {"obj.gltf: no \"asset\""});
-  // Review: a version other than 2.x, or none, gave assimp's "No suitable reader found".
+  // A version other than 2.x, or none, gave assimp's "No suitable reader found".
   std::string v3 = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}])");
   v3.replace(v3.find(R"("2.0")"), 5, R"("3.0")");
   expect_contains(input_error_of([&] { load_scene(dir.write("v3.gltf", v3)); }),
@@ -598,7 +598,7 @@ TEST(GltfReader, NodesOutsideATreeAndOutOfRangeIndicesAreErrors) {
       R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [1, 2]}, {"children": [3]}, {"children": [3]}, {"mesh": 0}])");
   testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("dag.gltf", two_parents)); }),
                            {"dag.gltf: nodes[3] is a child of nodes[1] and of nodes[2]: glTF nodes form a tree"});
-  // Review: a root listed twice, or a root that is also a child, was placed twice by assimp (two
+  // A root listed twice, or a root that is also a child, was placed twice by assimp (two
   // copies of every triangle, silently).
   const std::string root_twice = triangle_gltf(R"("scenes": [{"nodes": [0, 0]}], "nodes": [{"mesh": 0}])");
   testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("roots.gltf", root_twice)); }),

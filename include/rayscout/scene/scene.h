@@ -60,8 +60,9 @@ struct PointLight {
 
 /// Everything a renderer needs. Triangle ids are indices into `triangles`, in load order:
 /// the scene file's "meshes" entries (files and shapes) in list order, then its area
-/// lights in list order; within a mesh, faces in file order (a polygon fan-triangulated in
-/// place: v0 v1 v2, v0 v2 v3, ...). Dropped degenerate faces take no id.
+/// lights in list order; within a mesh, faces in file order (a polygon's n - 2 triangles in its
+/// place: its fan v0 v1 v2, v0 v2 v3, ..., or ear-clipped when the fan leaves it). Dropped
+/// degenerate faces take no id.
 /// See docs/scene-format.md.
 struct Scene {
   std::vector<Triangle> triangles;
