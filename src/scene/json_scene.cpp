@@ -212,15 +212,21 @@ class JsonSceneLoader {
   }
 
   // A quad from corner + edge1 + edge2, or center + normal + size [+ up].
-  std::shared_ptr<const Mesh> quad(const Json& j, const std::string& field) {
-    if (j.contains("corner") || j.contains("edge1") || j.contains("edge2")) {
-      for (const char* k : {"corner", "edge1", "edge2"})
-        if (!j.contains(k)) f_.fail(JsonFields::join(field, k), "missing (a quad needs corner, edge1 and edge2)");
-      check_form_keys(j, field, "a quad given by corner, edge1 and edge2", {"corner", "edge1", "edge2"});
-      return std::make_shared<const Mesh>(make_quad(f_.vec3(j["corner"], JsonFields::join(field, "corner")),
-                                                    f_.vec3(j["edge1"], JsonFields::join(field, "edge1")),
-                                                    f_.vec3(j["edge2"], JsonFields::join(field, "edge2"))));
-    }
+  std::shared_ptr<const Mesh> quad(const Json& j, const std::string& field) const {
+    const bool by_corner = j.contains("corner") || j.contains("edge1") || j.contains("edge2");
+    return std::make_shared<const Mesh>(by_corner ? corner_quad(j, field) : centred_quad(j, field));
+  }
+
+  Mesh corner_quad(const Json& j, const std::string& field) const {
+    for (const char* k : {"corner", "edge1", "edge2"})
+      if (!j.contains(k)) f_.fail(JsonFields::join(field, k), "missing (a quad needs corner, edge1 and edge2)");
+    check_form_keys(j, field, "a quad given by corner, edge1 and edge2", {"corner", "edge1", "edge2"});
+    return make_quad(f_.vec3(j["corner"], JsonFields::join(field, "corner")),
+                     f_.vec3(j["edge1"], JsonFields::join(field, "edge1")),
+                     f_.vec3(j["edge2"], JsonFields::join(field, "edge2")));
+  }
+
+  Mesh centred_quad(const Json& j, const std::string& field) const {
     for (const char* k : {"center", "normal", "size"})
       if (!j.contains(k))
         f_.fail(JsonFields::join(field, k), "missing (a quad needs corner/edge1/edge2 or center/normal/size)");
@@ -235,9 +241,8 @@ class JsonSceneLoader {
       h = f_.positive(j["size"][1], sf + "[1]");
     }
     const Vec3 up = j.contains("up") ? f_.direction(j["up"], JsonFields::join(field, "up")) : Vec3(0, 1, 0);
-    return std::make_shared<const Mesh>(make_quad_centered(f_.vec3(j["center"], JsonFields::join(field, "center")),
-                                                           f_.direction(j["normal"], JsonFields::join(field, "normal")), w,
-                                                           h, up));
+    return make_quad_centered(f_.vec3(j["center"], JsonFields::join(field, "center")),
+                              f_.direction(j["normal"], JsonFields::join(field, "normal")), w, h, up);
   }
 
   std::shared_ptr<const Mesh> shape(const Json& j, const std::string& field, std::string& source) {
