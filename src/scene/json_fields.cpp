@@ -124,6 +124,17 @@ Transform rotation(const JsonFields& f, const Json& rj, const std::string& rf) {
   return r;
 }
 
+// Both lobes of a glossy material reflect: their sum, channel by channel, must stay <= 1.
+void check_glossy_energy(const JsonFields& f, const std::string& field, const Material& m) {
+  const Vec3 sum = m.diffuse + m.specular;
+  const int i = sum.x >= sum.y && sum.x >= sum.z ? 0 : (sum.y >= sum.z ? 1 : 2);  // the largest
+  if (sum[i] > 1.0f)
+    f.fail(field, "diffuse + specular is " + format_number(sum[i]) + " in channel " + std::to_string(i) + " (diffuse " +
+                      format_vec3(m.diffuse) + ", specular " + format_vec3(m.specular) +
+                      "): a glossy material must have diffuse + specular <= 1 in every channel (more "
+                      "would reflect more light than arrives)");
+}
+
 // One transform object: a "matrix", or scale, then rotate, then translate.
 Transform parse_single_transform(const JsonFields& f, const Json& j, const std::string& field) {
   f.check_keys(j, field, {"translate", "scale", "rotate", "matrix"});
@@ -172,16 +183,7 @@ void apply_material(const JsonFields& f, const Json& j, const std::string& field
   if (m.type == Material::Type::Mirror && no_specular) m.specular = Vec3(1.0f);
   if (m.type == Material::Type::Glossy && no_specular) m.specular = Vec3(std::min(0.5f, 1.0f - max_component(m.diffuse)));
   if (m.type == Material::Type::Glossy && m.exponent == 0 && !j.contains("exponent")) m.exponent = 50.0f;
-  // Both lobes of a glossy material reflect: their sum, channel by channel, must stay <= 1.
-  if (m.type == Material::Type::Glossy) {
-    const Vec3 sum = m.diffuse + m.specular;
-    const int i = sum.x >= sum.y && sum.x >= sum.z ? 0 : (sum.y >= sum.z ? 1 : 2);  // the largest
-    if (sum[i] > 1.0f)
-      f.fail(field, "diffuse + specular is " + format_number(sum[i]) + " in channel " + std::to_string(i) +
-                        " (diffuse " + format_vec3(m.diffuse) + ", specular " + format_vec3(m.specular) +
-                        "): a glossy material must have diffuse + specular <= 1 in every channel (more "
-                        "would reflect more light than arrives)");
-  }
+  if (m.type == Material::Type::Glossy) check_glossy_energy(f, field, m);
 }
 
 Transform parse_transform(const JsonFields& f, const Json& j, const std::string& field) {
