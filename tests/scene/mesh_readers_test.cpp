@@ -496,15 +496,19 @@ TEST(GltfReader, EmissiveStrength) {
                    "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}},
                   {"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}},
                   {"name": "twin", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}},
-                  {"name": "twin"}])",
+                  {"name": "twin"},
+                  {"name": "n\u0000ul", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}},
+                  {"name": ")" + std::string(1024, 'x') + R"(", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}])",
                                          R"(, "material": 1)");
   const Scene s = load_scene(dir.write("e.gltf", gltf));
   EXPECT_EQ(s.material_of(0).name, "bright");
   expect_vec(s.material_of(0).emission, {4, 2, 1});
   // Materials that cannot be found again by name after assimp's import: said, not silently lost.
-  ASSERT_EQ(s.warnings.size(), 2u);
+  ASSERT_EQ(s.warnings.size(), 4u);
   testing::expect_contains(s.warnings[0], {"e.gltf: materials[2]: KHR_materials_emissive_strength ignored (it has no name"});
   testing::expect_contains(s.warnings[1], {"e.gltf: materials[3]: KHR_materials_emissive_strength ignored (its name is not unique"});
+  testing::expect_contains(s.warnings[2], {"e.gltf: materials[5]: KHR_materials_emissive_strength ignored (its name holds a NUL"});
+  testing::expect_contains(s.warnings[3], {"e.gltf: materials[6]: KHR_materials_emissive_strength ignored (assimp cuts its name"});
   // A strength beyond float range is an error, not an infinite light.
   const std::string huge = triangle_gltf(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
     "materials": [{"name": "a", "emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e39}}}])",
