@@ -241,6 +241,21 @@ TEST(ObjReader, MissingMtlAndUnknownMaterialAreWarnings) {
             std::string::npos) << u.warnings[0];
 }
 
+// mtllib names several libraries, or one whose name holds spaces when that file exists.
+TEST(ObjReader, MtllibNamesSeveralLibrariesOrOneWithSpaces) {
+  TempDir dir;
+  dir.write("my lib.mtl", "newmtl a\nKd 0.1\n");
+  dir.write("b.mtl", "newmtl b\nKd 0.2\n");
+  dir.write("c.mtl", "newmtl c\nKd 0.3\n");
+  const Scene s = load_scene(dir.write("libs.obj", "mtllib my lib.mtl\nmtllib b.mtl c.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                                   "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\nusemtl c\nf 1 2 3\n"));
+  ASSERT_EQ(s.triangles.size(), 3u);
+  EXPECT_EQ(s.material_of(0).diffuse, Vec3(0.1f));
+  EXPECT_EQ(s.material_of(1).diffuse, Vec3(0.2f));
+  EXPECT_EQ(s.material_of(2).diffuse, Vec3(0.3f));
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
+}
+
 // A material defined twice: the later definition is used, and said. An illumination model
 // outside the MTL's 0..10 is an error at its line, and an unreadable library one at the mtllib.
 TEST(ObjReader, RedefinedMaterialWarnsAndBadIllumOrUnreadableLibraryIsAnError) {
