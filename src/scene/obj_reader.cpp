@@ -122,31 +122,32 @@ class ObjReader {
   uint32_t face_vertex(size_t line, std::string_view tok) {
     std::string_view parts[3];
     int np = 0;
-    for (size_t i = 0, start = 0;; ++i) {
-      if (i == tok.size() || tok[i] == '/') {
-        if (np == 3) fail_at(path_, line, "face vertex '" + std::string(tok) + "' has more than 3 parts");
-        parts[np++] = tok.substr(start, i - start);
-        start = i + 1;
-        if (i == tok.size()) break;
-      }
+    for (size_t start = 0;;) {
+      const size_t slash = tok.find('/', start);
+      if (np == 3) fail_at(path_, line, "face vertex '" + std::string(tok) + "' has more than 3 parts");
+      parts[np++] = tok.substr(start, slash - start);
+      if (slash == std::string_view::npos) break;
+      start = slash + 1;
     }
     long long idx;
     if (!detail::parse_int(parts[0], idx)) fail_at(path_, line, "face vertex '" + std::string(tok) + "' is not an index");
     const long long v = resolve_index(idx, mesh_.positions.size(), path_, line, "vertex");
     max_v_.note(v, line);
     if (v > UINT32_MAX - 1) fail_at(path_, line, "face index " + std::to_string(idx) + " too large");
-    const std::string_view kinds[2] = {"texcoord", "normal"};
-    const size_t counts[2] = {num_vt_, num_vn_};
-    MaxRef* maxes[2] = {&max_vt_, &max_vn_};
-    for (int k = 1; k < np; ++k) {
-      if (parts[k].empty()) {
-        if (k == 1 && np == 3) continue;  // v//vn
-        fail_at(path_, line, "face vertex '" + std::string(tok) + "' has an empty index");
-      }
-      if (!detail::parse_int(parts[k], idx)) fail_at(path_, line, "face vertex '" + std::string(tok) + "' is not an index");
-      maxes[k - 1]->note(resolve_index(idx, counts[k - 1], path_, line, kinds[k - 1]), line);
-    }
+    if (np > 1 && !(parts[1].empty() && np == 3))  // v//vn has no texcoord
+      attribute_index(line, tok, parts[1], "texcoord", num_vt_, max_vt_);
+    if (np > 2) attribute_index(line, tok, parts[2], "normal", num_vn_, max_vn_);
     return uint32_t(v);
+  }
+
+  // The texcoord or normal index `part` of face vertex `tok`, checked against the `count` so far
+  // and noted in `max` for the check of forward indices.
+  void attribute_index(size_t line, std::string_view tok, std::string_view part, std::string_view what, size_t count,
+                       MaxRef& max) {
+    if (part.empty()) fail_at(path_, line, "face vertex '" + std::string(tok) + "' has an empty index");
+    long long idx;
+    if (!detail::parse_int(part, idx)) fail_at(path_, line, "face vertex '" + std::string(tok) + "' is not an index");
+    max.note(resolve_index(idx, count, path_, line, what), line);
   }
 
   void use_material(size_t line, const char* q, const char* end) {
