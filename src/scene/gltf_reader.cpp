@@ -283,8 +283,7 @@ void add_instance(const aiMesh& am, unsigned index, const aiMatrix4x4& global, c
     for (int k = 0; k < 3; ++k)
       if (face.mIndices[k] >= am.mNumVertices)
         throw InputError(file + ": mesh " + std::to_string(index) + " face " + std::to_string(f) + ": index " +
-                         std::to_string(face.mIndices[k]) + " out of range (" + std::to_string(am.mNumVertices) +
-                         " vertices)");
+                         std::to_string(face.mIndices[k]) + " out of range (" + detail::count_of(am.mNumVertices, "vertex") + ")");
     mesh.faces.push_back(
         detail::corners_after({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]}, mirrored));
     mesh.face_materials.push_back(material);

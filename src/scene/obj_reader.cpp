@@ -22,7 +22,6 @@ namespace {
 using detail::expect_line_end;
 using detail::fail_at;
 using detail::next_token;
-using detail::plural;
 using detail::read_vec3;
 using detail::refuse_binary_line;
 
@@ -34,7 +33,7 @@ long long resolve_index(long long idx, size_t count, const std::filesystem::path
   if (idx == 0) fail_at(file, line, std::string(what) + " index 0 is invalid (OBJ indices start at 1)");
   if (idx < -static_cast<long long>(count))  // not -idx > count: -idx overflows for the smallest index
     fail_at(file, line, (what == "vertex" ? std::string("face") : std::string(what)) + " index " + std::to_string(idx) +
-                            " out of range (" + std::to_string(count) + " " + plural(what) + " so far)");
+                            " out of range (" + detail::count_of(count, what) + " so far)");
   return static_cast<long long>(count) + idx;
 }
 
@@ -201,7 +200,7 @@ class ObjReader {
     auto check = [&](const MaxRef& m, size_t count, const char* label, const char* what) {
       if (m.index >= static_cast<long long>(count))
         fail_at(path_, m.line, std::string(label) + " index " + std::to_string(m.index + 1) + " out of range (" +
-                                   std::to_string(count) + " " + (count == 1 ? std::string(what) : plural(what)) + ")");
+                                   detail::count_of(count, what) + ")");
     };
     check(max_v_, mesh_.positions.size(), "face", "vertex");
     check(max_vt_, num_vt_, "texcoord", "texcoord");

@@ -282,7 +282,7 @@ class InstanceReader {
     if (binary()) {
       double x = 0;
       if (!read_binary(p_, end(), type, swap(), x))
-        fail("unexpected end of data (" + std::to_string(el_->count) + " " + detail::plural(el_->name) + " declared)");
+        fail("unexpected end of data (" + detail::count_of(el_->count, el_->name) + " declared)");
       return x;
     }
     const std::string_view t = next_token(q_, e_);
@@ -402,7 +402,7 @@ void add_face(InstanceReader& in, const std::vector<double>& indices, size_t ver
   poly.clear();
   for (double idx : indices) {
     if (!(idx >= 0 && idx < double(vertex_count)))
-      in.fail("face index " + number_text(idx) + " out of range (" + std::to_string(vertex_count) + " vertices)");
+      in.fail("face index " + number_text(idx) + " out of range (" + detail::count_of(vertex_count, "vertex") + ")");
     poly.push_back(uint32_t(idx));
   }
   detail::add_polygon(poly, 0, mesh, polygons);

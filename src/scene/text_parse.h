@@ -40,10 +40,13 @@ std::string at_line(const std::filesystem::path& file, size_t line, const std::s
 /// The plural of a noun of the messages: "vertices", else the noun + "s" ("faces", "normals").
 inline std::string plural(std::string_view noun) { return noun == "vertex" ? "vertices" : std::string(noun) + "s"; }
 
-/// "face with n vertices (at least 3 needed)", "vertex" for n = 1: the OBJ and PLY readers' message.
-inline std::string face_too_small(size_t n) {
-  return "face with " + std::to_string(n) + " " + (n == 1 ? "vertex" : plural("vertex")) + " (at least 3 needed)";
+/// "1 vertex", "3 vertices": a count of a noun of the messages.
+inline std::string count_of(size_t n, std::string_view noun) {
+  return std::to_string(n) + " " + (n == 1 ? std::string(noun) : plural(noun));
 }
+
+/// "face with n vertices (at least 3 needed)": the OBJ and PLY readers' message.
+inline std::string face_too_small(size_t n) { return "face with " + count_of(n, "vertex") + " (at least 3 needed)"; }
 
 /// Deepest nesting of arrays and objects accepted in JSON text (scene files, glTF).
 inline constexpr int kMaxJsonDepth = 256;

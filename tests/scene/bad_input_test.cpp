@@ -82,6 +82,22 @@ TEST(SceneBadInput, ObjIndexOutOfRange) {
                   {"vn.obj:5: ", "normal index 3 out of range (1 normal)"});
 }
 
+// A count of one takes the singular, as "(1 texcoord)" did: "(1 vertices so far)" did not.
+TEST(SceneBadInput, IndexErrorsCountOneInTheSingular) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "v.obj", "v 0 0 0\nf 1 -2 1\n"), {"v.obj:2: face index -2 out of range (1 vertex so far)"});
+  expect_contains(error_loading(dir, "vt.obj", kTriangle + "vt 0 0\nf 1/-2 2 3\n"),
+                  {"vt.obj:5: texcoord index -2 out of range (1 texcoord so far)"});
+  expect_contains(error_loading(dir, "one.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                                "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                                "end_header\n0 0 0\n3 0 0 1\n"),
+                  {"one.ply:11: face index 1 out of range (1 vertex)"});
+  std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                    "property float z\nend_header\n";
+  bin += std::string(11, '\0');  // one byte short of the vertex
+  expect_contains(error_loading(dir, "short.ply", bin), {"short.ply: vertex 0 (byte ", "unexpected end of data (1 vertex declared)"});
+}
+
 TEST(SceneBadInput, ObjNonFiniteCoordinates) {
   TempDir dir;
   expect_contains(error_loading(dir, "nan.obj", "v 0 0 0\nv nan 0 0\n"), {"nan.obj:2: ", "nan is not finite"});
@@ -93,8 +109,8 @@ TEST(SceneBadInput, EmptyMeshes) {
   TempDir dir;
   expect_contains(error_loading(dir, "empty.obj", ""), {"empty.obj", "no faces"});
   expect_contains(error_loading(dir, "verts.obj", kTriangle), {"verts.obj", "no faces"});
-  // Only zero-area faces: nothing is left after dropping them. That is said in the error (review:
-  // it said "no triangles (empty scene)", and the warning counting them was never printed).
+  // Only zero-area faces: nothing is left after dropping them. That is said in the error (it
+  // said "no triangles (empty scene)", and the warning counting them was never printed).
   const std::string why = " zero area (repeated indices, collinear vertices, or a transform that flattens them)";
   expect_contains(error_loading(dir, "flat.obj", kTriangle + "f 1 1 2\n"), {"flat.obj: its only triangle has" + why});
   expect_contains(error_loading(dir, "line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3 4\nf 4 3 1\n"),
