@@ -4,6 +4,7 @@
 // transforms. The schema is in docs/scene-format.md.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <string>
@@ -41,15 +42,11 @@ class JsonFields {
   void check_keys(const Json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
     expect_object(obj, field);
     for (const auto& [key, value] : obj.items()) {
-      if (is_comment(key)) continue;
-      bool ok = false;
-      for (const char* a : allowed) ok = ok || key == a;
-      if (!ok) {
-        std::string list;
-        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-        if (key.empty()) fail(field, "unknown empty key \"\" (expected one of: " + list + ")");
-        fail(join(field, key), "unknown key (expected one of: " + list + ")");
-      }
+      if (is_comment(key) || std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string list;
+      for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+      if (key.empty()) fail(field, "unknown empty key \"\" (expected one of: " + list + ")");
+      fail(join(field, key), "unknown key (expected one of: " + list + ")");
     }
   }
   void expect_object(const Json& j, const std::string& field) const {
