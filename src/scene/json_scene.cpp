@@ -112,24 +112,26 @@ class JsonSceneLoader {
     std::vector<std::vector<uint32_t>> maps(placements.size());
     for (size_t i = 0; i < placements.size(); ++i)
       if (!placements[i].material) maps[i] = builder.intern_all(*placements[i].mesh, placements[i].source, &scene.warnings);
-    if (root.contains("materials")) {
-      const Json& mats = root["materials"];
-      f_.expect_object(mats, "materials");
-      for (const auto& [name, value] : mats.items()) {
-        if (JsonFields::is_comment(name)) continue;
-        if (name.empty()) f_.fail("materials", "a material name must not be empty");
-        const std::string field = JsonFields::join("materials", name);
-        Material m;
-        if (auto existing = builder.find(name)) m = builder.material(*existing);
-        m.name = name;
-        apply_material(f_, value, field, m, false);
-        builder.define(m);
-      }
-    }
+    if (root.contains("materials")) define_materials(root["materials"], builder);
     for (size_t i = 0; i < placements.size(); ++i)
       if (placements[i].material)
         maps[i].assign(placements[i].mesh->materials.size(), placement_material(placements[i], builder));
     return maps;
+  }
+
+  // The "materials" entries: each overrides the fields it gives of a material of that name, or
+  // defines a new one.
+  void define_materials(const Json& mats, detail::SceneBuilder& builder) const {
+    f_.expect_object(mats, "materials");
+    for (const auto& [name, value] : mats.items()) {
+      if (JsonFields::is_comment(name)) continue;
+      if (name.empty()) f_.fail("materials", "a material name must not be empty");
+      Material m;
+      if (auto existing = builder.find(name)) m = builder.material(*existing);
+      m.name = name;
+      apply_material(f_, value, JsonFields::join("materials", name), m, false);
+      builder.define(m);
+    }
   }
 
   // The scene material of a placement's own "material": a defined name, or an inline object that
