@@ -115,7 +115,9 @@ struct Header {
   char eol = '\n';  // '\r' for a file with classic Mac line ends ("ply\r" not followed by '\n')
 };
 
-// "format ascii 1.0" from its second word on ([q, e)).
+// The statement readers get the rest of the line after the keyword in [q, e).
+
+// "format ascii|binary_little_endian|binary_big_endian 1.0".
 Format format_statement(const std::filesystem::path& path, size_t line, const char* q, const char* e) {
   Format format = Format::Ascii;
   const std::string_view f = next_token(q, e);
@@ -131,7 +133,7 @@ Format format_statement(const std::filesystem::path& path, size_t line, const ch
   return format;
 }
 
-// "element <name> <count>" from its second word on; `earlier` are the elements before it.
+// "element <name> <count>"; `earlier` are the elements declared before it.
 Element element_statement(const std::filesystem::path& path, size_t line, const char* q, const char* e,
                           const std::vector<Element>& earlier) {
   Element el;
@@ -153,7 +155,7 @@ Element element_statement(const std::filesystem::path& path, size_t line, const 
   return el;
 }
 
-// "property <type> <name>" or "property list <count type> <type> <name>" from its second word on.
+// "property <type> <name>" or "property list <count type> <type> <name>".
 Property property_statement(const std::filesystem::path& path, size_t line, const char* q, const char* e) {
   Property prop;
   std::string_view t = next_token(q, e);

@@ -12,7 +12,7 @@ namespace {
 
 struct RealScene {
   const char* file;
-  size_t faces;     // fan-triangulated faces, as counted in SOURCE.md
+  size_t faces;     // triangles, n - 2 per polygon, as counted in SOURCE.md
   size_t dropped;   // zero-area faces among them (dropped by the scene, reported in a warning)
   Vec3 lo, hi;      // bounding box from SOURCE.md (printed to ~6 digits)
 };
