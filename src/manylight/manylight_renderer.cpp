@@ -33,8 +33,8 @@ enum class SampleState : uint8_t {
 
 /// One VPL sample in a round's buffer.
 struct ManylightRenderer::Sample {
-  Vec3 value;         // t / p (colour), before V~
-  float lum_t = 0;    // scalar t / p
+  Vec3 t_over_p;             // per colour; the estimate of eq. (6) is t_over_p V~
+  float scalar_t_over_p = 0; // channel_mean(t_over_p): y = scalar_t_over_p V~ in eq. (17)
   float r = 0;
   double q = 0;       // the skip coin's probability, exactly as eq. (8)'s weights use it
   uint32_t point = 0;
@@ -172,40 +172,40 @@ void ManylightRenderer::render_pass() {
   ++passes_;
 }
 
-// Phase A for one sample: sample j of shading point pid (in shading cluster c) draws a VPL
-// from the cluster's row, weighs its tentative contribution and tosses the skip coin; a
-// traced sample's shadow ray goes to `ray`.
-void ManylightRenderer::draw_sample(size_t c, uint32_t pid, int j, Forced forced, double t_hat_value, double sigma2,
-                                    Sample& s, Ray& ray) const {
-  const ShadingPoint& sp = points_[pid];
-  manylight_detail::Rng rng(seed_ + passes_ * kGolden64, manylight_detail::kRenderStream | pid,
+// Phase A for one sample: sample j of `point` (in shading cluster c) draws a VPL from the
+// cluster's row, weighs its tentative contribution and tosses the skip coin with q from the
+// cluster's samples of earlier rounds; a traced sample's shadow ray goes to `ray`.
+void ManylightRenderer::draw_sample(size_t c, uint32_t point, int j, Forced forced, Sample& s, Ray& ray) const {
+  const ShadingPoint& sp = points_[point];
+  manylight_detail::Rng rng(seed_ + passes_ * kGolden64, manylight_detail::kRenderStream | point,
                             uint64_t(j) | (uint64_t(forced) << 32));
-  s.point = pid;
+  s.point = point;
   // Sec. 3: a VPL cluster from the row, then a VPL uniformly in it: p = P(cluster) / |cluster|.
   const DiscreteDistribution& cluster_choice = clusters_.vpl_cluster_choice[c];
-  const size_t l = cluster_choice.sample_bits(rng.bits64());
-  const uint32_t members = clusters_.lights.count(l);
-  const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[l] + rng.below(members)]];
-  const double p = cluster_choice.probability(l) / double(members);
+  const size_t vpl_cluster = cluster_choice.sample_bits(rng.bits64());
+  const uint32_t members = clusters_.lights.count(vpl_cluster);
+  const Vpl& vpl = vpls_.vpls[clusters_.lights.order[clusters_.lights.begin[vpl_cluster] + rng.below(members)]];
+  const double p = cluster_choice.probability(vpl_cluster) / double(members);
   const Vec3 t = tentative_contribution(scene_, sp, vpl, config_.clamp_distance);
   if (max_component(t) <= 0.0f) {
     // No ray in any mode (exact, not a skip). Such a sample costs what a skipped one does
     // (calibrate() charges it t_skip), so it enters mean(q) of eq. (16) with q = 1, and
     // eq. (17) with y = t V~ / p = 0.
     s.state = SampleState::ZeroContribution;
-    s.value = Vec3(0.0f);
+    s.t_over_p = Vec3(0.0f);
     s.q = 1;
     s.r = 0;
-    s.lum_t = 0;
+    s.scalar_t_over_p = 0;
     return;
   }
-  s.value = t * float(1.0 / p);
-  s.lum_t = channel_mean(s.value);
-  s.r = float(visibility_prediction(config_.mode, clusters_.r[c * clusters_.vpl_cluster_count() + l]));
+  s.t_over_p = t * float(1.0 / p);
+  s.scalar_t_over_p = channel_mean(s.t_over_p);
+  s.r = float(visibility_prediction(config_.mode, clusters_.r[c * clusters_.vpl_cluster_count() + vpl_cluster]));
   double q = 0;
   if (forced == Forced::One) q = 1;
   else if (forced == Forced::None)
-    q = skip_probability(config_.mode, channel_mean(t), p, s.r, t_hat_value, sigma2, config_.epsilon);
+    q = skip_probability(config_.mode, channel_mean(t), p, s.r, stats_[c], timings_.t_eval, timings_.t_skip,
+                         config_.epsilon);
   s.q = q;
   // skip_coin skips with probability exactly q (q is on its 2^-53 grid), and eq. (8) in
   // resolve_samples weights with the same double q.
@@ -237,10 +237,10 @@ void ManylightRenderer::resolve_samples(size_t c, std::span<const Sample> sample
   const int spp_samples = config_.samples_per_pass;
   for (const Sample& s : samples) {
     if (s.state == SampleState::Empty) continue;
-    const double vt = estimated_visibility(s.state, s.r, s.q, s.ray, occluded);
-    st.add(s.q, s.lum_t * vt);  // a zero contribution has q = 1, lum_t = 0 (draw_sample)
+    const double v_tilde = estimated_visibility(s.state, s.r, s.q, s.ray, occluded);
+    st.add(s.q, s.scalar_t_over_p * v_tilde);  // a zero contribution adds q = 1, y = 0 (draw_sample)
     if (!accumulate) continue;
-    for (int k = 0; k < 3; ++k) point_sum_[s.point][k] += double(s.value[k]) * vt / spp_samples;
+    for (int k = 0; k < 3; ++k) point_sum_[s.point][k] += double(s.t_over_p[k]) * v_tilde / spp_samples;
     if (s.state != SampleState::ZeroContribution) {
       point_samples_[s.point]++;
       point_skipped_[s.point] += s.state == SampleState::Skipped ? 1u : 0u;
@@ -258,37 +258,35 @@ size_t ManylightRenderer::pass(const std::vector<std::vector<uint32_t>>& cluster
   std::vector<Sample> samples(nc * stride);
   std::vector<Ray> ray_of(nc * stride);
   RayBatch rays;
-  std::vector<uint8_t> occ;
-  size_t nonzero = 0;
+  std::vector<uint8_t> occluded;
+  size_t contributing = 0;
   for (size_t round = 0; round < rounds; ++round) {
-    // Phase A: sample VPLs and decide skips with the statistics of earlier rounds.
+    // Phase A: sample VPLs and decide skips with the statistics of earlier rounds (stats_ is
+    // only read here; phase B updates it).
     tbb::parallel_for(size_t(0), nc, [&](size_t c) {
       const auto& list = cluster_points[c];
       const size_t b = round * per_round, e = std::min(list.size(), b + per_round);
-      const ClusterSampleStats& st = stats_[c];
-      const double th = t_hat(timings_.t_eval, timings_.t_skip, st.mean_q());
-      const double var = st.variance();
       for (size_t k = 0; k < stride; ++k) samples[c * stride + k].state = SampleState::Empty;
       for (size_t i = b; i < e; ++i)
         for (int j = 0; j < spp_samples; ++j) {
           const size_t k = c * stride + (i - b) * spp_samples + j;
-          draw_sample(c, list[i], j, forced, th, var, samples[k], ray_of[k]);
+          draw_sample(c, list[i], j, forced, samples[k], ray_of[k]);
         }
     });
     rays.clear();
     for (size_t k = 0; k < samples.size(); ++k) {
       const SampleState state = samples[k].state;
-      nonzero += state == SampleState::Skipped || state == SampleState::Traced ? 1 : 0;
+      contributing += state == SampleState::Skipped || state == SampleState::Traced ? 1 : 0;
       if (state == SampleState::Traced) { samples[k].ray = uint32_t(rays.size()); rays.push_back(ray_of[k]); }
     }
-    if (!rays.empty()) accel_.occluded(rays, occ);
+    if (!rays.empty()) accel_.occluded(rays, occluded);
     rays_traced_ += accumulate ? rays.size() : 0;
     // Phase B: V~ of eq. (8), the pixel estimate of eq. (6), and the cluster statistics.
     tbb::parallel_for(size_t(0), nc, [&](size_t c) {
-      resolve_samples(c, std::span<const Sample>(samples).subspan(c * stride, stride), occ, accumulate);
+      resolve_samples(c, std::span<const Sample>(samples).subspan(c * stride, stride), occluded, accumulate);
     });
   }
-  return nonzero;
+  return contributing;
 }
 
 std::vector<ProgressRecord> ManylightRenderer::render_for(double seconds, const Image& reference, size_t max_passes,

@@ -135,5 +135,21 @@ TEST(ManylightClusterSampleStats, MeansAndEq17Variance) {
   EXPECT_NEAR(st.variance(), 8.0 / 3.0, 1e-12);  // 1/N sum (y - 3)^2 = (4 + 0 + 4) / 3
 }
 
+// Eq. (15) with t_hat (eq. 16) and sigma2 (eq. 17) taken from a cluster's earlier samples, as
+// the renderer calls it. Passing sigma2 for t_hat and t_hat for sigma2, or leaving out the mean
+// q of eq. (16), keeps the estimator unbiased (only q changes) and passed every other test.
+TEST(ManylightSkipProbability, FromTheClustersEarlierSamples) {
+  ClusterSampleStats earlier;
+  earlier.add(0.0, 0.0);
+  earlier.add(0.5, 4.0);
+  // mean q = 0.25, sigma2 = (0 + 16) / 2 - 2^2 = 4; t_hat = 1 / (1 - 0.2) - 0.25 = 1.
+  // t = 2, p = 0.5, r = 0.8: D = 0.16, q = 1 - sqrt(4 * 0.16 / 0.25 * 1 / 4) = 1 - 0.8 = 0.2.
+  EXPECT_NEAR(skip_probability(VisibilityMode::Proposed, 2.0, 0.5, 0.8, earlier, 1.0, 0.2, 0.1), 0.2, 1e-12);
+  // Nothing known yet (sigma2 = 0 before two samples): trace.
+  ClusterSampleStats one;
+  one.add(0.0, 4.0);
+  EXPECT_EQ(skip_probability(VisibilityMode::Proposed, 2.0, 0.5, 0.8, one, 1.0, 0.2, 0.1), 0.0);
+}
+
 }  // namespace
 }  // namespace rayscout

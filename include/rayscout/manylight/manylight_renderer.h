@@ -112,8 +112,7 @@ class ManylightRenderer {
   /// Returns the number of samples with a non-zero tentative contribution.
   size_t pass(const std::vector<std::vector<uint32_t>>& cluster_points, Forced forced, bool accumulate);
   /// Phase A of a round for one sample (VPL, contribution, skip coin); see the .cpp.
-  void draw_sample(size_t cluster, uint32_t point, int j, Forced forced, double t_hat_value, double sigma2,
-                   Sample& sample, Ray& ray) const;
+  void draw_sample(size_t cluster, uint32_t point, int j, Forced forced, Sample& sample, Ray& ray) const;
   /// Phase B of a round for one shading cluster's samples (eqs. (6), (8), statistics).
   void resolve_samples(size_t cluster, std::span<const Sample> samples, const std::vector<uint8_t>& occluded,
                        bool accumulate);

@@ -102,4 +102,12 @@ struct ClusterSampleStats {
   }
 };
 
+/// Eq. (15) for a sample of a shading cluster whose earlier samples are `earlier` (sec. 4.1):
+/// t_hat of eq. (16) from the costs (seconds per sample) and their mean q, sigma2 = eq. (17).
+/// t is the scalar tentative contribution, not t / p (eq. 15 divides by p itself).
+inline double skip_probability(VisibilityMode mode, double t, double p, double r, const ClusterSampleStats& earlier,
+                               double t_eval, double t_skip, double epsilon) {
+  return skip_probability(mode, t, p, r, t_hat(t_eval, t_skip, earlier.mean_q()), earlier.variance(), epsilon);
+}
+
 }  // namespace rayscout
