@@ -11,6 +11,7 @@
 #include "rayscout/accelerators.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/image/image.h"
+#include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/manylight_integrator.h"
 #include "rayscout/manylight/manylight_renderer.h"
 #include "rayscout/scene/load_scene.h"
@@ -191,6 +192,42 @@ TEST(ManylightRenderer, EveryAcceleratorGivesTheSameImage) {
       differing += std::memcmp(&img.pixels[i], &reference.pixels[i], sizeof(Vec3)) != 0;
     EXPECT_EQ(differing, 0u) << info.name;
   }
+}
+
+// Sec. 4.1: what a pass adds to its clusters' statistics, eqs. (16) and (17). With exact
+// visibility every sample with t > 0 is traced (q = 0) and the others enter with q = 1, so the
+// samples minus the summed q are the shadow rays; y = t V / p sums to the image's estimate.
+// Entering the zero-contribution samples with q = 0, or y without V~, changes only how much is
+// skipped later (not the expectation) and passed every other test.
+TEST(ManylightRenderer, ClusterStatisticsHoldEachSamplesQAndEstimate) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig c;
+  c.width = 32;
+  c.height = 24;
+  c.vpl_count = 400;
+  c.shading_clusters = c.vpl_clusters = 16;
+  c.samples_per_pass = 4;
+  c.mode = VisibilityMode::Exact;
+  ManylightRenderer r(scene, *accel, c);
+  r.render_pass();
+  double n = 0, sum_q = 0, sum_y = 0;
+  for (const ClusterSampleStats& st : r.cluster_stats()) {
+    n += st.n;
+    sum_q += st.sum_q;
+    sum_y += st.sum_y;
+  }
+  const Image img = r.image();
+  double valid = 0, estimate = 0;
+  for (const ShadingPoint& sp : r.shading_points()) {
+    if (!sp.valid()) continue;
+    ++valid;
+    estimate += channel_mean(img.pixels[sp.pixel] - sp.emitted);  // spp 1, no mirror: weight 1
+  }
+  EXPECT_EQ(n, valid * c.samples_per_pass);
+  EXPECT_GT(sum_q, 0.0) << "some samples have t = 0";
+  EXPECT_EQ(n - sum_q, double(r.shadow_rays_traced()));
+  EXPECT_NEAR(sum_y, estimate * c.samples_per_pass, 1e-4 * sum_y);
 }
 
 TEST(ManylightConfig, VisibilityModeNames) {

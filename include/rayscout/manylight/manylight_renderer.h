@@ -98,6 +98,8 @@ class ManylightRenderer {
   const VplSet& vpls() const { return vpls_; }
   const std::vector<ShadingPoint>& shading_points() const { return points_; }
   const VisibilityClusters& clusters() const { return clusters_; }
+  /// Per shading cluster, the running sums of its samples so far that eqs. (16), (17) read.
+  const std::vector<ClusterSampleStats>& cluster_stats() const { return stats_; }
 
  private:
   struct Sample;
