@@ -296,18 +296,18 @@ VisibilityClusters build_visibility_clusters(const Scene& scene, const Accelerat
   std::vector<float> weight(pairs, 0.0f);
   // A pair's sampling weight C max(r, r_floor): the cluster's unoccluded contribution times its
   // visibility (sec. 3), floored by rayscout's r_floor (docs/manylight.md, pmf).
-  auto update = [&](size_t pid) {
+  auto estimate_pair = [&](size_t pid) {
     // Unknown (no pair faced each other): r = 0.5, the most uncertain prediction.
     vc.r[pid] = est.n_traced[pid] ? float(est.n_vis[pid]) / float(est.n_traced[pid]) : 0.5f;
     const double c = est.n_t[pid] ? est.sum_t[pid] / est.n_t[pid] * double(vc.lights.count(pid % nl)) : 0.0;
     weight[pid] = float(c * std::max(vc.r[pid], config.r_floor));
   };
-  for (size_t pid = 0; pid < pairs; ++pid) update(pid);
+  for (size_t pid = 0; pid < pairs; ++pid) estimate_pair(pid);
   if (config.refine_samples > 0) {
     const std::vector<uint32_t> refine = pairs_to_refine(vc, weight, ns, nl);
     vc.refined_pairs = refine.size();
     vc.shadow_rays += sample_visibility(ps, accel, offset, refine, config.refine_samples, 1, est);
-    for (uint32_t pid : refine) update(pid);
+    for (uint32_t pid : refine) estimate_pair(pid);
   }
   vc.visibility_ms = ms_since(t0);
 

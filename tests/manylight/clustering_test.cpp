@@ -11,6 +11,7 @@
 #include "rayscout/core/input_error.h"
 #include "rayscout/manylight/channel_mean.h"
 #include "rayscout/manylight/manylight_renderer.h"
+#include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/visibility_cluster.h"
 #include "rayscout/manylight/vpl.h"
 #include "rayscout/scene/load_scene.h"
@@ -228,6 +229,84 @@ TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
   EXPECT_TRUE(some_occluded);
   EXPECT_TRUE(some_visible);
   EXPECT_GT(vc.shadow_rays, 0u);
+}
+
+// Fig. 1(b): r of a cluster pair is the visible fraction of its member pairs that face each
+// other (t > 0): checked against that fraction computed over every member pair. The other
+// tests only ask that some r is below 1 and some above 0; the estimator is unbiased for any r,
+// so an r that counted the occluded pairs instead of the visible ones passed every test while
+// it made proposed skip the rays it should trace.
+TEST(ManylightVisibilityClusters, RIsTheVisibleFractionOfTheFacingMemberPairs) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.width = 16;
+  config.height = 12;
+  config.vpl_count = 300;
+  config.shading_clusters = config.vpl_clusters = 4;
+  config.visibility_samples = 1024;
+  config.refine_samples = 0;
+  const VplSet vpls = generate_vpls(scene, *accel, config);
+  const std::vector<ShadingPoint> points = generate_shading_points(scene, *accel, config);
+  const VisibilityClusters vc = build_visibility_clusters(scene, *accel, points, vpls, config);
+  const size_t nl = vc.vpl_cluster_count();
+  const float offset = 1e-4f * length(scene.bounds().diagonal());
+  size_t checked = 0, decisive = 0;
+  for (size_t s = 0; s < vc.shading.size(); ++s)
+    for (size_t l = 0; l < nl; ++l) {
+      RayBatch rays;
+      for (uint32_t i = vc.shading.begin[s]; i < vc.shading.begin[s + 1]; ++i)
+        for (uint32_t j = vc.lights.begin[l]; j < vc.lights.begin[l + 1]; ++j) {
+          const ShadingPoint& sp = points[vc.shading.order[i]];
+          const Vpl& v = vpls.vpls[vc.lights.order[j]];
+          if (channel_mean(tentative_contribution(scene, sp, v, 0.0f)) > 0.0f) rays.push_back(shadow_ray(sp, v, offset));
+        }
+      const double facing = double(rays.size()) / double(vc.shading.count(s) * vc.lights.count(l));
+      if (facing < 0.1) continue;  // r rests on few of the 1024 samples
+      std::vector<uint8_t> occluded;
+      accel->occluded(rays, occluded);
+      const double visible = double(std::count(occluded.begin(), occluded.end(), uint8_t(0))) / double(rays.size());
+      // The 1024 samples draw member pairs with replacement: r is binomial around `visible`.
+      const double se = std::sqrt(visible * (1.0 - visible) / (1024.0 * facing));
+      EXPECT_NEAR(vc.r[s * nl + l], visible, 5.0 * se + 1e-6) << "pair " << s << ", " << l;
+      ++checked;
+      decisive += std::fabs(visible - 0.5) > 0.2;  // where counting the occluded ones would show
+    }
+  EXPECT_GE(checked, 8u);
+  EXPECT_GE(decisive, 4u);
+}
+
+// Fig. 1(c): a VPL cluster's sampling weight is its estimated contribution times its average
+// visibility (sec. 3; rayscout floors r at r_floor). With r_floor = 0, a cluster whose every
+// sampled facing pair was occluded (r = 0, so its contribution was seen: C > 0) keeps only the
+// uniform share mix |V| / N; the others share the rest. Weighting by C alone passed the other tests.
+TEST(ManylightVisibilityClusters, AnOccludedClusterGetsOnlyTheUniformShare) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.width = 32;
+  config.height = 24;
+  config.vpl_count = 500;
+  config.shading_clusters = config.vpl_clusters = 16;
+  config.r_floor = 0.0f;
+  config.uniform_mix = 0.1f;
+  ManylightRenderer renderer(scene, *accel, config);
+  const VisibilityClusters& vc = renderer.clusters();
+  const size_t nl = vc.vpl_cluster_count();
+  const double n = double(renderer.vpls().vpls.size());
+  size_t occluded = 0;
+  for (size_t s = 0; s < vc.shading.size(); ++s)
+    for (size_t l = 0; l < nl; ++l) {
+      const double uniform = double(config.uniform_mix) * double(vc.lights.count(l)) / n;
+      const double p = vc.vpl_cluster_choice[s].probability(l);
+      if (vc.r[s * nl + l] == 0.0f) {
+        EXPECT_NEAR(p, uniform, 1e-12) << "pair " << s << ", " << l;
+        ++occluded;
+      } else {
+        EXPECT_GE(p, uniform - 1e-12) << "pair " << s << ", " << l;
+      }
+    }
+  EXPECT_GT(occluded, 0u);
 }
 
 // Cluster pair ids are 32-bit: more pairs than that are an input error, before any of the
