@@ -38,8 +38,7 @@ class PathIntegrator final : public WavefrontIntegrator {
     }
     if (last_bounce && !mirror) return;  // only a mirror bounce goes on from the last vertex
     const PathSampler sampler = ctx.sampler(state);
-    const BsdfSample bs =
-        sample_bsdf(m, sp.n, wo, sampler.get(kDimBsdf), sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
+    const BsdfSample bs = sample_bsdf(m, sp.n, wo, sampler);
     if (!bs.valid) return;
     Vec3 throughput = state.throughput * bs.weight;
     if (!(max_component(throughput) > 0)) return;

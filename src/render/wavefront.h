@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rayscout/core/sampling.h"
+#include "rayscout/render/bsdf.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/renderer.h"
 #include "rayscout/render/sampler.h"
@@ -98,6 +99,11 @@ class WavefrontIntegrator : public Integrator {
 inline LightSample sample_light(const LightSampler& lights, const PathSampler& sampler, int k) {
   const uint32_t dim = light_sample_dim(k);
   return lights.sample(sampler.bits(dim), sampler.get(dim + 1), sampler.get(dim + 2));
+}
+
+/// BSDF sample of a path vertex: the path integrator's bounce and the diffuse workload.
+inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const PathSampler& sampler) {
+  return sample_bsdf(m, n, wo, sampler.get(kDimBsdf), sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2));
 }
 
 /// Ambient-occlusion direction k of a path vertex, cosine-distributed around n: the ao

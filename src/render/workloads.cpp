@@ -4,7 +4,6 @@
 #include <tbb/parallel_for.h>
 
 #include "rayscout/core/input_error.h"
-#include "rayscout/core/sampling.h"
 #include "rayscout/render/light_sampler.h"
 #include "rayscout/render/sampler.h"
 #include "rayscout/render/surface.h"
@@ -63,6 +62,7 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   const float eps = scene_ray_epsilon(bounds);
   const float ao_radius = ao_radius_for(config.ao_radius, bounds);
   const LightSampler lights(scene);
+  const Material lambert;  // the Diffuse workload's material
   const bool to_points = !scene.point_lights.empty();
   const size_t per_hit =
       workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));
@@ -90,9 +90,8 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
         case Workload::Ao:
           out.set(o, spawn_ray(sp, sample_ao_direction(sampler, sp.n, 0), eps, ao_radius));
           break;
-        case Workload::Diffuse:  // the direction sample_bsdf draws for a diffuse material
-          out.set(o, spawn_ray(sp, sample_cosine_hemisphere(sp.n, sampler.get(kDimBsdf + 1), sampler.get(kDimBsdf + 2)),
-                               eps));
+        case Workload::Diffuse:  // the bounce the path integrator samples at a Lambert surface
+          out.set(o, spawn_ray(sp, sample_bsdf(lambert, sp.n, -ray.dir, sampler).wi, eps));
           break;
         case Workload::Shadow:
           if (to_points) {
