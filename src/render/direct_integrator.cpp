@@ -21,7 +21,7 @@ class DirectIntegrator final : public WavefrontIntegrator {
       const Vec3 throughput = state.throughput * m.specular;
       if (ctx.bounce < ctx.config->max_depth && max_component(throughput) > 0)
         out.continue_path(spawn_ray(sp, reflect(ray.dir, sp.n), ctx.epsilon),
-                          {state.pixel, state.sample, throughput, true});
+                          state.after_bounce(throughput, /*mirror=*/true));
       return;
     }
     detail::add_point_light_rays(ctx, state, m, sp, wo, out);

@@ -10,6 +10,17 @@ namespace {
 
 constexpr float kMinSurvival = 0.05f;  // Russian roulette's smallest probability to go on
 
+// Russian roulette with uniform u: the path goes on with probability p and its throughput is
+// divided by p, so the expected value is unchanged. p is the largest throughput component
+// (pbrt-v4's rule; pbrt-v3 caps it at 0.95), at most 1 and at least kMinSurvival, which bounds
+// the 1 / p a surviving path is weighted by. False: the path ends.
+bool survives_roulette(Vec3& throughput, float u) {
+  const float p = std::clamp(max_component(throughput), kMinSurvival, 1.0f);
+  if (u >= p) return false;
+  throughput = throughput * (1.0f / p);
+  return true;
+}
+
 class PathIntegrator final : public WavefrontIntegrator {
  public:
   std::string name() const override { return "path"; }
@@ -18,9 +29,6 @@ class PathIntegrator final : public WavefrontIntegrator {
   const char* continuation_kind() const override { return "path"; }
   // Area lights are reached two ways from a non-mirror vertex: next-event estimation and the
   // BSDF-sampled bounce, combined by MIS with the power heuristic (pbrt's PathIntegrator).
-  // The last bounce (bounce max_depth - 1) traces no bounce ray, whose vertex could only add
-  // emission: there next-event estimation takes the full weight, which keeps the estimate
-  // unbiased (the weights of every light point still sum to 1) and saves a batch of rays.
   // Point lights and mirrors are delta: next-event estimation only, and emission in full
   // after camera and mirror bounces.
   void shade(const ShadeContext& ctx, const PathState& state, const Ray& ray, const SurfacePoint& sp,
@@ -30,6 +38,9 @@ class PathIntegrator final : public WavefrontIntegrator {
     const int max_depth = ctx.config->max_depth;
     if (ctx.bounce >= max_depth) return;
     const Vec3 wo = -ray.dir;
+    // The last bounce traces no bounce ray, whose vertex could only add emission: next-event
+    // estimation takes the full weight there, which keeps the estimate unbiased (the weights
+    // of every light point still sum to 1) and saves a batch of rays.
     const bool last_bounce = ctx.bounce + 1 == max_depth;
     const bool mirror = m.type == Material::Type::Mirror;
     if (!mirror) {
@@ -42,16 +53,9 @@ class PathIntegrator final : public WavefrontIntegrator {
     if (!bs.valid) return;
     Vec3 throughput = state.throughput * bs.weight;
     if (!(max_component(throughput) > 0)) return;
-    if (ctx.bounce > ctx.config->rr_depth) {
-      // Russian roulette: go on with probability p and weight by 1 / p, so E is unchanged. p is
-      // the largest throughput component (pbrt-v4's rule; pbrt-v3 caps it at 0.95), at most
-      // 1 and at least kMinSurvival, which bounds the 1 / p a surviving path is weighted by.
-      const float p = std::clamp(max_component(throughput), kMinSurvival, 1.0f);
-      if (sampler.get(kDimRoulette) >= p) return;
-      throughput = throughput * (1.0f / p);
-    }
-    out.continue_path(spawn_ray(sp, bs.wi, ctx.epsilon),
-                      {state.pixel, state.sample, throughput, bs.specular, bs.pdf});
+    const bool roulette = ctx.bounce > ctx.config->rr_depth;
+    if (roulette && !survives_roulette(throughput, sampler.get(kDimRoulette))) return;
+    out.continue_path(spawn_ray(sp, bs.wi, ctx.epsilon), state.after_bounce(throughput, bs.specular, bs.pdf));
   }
 };
 

@@ -22,6 +22,12 @@ struct PathState {
   /// Solid-angle pdf of the non-mirror bounce that made the ray, when next-event estimation at
   /// that vertex shares area lights with it by MIS (path); 0 = it does not, emission is skipped.
   float bsdf_pdf = 0;
+
+  /// The same camera sample after a bounce: the new throughput, whether the bounce was a
+  /// mirror, and its bsdf_pdf (0 unless the vertex shares area lights by MIS).
+  PathState after_bounce(const Vec3& new_throughput, bool mirror, float pdf = 0) const {
+    return {pixel, sample, new_throughput, mirror, pdf};
+  }
 };
 
 /// Per-render constants handed to shading.
