@@ -55,8 +55,8 @@ inline float pdf_bsdf(const Material& m, const Vec3& n, const Vec3& wo, const Ve
   return (1.0f - ps) * pdf_d + ps * pdf_s;
 }
 
-/// Direction around unit r at density (e + 1) / (2 pi) cos^e(alpha) from [0,1)^2:
-/// cos(alpha) = u1^(1 / (e + 1)) inverts the CDF of cos(alpha), phi = 2 pi u2.
+/// Direction around unit r at density (e + 1) / (2 pi) cos^e(alpha) from [0,1)^2 (Lafortune &
+/// Willems 1994): cos(alpha) = u1^(1 / (e + 1)) inverts the CDF of cos(alpha), phi = 2 pi u2.
 inline Vec3 sample_phong_lobe(const Vec3& r, float exponent, float u1, float u2) {
   const float cos_a = std::pow(u1, 1.0f / (exponent + 1.0f));
   const float sin_a = std::sqrt(std::max(0.0f, 1.0f - cos_a * cos_a));
@@ -95,10 +95,10 @@ inline BsdfSample sample_bsdf(const Material& m, const Vec3& n, const Vec3& wo, 
   s.wi = u0 < glossy_lobe_probability(m) ? sample_phong_lobe(reflect(-wo, n), m.exponent, u1, u2)
                                           : sample_cosine_hemisphere(n, u1, u2);
   const float pdf = pdf_bsdf(m, n, wo, s.wi);
-  // A density below float's normal range only comes from the Phong lobe's rim (u1 = 0 gives
-  // cos(alpha) = 0, so dot(r, wi) is rounding noise whose e-th power is denormal) without a
-  // diffuse lobe: there cos / pdf overflowed to inf (an infinite path throughput). Such a
-  // direction carries no light worth counting (f cos ~ pdf): the sample is dropped.
+  // A density below float's normal range only comes from the Phong lobe's rim without a
+  // diffuse lobe (u1 = 0: cos(alpha) = 0, and dot(r, wi) is rounding noise whose e-th power is
+  // denormal). cos / pdf would overflow there, and the direction carries no light worth
+  // counting (f cos ~ pdf): the sample is dropped.
   if (!(pdf >= std::numeric_limits<float>::min())) return s;
   s.weight = eval_bsdf(m, n, wo, s.wi) * (dot(s.wi, n) / pdf);
   s.pdf = pdf;

@@ -10,7 +10,7 @@
 namespace rayscout {
 
 /// Maps film positions (in pixels from the top-left corner) and lens samples to world rays
-/// of unit direction, tmin = 0, tmax = inf. Thin lens as in pbrt (Pharr et al., sec. 5.2.3):
+/// of unit direction, tmin = 0, tmax = inf. Thin lens as in pbrt-v4 (Pharr et al., sec. 5.2.3):
 /// the ray passes through the lens point and the point in focus at focus_distance along the
 /// view axis.
 class CameraRays {

@@ -23,8 +23,7 @@ struct LightSample {
 /// (v1 - v0) x (v2 - v0) (counter-clockwise winding faces the lit side, as in OBJ).
 /// The choice uses 53 random bits and a DiscreteDistribution on the 2^-53 grid, so the
 /// probability reported is exactly the probability of the choice, also for a light 1e-7 as
-/// bright as its neighbour (a float CDF searched with a 24-bit u over- or under-sampled such
-/// lights by a factor of 1.2 and more, or never chose them).
+/// bright as its neighbour (which a 24-bit u would over- or under-sample, or never choose).
 class LightSampler {
  public:
   /// Keeps a pointer to scene (it must outlive the sampler).

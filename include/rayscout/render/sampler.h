@@ -9,9 +9,8 @@
 namespace rayscout {
 
 /// Random numbers of one path vertex: the key (seed, pixel, sample, bounce) is hashed once,
-/// dimension d is then output d of a SplitMix64 stream seeded with it. Dimensions in use:
-/// 0-3 camera (pixel jitter, lens) at bounce 0; 4-6 BSDF sampling; 7 Russian roulette; 8 and
-/// up light and AO samples (see kDimLights).
+/// dimension d is then output d of a SplitMix64 stream seeded with it. The dimensions in use
+/// are the kDim constants below.
 class PathSampler {
  public:
   PathSampler(uint64_t seed, uint32_t pixel, uint32_t sample, uint32_t bounce)
