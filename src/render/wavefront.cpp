@@ -20,8 +20,8 @@ constexpr size_t kShadeChunk = 4096;
 
 // Adds the contributions of the occlusion rays that nothing occluded to the film. Each pixel's
 // contributions are added in array order by one task, so the sums do not depend on the thread
-// count. Contributions come sorted by pixel (paths keep the pixel-major camera order);
-// otherwise sequentially.
+// count: blocks of whole pixels in parallel when the list is sorted by pixel (as paths keep the
+// pixel-major camera order), else all in one sequential pass.
 template <typename Contribution>
 void accumulate_unoccluded(std::vector<Vec3>& film, const std::vector<Contribution>& list,
                            const std::vector<uint8_t>& occluded) {
@@ -193,7 +193,6 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
   std::vector<Vec3> film(size_t(config.width) * size_t(config.height));
   const PassPlan plan(config);
   const int passes = plan.passes();
-  auto t0 = SteadyClock::now();
 
   uint64_t rays_traced = 0;
   int pass = 0;
@@ -217,7 +216,7 @@ Image WavefrontIntegrator::render(const Scene& scene, const Accelerator& accel, 
 
   Bounce b;
   for (pass = 0; pass < passes; ++pass) {
-    t0 = SteadyClock::now();
+    auto t0 = SteadyClock::now();
     const PassPlan::Pass p = plan.pass(pass);
     generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, b.rays, &b.paths,
                          p.sample_begin, p.sample_end, p.row_begin, p.row_end);

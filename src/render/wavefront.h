@@ -39,6 +39,7 @@ struct ShadeContext {
   float ao_radius = 0;  ///< resolved AO radius
   int bounce = 0;
 
+  /// The random numbers of path s at this bounce.
   PathSampler sampler(const PathState& s) const {
     return {config->seed, s.pixel, s.sample, uint32_t(bounce)};
   }

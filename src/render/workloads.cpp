@@ -19,6 +19,13 @@ Ray shadow_ray_or_nothing(const SurfacePoint& sp, const Vec3& target, float eps)
   return shadow ? shadow->ray : Ray{sp.p, eps, sp.n, 0.0f};
 }
 
+// Shadow rays per primary hit: one per point light, else one to a point sampled on the area
+// lights, none in a scene without lights.
+size_t shadow_rays_per_hit(const Scene& scene, const LightSampler& lights) {
+  if (!scene.point_lights.empty()) return scene.point_lights.size();
+  return lights.empty() ? 0 : 1;
+}
+
 }  // namespace
 
 Workload parse_workload(const std::string& name) {
@@ -64,10 +71,8 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   const LightSampler lights(scene);
   const Material lambert;  // the Diffuse workload's material
   const bool to_points = !scene.point_lights.empty();
-  const size_t per_hit =
-      workload != Workload::Shadow ? 1 : (to_points ? scene.point_lights.size() : (lights.empty() ? 0 : 1));
-  // No lights, no shadow rays (the loop below would sample the empty light sampler).
-  if (per_hit == 0) return RayBatch{};
+  const size_t per_hit = workload == Workload::Shadow ? shadow_rays_per_hit(scene, lights) : 1;
+  if (per_hit == 0) return RayBatch{};  // the loop below would sample an empty light sampler
 
   // Output slot of each hit: an exclusive prefix count, so rays keep the primary order.
   const size_t n = primary.size();
