@@ -8,7 +8,7 @@
 #include <string>
 
 #include "rayscout/image/image.h"
-#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/manylight_config.h"
 #include "rayscout/render/renderer.h"
 
 namespace rayscout {

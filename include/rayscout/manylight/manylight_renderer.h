@@ -11,7 +11,7 @@
 
 #include "rayscout/core/accelerator.h"
 #include "rayscout/image/image.h"
-#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/manylight_config.h"
 #include "rayscout/manylight/probabilistic_visibility.h"
 #include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/visibility_cluster.h"

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/manylight_config.h"
 
 namespace rayscout {
 

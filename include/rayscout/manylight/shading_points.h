@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "rayscout/core/accelerator.h"
-#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/manylight_config.h"
 #include "rayscout/scene/scene.h"
 
 namespace rayscout {

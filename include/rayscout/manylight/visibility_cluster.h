@@ -8,7 +8,7 @@
 
 #include "rayscout/core/accelerator.h"
 #include "rayscout/core/discrete_distribution.h"
-#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/manylight_config.h"
 #include "rayscout/manylight/shading_points.h"
 #include "rayscout/manylight/vpl.h"
 

@@ -1,5 +1,5 @@
 // Names of the visibility modes.
-#include "rayscout/manylight/config.h"
+#include "rayscout/manylight/manylight_config.h"
 
 #include "rayscout/core/input_error.h"
 
