@@ -5,7 +5,7 @@
 #include <span>
 #include <vector>
 
-#include "rayscout/bvh/build_config.h"
+#include "rayscout/bvh/bvh_build_config.h"
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/triangle.h"
 

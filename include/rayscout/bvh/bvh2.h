@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "rayscout/bvh/build_config.h"
+#include "rayscout/bvh/bvh_build_config.h"
 #include "rayscout/bvh/cull_interval.h"
 #include "rayscout/core/bounds3.h"
 #include "rayscout/core/ray.h"

@@ -3,8 +3,8 @@
 
 #include <span>
 
-#include "rayscout/bvh/build_config.h"
 #include "rayscout/bvh/bvh2.h"
+#include "rayscout/bvh/bvh_build_config.h"
 #include "rayscout/bvh/wide_bvh.h"
 #include "rayscout/core/accelerator.h"
 #include "rayscout/scene/scene.h"
