@@ -48,7 +48,10 @@ void add_manylight_options(CLI::App& cmd) {
   ManylightConfig& c = o.config;
   add_number(cmd, "--vpls", c.vpl_count,
              "manylight: VPLs to make, at least this many (whole light paths are kept, so a few more)", 1, 4294967295);
-  cmd.add_option("--visibility", parsed_visibility(), "manylight: exact, veach, conservative or proposed")
+  cmd.add_option("--visibility", parsed_visibility(),
+                 "manylight: which shadow rays may be skipped: exact (none), veach (by contribution alone; a "
+                 "skipped ray counts as occluded), conservative or proposed (by contribution and the cluster pair's "
+                 "visibility r, which a skipped ray counts as; docs/manylight.md)")
       ->capture_default_str()
       ->check(CLI::IsMember(visibility_mode_names()));
   add_number(cmd, "--time-budget", o.time_budget, "manylight: seconds of progressive rendering (0 = --passes)", 0.0);
