@@ -8,7 +8,7 @@
 
 #include "rayscout/bvh/bvh2.h"
 #include "rayscout/bvh/wide_bvh.h"
-#include "rayscout/core/record_transpose.h"
+#include "core/private/record_transpose.h"
 #include "rayscout/core/triangle.h"
 
 #if defined(__AVX2__)

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "rayscout/core/input_error.h"
-#include "rayscout/core/little_endian.h"
+#include "core/private/little_endian.h"
 #include "rayscout/core/output_path.h"
 
 namespace rayscout {

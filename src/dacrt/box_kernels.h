@@ -21,7 +21,7 @@
 #include "rayscout/core/triangle.h"
 #include "rayscout/dacrt/dacrt_config.h"
 #include "avx2_util.h"
-#include "rayscout/core/record_transpose.h"
+#include "core/private/record_transpose.h"
 #include "ray_record.h"
 
 // g++ 12 reports a false "__Y may be used uninitialized" inside its own AVX-512 headers.

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "rayscout/core/file_extension.h"
-#include "rayscout/core/little_endian.h"
+#include "core/private/little_endian.h"
 #include "rayscout/scene/mesh.h"
 #include "scene_builder.h"
 #include "text_parse.h"
