@@ -62,6 +62,40 @@ TEST(DiscreteDistribution, ClampedSampleNeverChoosesWeightZero) {
   EXPECT_EQ(d.sample(~uint64_t(0)), 0u);
 }
 
+// sample_bits reads exactly the top `bits` bits: an off-by-one shift still passes all-zero and
+// all-one bits, but not the two halves' boundary.
+TEST(DiscreteDistribution, SampleBitsReadsTheTopBits) {
+  for (int bits : {3, 24, 53}) {
+    const DiscreteDistribution d(std::vector<double>{1.0, 1.0}, bits);
+    EXPECT_EQ(d.sample_bits((uint64_t(1) << 63) - 1), 0u) << bits;
+    EXPECT_EQ(d.sample_bits(uint64_t(1) << 63), 1u) << bits;
+  }
+}
+
+// Each share is rounded to the nearest unit: an item that neither is the largest nor gets the
+// one-unit floor is within half a unit of weight / total.
+TEST(DiscreteDistribution, SharesAreRoundedToTheNearestUnit) {
+  const std::vector<double> w{10.0, 2.9, 1.6, 0.7, 3.3};  // 2.9 / 18.5 * 256 = 40.13, 0.7 -> 9.69
+  const DiscreteDistribution d(w, 8);
+  for (size_t k = 1; k < w.size(); ++k)
+    EXPECT_LE(std::fabs(d.probability(k) * 256 - w[k] / 18.5 * 256), 0.5) << k;
+}
+
+// When the one-unit floors of tiny items outweigh what the largest item can give, the next
+// largest give up units (largest count first), so lighter items keep their rounded share.
+TEST(DiscreteDistribution, LargestItemsAbsorbTheFloors) {
+  std::vector<double> w{2, 2, 2, 2, 1, 1, 1, 1};  // 43 units each for 2, 21 for 1: 256 in all
+  w.resize(64, 1e-12);                            // 56 floors of one unit to pay for
+  const DiscreteDistribution d(w, 8);
+  const auto units = [&](size_t k) { return d.cdf(k) - (k ? d.cdf(k - 1) : 0); };
+  EXPECT_EQ(units(0), 1u);   // gives 42 of the 56
+  EXPECT_EQ(units(1), 29u);  // the next largest gives the other 14
+  EXPECT_EQ(units(2), 43u);
+  EXPECT_EQ(units(3), 43u);
+  for (size_t k = 4; k < 8; ++k) EXPECT_EQ(units(k), 21u) << k;
+  for (size_t k = 8; k < w.size(); ++k) EXPECT_EQ(units(k), 1u) << k;
+}
+
 TEST(DiscreteDistribution, RejectsBadWeights) {
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{0.0, 0.0}, 24), std::invalid_argument);
   EXPECT_THROW(DiscreteDistribution(std::vector<double>{1.0, -1.0}, 24), std::invalid_argument);

@@ -15,10 +15,10 @@ namespace rayscout {
 /// does not have that property: where u's grid is coarser than the CDF's steps, the step and
 /// the chance of the choice differ (a light of probability 1e-7 next to a bright one was
 /// chosen 1.19 times as often as its weight said with u on a 2^-24 grid).
-/// Every item of positive weight gets at least one unit (so it can be chosen, and the
-/// estimator stays unbiased); the quantised probability differs from weight / total by at most
-/// one unit (2^-bits) plus that floor, except for the largest items, which absorb the others'
-/// rounding so that the units add up to 2^bits. Items of weight 0 are never chosen.
+/// Each share weight / total is rounded to the nearest unit (2^-bits), and every item of
+/// positive weight gets at least one unit (so it can be chosen, and the estimator stays
+/// unbiased); the largest items absorb the others' rounding so that the units add up to
+/// 2^bits. Items of weight 0 are never chosen.
 class DiscreteDistribution {
  public:
   DiscreteDistribution() = default;
