@@ -14,6 +14,7 @@
 #include "generated_scenes.h"
 #include "rayscout/core/accelerator.h"
 #include "rayscout/core/input_error.h"
+#include "core/private/little_endian.h"
 #include "rayscout/core/ray_file.h"
 
 namespace rayscout {
@@ -87,11 +88,13 @@ TEST_F(RayFileTest, HitsRoundTripWithMisses) {
   hits.reset(4);
   hits.set(0, {1.5f, 7, 0.25f, 0.5f});
   hits.set(2, {0.0f, 0, 0.0f, 1.0f});
+  hits.set(3, {2.0f, kInvalidId, 0.5f, 0.5f});  // a miss is written as +inf, 0xFFFFFFFF, 0, 0
   write_hits(path("h.hits"), hits);
   const std::string b = slurp(path("h.hits"));
   ASSERT_EQ(b.size(), 16u + 4 * 16u);
   EXPECT_EQ(b.substr(0, 4), "HITS");
   EXPECT_EQ(b.substr(32, 8), std::string("\x00\x00\x80\x7f\xff\xff\xff\xff", 8));  // miss: +inf, 0xFFFFFFFF
+  EXPECT_EQ(b.substr(64, 16), b.substr(32, 16));
   const HitBatch back = read_hits(path("h.hits"));
   ASSERT_EQ(back.size(), 4u);
   EXPECT_EQ(back.t[0], 1.5f);
@@ -204,6 +207,9 @@ TEST_F(RayFileTest, BadVersionIsNamed) {
   EXPECT_NE(e.find("v2.rays"), std::string::npos) << e;
   EXPECT_NE(e.find("unsupported RAYS version 2, expected 1"), std::string::npos) << e;
   EXPECT_NE(error_of([&] { read_results(path("v2.rays")); }).find("version 2"), std::string::npos);
+  b[4] = 0;
+  dump(path("v0.rays"), b);
+  EXPECT_NE(error_of([&] { read_rays(path("v0.rays")); }).find("unsupported RAYS version 0"), std::string::npos);
 }
 
 TEST_F(RayFileTest, TruncatedHeaderAndBodyAreNamed) {
@@ -212,6 +218,12 @@ TEST_F(RayFileTest, TruncatedHeaderAndBodyAreNamed) {
   dump(path("head.rays"), b.substr(0, 10));
   std::string e = error_of([&] { read_rays(path("head.rays")); });
   EXPECT_NE(e.find("truncated header: 10 bytes, expected 16"), std::string::npos) << e;
+  // Four bytes hold the magic: it is checked (and named) before the header's length.
+  dump(path("magic.hits"), "HITS");
+  e = error_of([&] { read_rays(path("magic.hits")); });
+  EXPECT_NE(e.find("bad magic 'HITS', expected 'RAYS'"), std::string::npos) << e;
+  e = error_of([&] { read_results(path("magic.hits")); });
+  EXPECT_NE(e.find("truncated header: 4 bytes, expected 16 (HITS header)"), std::string::npos) << e;
   dump(path("empty.rays"), "");
   e = error_of([&] { read_rays(path("empty.rays")); });
   EXPECT_NE(e.find("truncated header: 0 bytes"), std::string::npos) << e;
@@ -232,11 +244,22 @@ TEST_F(RayFileTest, HugeCountIsTruncationNotAnAllocation) {
   EXPECT_NE(e.find("too many"), std::string::npos) << e;
 }
 
+// The count's high word is read (and written) as the high word: counts below 2^31 do not tell.
+TEST_F(RayFileTest, CountAbove32BitsIsRead) {
+  std::string b("RAYS\x01\0\0\0", 8);
+  put_u64(b, (uint64_t(1) << 32) + 1);
+  EXPECT_EQ(b.substr(8), std::string("\x01\0\0\0\x01\0\0\0", 8));
+  EXPECT_EQ(get_u64(b.data() + 8), (uint64_t(1) << 32) + 1);
+  dump(path("big.rays"), b);
+  const std::string e = error_of([&] { read_rays(path("big.rays")); });
+  EXPECT_NE(e.find("header says 4294967297 records of 32 bytes = 137438953504 bytes"), std::string::npos) << e;
+}
+
 TEST_F(RayFileTest, TrailingBytesAreAnError) {
   write_occlusion(path("o.occl"), {1, 0});
   dump(path("long.occl"), slurp(path("o.occl")) + "xyz");
   const std::string e = error_of([&] { read_occlusion(path("long.occl")); });
-  EXPECT_NE(e.find("3 trailing bytes"), std::string::npos) << e;
+  EXPECT_NE(e.find(": 3 trailing bytes: header says 2 records"), std::string::npos) << e;
 }
 
 TEST_F(RayFileTest, InvalidRecordsAreNamed) {
@@ -246,6 +269,11 @@ TEST_F(RayFileTest, InvalidRecordsAreNamed) {
   dump(path("bad.occl"), b);
   std::string e = error_of([&] { read_occlusion(path("bad.occl")); });
   EXPECT_NE(e.find("record 1: byte 7, expected 0 or 1"), std::string::npos) << e;
+  b[16 + 2] = 2;
+  b[16 + 1] = 0;
+  dump(path("two.occl"), b);
+  e = error_of([&] { read_occlusion(path("two.occl")); });
+  EXPECT_NE(e.find("record 2: byte 2, expected 0 or 1"), std::string::npos) << e;
 
   HitBatch hits;
   hits.reset(2);
