@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
 
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
@@ -122,6 +123,38 @@ TEST_P(AcceleratorSuite, EmptyBatchGivesEmptyResult) {
   accel->occluded(RayBatch{}, occ);
   EXPECT_EQ(hits.size(), 0u);
   EXPECT_EQ(occ.size(), 0u);
+}
+
+// Accelerator's contract: calls may run concurrently on one accelerator, and stats are added
+// to, never reset (two calls count twice what one does).
+TEST_P(AcceleratorSuite, ConcurrentCallsAgreeAndStatsAccumulate) {
+  const auto& p = GetParam();
+  const Scene scene = testing::scene_from_triangles(p.mesh.triangles);
+  const auto accel = make_accelerator(p.accel, scene);
+  const RayBatch rays[2] = {testing::nasty_rays(scene.triangles, 3), testing::nasty_rays(scene.triangles, 5)};
+  const Traced alone[2] = {trace_both(*accel, rays[0]), trace_both(*accel, rays[1])};
+  Traced together[2];
+  {
+    std::thread other([&] { together[1] = trace_both(*accel, rays[1]); });
+    together[0] = trace_both(*accel, rays[0]);
+    other.join();
+  }
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(together[k].hits.prim, alone[k].hits.prim) << k;
+    EXPECT_EQ(together[k].hits.t, alone[k].hits.t) << k;
+    EXPECT_EQ(together[k].occluded, alone[k].occluded) << k;
+  }
+
+  TraceStats once, twice;
+  HitBatch hits;
+  accel->intersect(rays[0], hits, &once);
+  accel->intersect(rays[0], hits, &twice);
+  accel->intersect(rays[0], hits, &twice);
+  EXPECT_EQ(once.rays, rays[0].size());
+  EXPECT_EQ(twice.rays, 2 * once.rays);
+  EXPECT_EQ(twice.traversal_steps, 2 * once.traversal_steps);
+  EXPECT_EQ(twice.ray_box_tests, 2 * once.ray_box_tests);
+  EXPECT_EQ(twice.ray_tri_tests, 2 * once.ray_tri_tests);
 }
 
 // Rays outside the usual domain: non-finite or zero components, empty and inverted segments,

@@ -21,26 +21,35 @@ struct BuildInfo {
 
 /// A ray tracer over a fixed triangle set. Built once, then traces batches of rays; the
 /// batch is the unit of work so that divide-and-conquer tracers see whole ray sets.
-/// Implementations parallelise internally with oneTBB (limit threads with
-/// tbb::global_control) and must give the same result for any thread count.
+/// The contract every implementation keeps:
+/// - A ray hits triangle p at t when intersect_triangle() (watertight, no culling) accepts it
+///   with tmin <= t <= tmax, both ends included; t is in units of the unnormalised direction
+///   and tmin may be negative. Accelerators other than Embree return brute force's hits bit
+///   for bit (exceptions: grazing rays, docs/bvh.md); Embree's own arithmetic agrees within
+///   compare-hits' tolerance.
+/// - Results do not depend on the thread count (oneTBB inside each call; limit it with
+///   tbb::global_control). intersect() and occluded() may run concurrently on one accelerator.
+/// - stats, when non-null, are added to (never reset): rays by the batch size, the work
+///   counts exactly (see counts_work()). Work counts may depend on the thread count (DACRT's
+///   parallel mode) and, for occluded(), stop at each ray's first blocker found.
+/// - Irregular values: a direction with a subnormal component (below FLT_MIN, not zero)
+///   whose largest is below 1 is traced scaled up by a power of two (exact, the largest into
+///   [1, 2)) with tmin and tmax scaled down, and t is scaled back (it may then overflow to
+///   inf on a real hit); components and coordinates still subnormal are traced as zero, as
+///   Embree reads them (a subnormal has no finite reciprocal and too few bits for the
+///   watertight test). A zero direction misses, and so does a ray with an infinite or NaN
+///   direction component or origin coordinate.
 class Accelerator {
  public:
   virtual ~Accelerator() = default;
 
   /// Registry name, e.g. "bvh", "dacrt-rs".
   virtual std::string name() const = 0;
-  /// Closest hit of every ray (ties: smaller triangle id, see is_closer).
-  /// hits is reset to rays.size() entries. stats, when non-null, receives exact counts.
-  /// A hit's t is in units of the ray's direction. Subnormal values (below FLT_MIN, not zero)
-  /// have no finite reciprocal and too few bits for the watertight test: a direction with a
-  /// subnormal component whose largest is below 1 is traced scaled up by a power of two
-  /// (exact, the largest into [1, 2)) with tmin and tmax scaled down, and t is scaled back (it
-  /// may then overflow to inf on a real hit); direction components and origin coordinates
-  /// still subnormal are traced as zero, as Embree reads them. A zero direction misses, and so
-  /// does a ray with an infinite or NaN direction component or origin coordinate.
+  /// Closest hit of every ray; an exact tie goes to the smaller triangle id (is_closer).
+  /// hits is reset to rays.size() entries; a miss is t = inf, prim = kInvalidId, u = v = 0.
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats = nullptr) const;
-  /// Any hit with tmin <= t <= tmax: occluded[i] = 1 when ray i is blocked, else 0.
-  /// Subnormal values as in intersect().
+  /// Whether any triangle blocks each ray: occluded is reset to rays.size() bytes, 1 where
+  /// intersect() would find a hit, else 0. Stops at the first blocker found.
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats = nullptr) const;
   /// Build time and memory.
   virtual BuildInfo build_info() const = 0;

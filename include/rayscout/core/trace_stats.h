@@ -5,10 +5,10 @@
 
 namespace rayscout {
 
-/// Exact work counts. Accelerators fill them only when asked (a non-null pointer); the
-/// kernels are instantiated twice so the uncounted path pays nothing.
+/// Exact work counts, added to by each trace call that is given a non-null pointer (see
+/// Accelerator); the kernels are instantiated twice so the uncounted path pays nothing.
 struct TraceStats {
-  uint64_t rays = 0;
+  uint64_t rays = 0;             ///< rays traced, every ray of each batch
   uint64_t traversal_steps = 0;  ///< nodes popped / visited (DACRT: recursion calls)
   uint64_t ray_box_tests = 0;    ///< ray-box slab tests, one per ray and box
   uint64_t ray_tri_tests = 0;    ///< ray-triangle tests, one per ray and triangle
