@@ -18,30 +18,16 @@
 namespace rayscout {
 namespace {
 
-const char* magic_of(RayFileKind kind) {
-  switch (kind) {
-    case RayFileKind::Rays: return "RAYS";
-    case RayFileKind::Hits: return "HITS";
-    case RayFileKind::Occlusion: return "OCCL";
-  }
-  return "????";
-}
-const char* what_of(RayFileKind kind) {
-  switch (kind) {
-    case RayFileKind::Rays: return "ray file";
-    case RayFileKind::Hits: return "hit file";
-    case RayFileKind::Occlusion: return "occlusion file";
-  }
-  return "file";
-}
-size_t record_bytes(RayFileKind kind) {
-  switch (kind) {
-    case RayFileKind::Rays: return 32;
-    case RayFileKind::Hits: return 16;
-    case RayFileKind::Occlusion: return 1;
-  }
-  return 0;
-}
+/// What tells the kinds apart: magic, name in messages, record size.
+struct KindInfo {
+  const char* magic;
+  const char* what;
+  uint64_t record_bytes;
+};
+constexpr KindInfo kKinds[] = {{"RAYS", "ray file", 32}, {"HITS", "hit file", 16}, {"OCCL", "occlusion file", 1}};
+const KindInfo& info(RayFileKind kind) { return kKinds[size_t(kind)]; }
+const char* magic_of(RayFileKind kind) { return info(kind).magic; }
+const char* what_of(RayFileKind kind) { return info(kind).what; }
 
 // The file name is quoted as input: a control byte in it must not reach the terminal.
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& message) {
@@ -61,17 +47,11 @@ void check_not_directory(const std::filesystem::path& file) {
   if (std::filesystem::is_directory(file, ec)) fail(file, "is a directory, not a ray file");
 }
 
-// Reads a whole ray file in one sequential pass, so that pipes work too, after checking its
-// header. `kind`: the kind expected, or nullopt for whichever the magic names (then set).
-// Returns the records; the body grows with the bytes that arrive, so a corrupt count cannot
-// ask for terabytes.
-std::string read_records(const std::filesystem::path& file, std::optional<RayFileKind>& kind, uint64_t& count) {
-  check_not_directory(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, std::string("cannot open ") + (kind ? what_of(*kind) : "ray file") + ": " + std::strerror(errno));
-  char head[kRayFileHeaderBytes];
-  in.read(head, kRayFileHeaderBytes);
-  const size_t got = size_t(in.gcount());
+// Checks the first `got` bytes of a file (the magic as soon as there are 4, then the length
+// and the version) and returns the record count. `kind`: the kind expected, or nullopt for
+// whichever the magic names (then set).
+uint64_t parse_header(const std::filesystem::path& file, const char* head, size_t got,
+                      std::optional<RayFileKind>& kind) {
   if (!kind && got >= 4)
     for (RayFileKind k : {RayFileKind::Rays, RayFileKind::Hits, RayFileKind::Occlusion})
       if (std::memcmp(head, magic_of(k), 4) == 0) kind = k;
@@ -86,8 +66,13 @@ std::string read_records(const std::filesystem::path& file, std::optional<RayFil
   if (version != kRayFileVersion)
     fail(file, std::string("unsupported ") + magic_of(*kind) + " version " + std::to_string(version) +
                    ", expected " + std::to_string(kRayFileVersion));
-  count = get_u64(head + 8);
-  const uint64_t rec = record_bytes(*kind);
+  return get_u64(head + 8);
+}
+
+// Reads the rest of `in`, which must be exactly count records of `kind`. The buffer grows with
+// the bytes that arrive, so a corrupt count cannot ask for terabytes.
+std::string read_body(const std::filesystem::path& file, std::ifstream& in, RayFileKind kind, uint64_t count) {
+  const uint64_t rec = info(kind).record_bytes;
   const bool too_many = count > UINT64_MAX / rec;
   const uint64_t want = too_many ? UINT64_MAX : count * rec;
   std::string data;
@@ -111,6 +96,18 @@ std::string read_records(const std::filesystem::path& file, std::optional<RayFil
                    std::to_string(body));
   }
   return data;
+}
+
+// Reads a whole ray file in one sequential pass, so that pipes work too, and returns its
+// records. `kind` as in parse_header.
+std::string read_records(const std::filesystem::path& file, std::optional<RayFileKind>& kind, uint64_t& count) {
+  check_not_directory(file);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file, std::string("cannot open ") + (kind ? what_of(*kind) : "ray file") + ": " + std::strerror(errno));
+  char head[kRayFileHeaderBytes];
+  in.read(head, kRayFileHeaderBytes);
+  count = parse_header(file, head, size_t(in.gcount()), kind);
+  return read_body(file, in, *kind, count);
 }
 
 std::string read_records(const std::filesystem::path& file, RayFileKind kind, uint64_t& count) {
