@@ -59,10 +59,14 @@ TEST(IntersectTriangle, HitDistanceAndBarycentrics) {
   const Vec3 org{0.25f, 0.5f, 2}, dir{0, 0, -1};
   float t, u, v;
   ASSERT_TRUE(intersect_triangle(org, RayPrecomp(dir), tri, 0, kInfinity, t, u, v));
-  EXPECT_FLOAT_EQ(t, 2.0f);
+  ASSERT_EQ(t, 2.0f);  // exactly: the segments ending at 2 below rely on it
   EXPECT_FLOAT_EQ(u, 0.25f);
   EXPECT_FLOAT_EQ(v, 0.5f);
   EXPECT_FALSE(intersect_triangle(org, RayPrecomp(dir), tri, 0, 1.5f, t, u, v)) << "beyond tmax";
+  // Both ends of [tmin, tmax] are included (the Accelerator contract), a one-point segment too.
+  EXPECT_TRUE(intersect_triangle(org, RayPrecomp(dir), tri, 2.0f, kInfinity, t, u, v)) << "at tmin";
+  EXPECT_TRUE(intersect_triangle(org, RayPrecomp(dir), tri, 0, 2.0f, t, u, v)) << "at tmax";
+  EXPECT_TRUE(intersect_triangle(org, RayPrecomp(dir), tri, 2.0f, 2.0f, t, u, v)) << "tmin = tmax = t";
   EXPECT_FALSE(intersect_triangle(org, RayPrecomp(-dir), tri, 0, kInfinity, t, u, v)) << "behind";
 }
 
