@@ -144,9 +144,10 @@ class DacrtBench {
     return make_accelerator(name, scene, opts);
   }
 
-  /// One untimed trace of the largest of sets with each of accs: a Dacrt computes its triangle
-  /// boxes at its first call and keeps its buffers, grown to the largest batch, between calls;
-  /// without this the first timed repetition paid for both (and, with 1 or 2 repetitions, the median).
+  /// One untimed trace of the largest of sets with each of accs: a DacrtAccelerator computes its
+  /// triangle boxes at its first call and keeps its buffers, grown to the largest batch, between
+  /// calls; without this the first timed repetition paid for both (and, with 1 or 2 repetitions,
+  /// the median).
   static void warm_up(const std::vector<const Accelerator*>& accs, const std::vector<RaySet>& sets) {
     const auto largest = std::max_element(sets.begin(), sets.end(),
                                           [](const RaySet& a, const RaySet& b) { return a.rays.size() < b.rays.size(); });
@@ -296,7 +297,7 @@ class DacrtBench {
             frame[k] += m;
             TraceStats st;
             trace(*accs[k], s, &st);
-            const auto d = dynamic_cast<const Dacrt*>(accs[k].get())->last_details();
+            const auto d = dynamic_cast<const DacrtAccelerator*>(accs[k].get())->last_stats();
             fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
                        double(d.partition_box_tests) / double(s.rays.size()),
                        double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
@@ -395,13 +396,13 @@ class DacrtBench {
     fmt::print("## Ray-box tests per batch, {} at {}^2 (fig. 10; paper: -30..-50 % primary, -30..-40 % shadow, -50 % mirror, -20 % random)\n\n", st.view.name, o_.study_res);
     fmt::print("| batch | dacrt box tests | dacrt-rs partition | dacrt-rs sampling | change (partition) | change (all) | tri tests dacrt | tri tests dacrt-rs | skipped |\n|---|---|---|---|---|---|---|---|---|\n");
     auto a = make("dacrt", st.scene), r = make("dacrt-rs", st.scene);
-    const auto* ad = dynamic_cast<const Dacrt*>(a.get());
-    const auto* rd = dynamic_cast<const Dacrt*>(r.get());
+    const auto* ad = dynamic_cast<const DacrtAccelerator*>(a.get());
+    const auto* rd = dynamic_cast<const DacrtAccelerator*>(r.get());
     for (const auto& s : st.sets) {
       TraceStats sa, sr;
       trace(*a, s, &sa);
       trace(*r, s, &sr);
-      const DacrtDetails da = ad->last_details(), dr = rd->last_details();
+      const DacrtStats da = ad->last_stats(), dr = rd->last_stats();
       const double ch_p = double(dr.partition_box_tests) / double(da.partition_box_tests) - 1.0;
       const double ch_a = double(sr.ray_box_tests) / double(sa.ray_box_tests) - 1.0;
       fmt::print("| {} | {} | {} | {} | {:+.1f} % | {:+.1f} % | {} | {} | {} |\n", s.label(), sa.ray_box_tests,

@@ -34,13 +34,13 @@ const std::vector<Entry>& registry() {
       {{"dacrt", "divide-and-conquer ray tracing, Afra 2012 (no stored hierarchy; options in docs/dacrt.md)"},
        [](const Scene& s, const AcceleratorOptions& o) -> Build {
          return [&s, c = DacrtConfig::from_options(o, DacrtConfig::afra())] {
-           return std::make_unique<Dacrt>(s.triangles, c, "dacrt");
+           return std::make_unique<DacrtAccelerator>(s.triangles, c, "dacrt");
          };
        }},
       {{"dacrt-rs", "ray-sampled DACRT, Nabata et al. 2014 (sampled cost, order, skipping; docs/dacrt.md)"},
        [](const Scene& s, const AcceleratorOptions& o) -> Build {
          return [&s, c = DacrtConfig::from_options(o, DacrtConfig::ray_sampled())] {
-           return std::make_unique<Dacrt>(s.triangles, c, "dacrt-rs");
+           return std::make_unique<DacrtAccelerator>(s.triangles, c, "dacrt-rs");
          };
        }},
       {{"bvh2", "binary binned-SAH BVH, scalar single-ray traversal (options bins, max_leaf_size, traversal_cost, intersection_cost, leaf_block, presplit, presplit_pieces)"},

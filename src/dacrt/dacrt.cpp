@@ -1,4 +1,5 @@
-// Dacrt: per-call setup (ray records, triangle boxes, index arrays), task split and results.
+// DacrtAccelerator: per-call setup (ray records, triangle boxes, index arrays), task split and
+// results.
 #include "rayscout/dacrt/dacrt.h"
 
 #include <algorithm>
@@ -66,7 +67,7 @@ class Buffer {
 
 }  // namespace
 
-struct Dacrt::Arena {
+struct DacrtAccelerator::Arena {
   Buffer<RayRecord> rec;
   Buffer<dacrt::RayShear> shear;
   Buffer<uint32_t> rid, scratch, tid;
@@ -91,12 +92,13 @@ struct Dacrt::Arena {
   }
 };
 
-Dacrt::Dacrt(std::span<const Triangle> triangles, const DacrtConfig& config, std::string name)
+DacrtAccelerator::DacrtAccelerator(std::span<const Triangle> triangles, const DacrtConfig& config,
+                                   std::string name)
     : triangles_(triangles), config_(config), name_(std::move(name)), arena_(std::make_unique<Arena>()) {}
 
-Dacrt::~Dacrt() = default;
+DacrtAccelerator::~DacrtAccelerator() = default;
 
-size_t Dacrt::scratch_bytes(size_t n_rays, size_t n_triangles, size_t tasks) {
+size_t DacrtAccelerator::scratch_bytes(size_t n_rays, size_t n_triangles, size_t tasks) {
   const size_t per_ray = sizeof(RayRecord) + sizeof(dacrt::RayShear) + 2 * sizeof(uint32_t);  // + rid, scratch
   const size_t per_tri = sizeof(dacrt::TriBox);
   const size_t per_task = n_triangles * (sizeof(uint32_t) + sizeof(uint8_t)) +
@@ -105,7 +107,8 @@ size_t Dacrt::scratch_bytes(size_t n_rays, size_t n_triangles, size_t tasks) {
 }
 
 template <bool kOccluded>
-void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occluded, TraceStats* stats) const {
+void DacrtAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* occluded,
+                             TraceStats* stats) const {
   const size_t n = rays.size(), nt = triangles_.size();
   if (kOccluded) occluded->assign(n, 0); else hits->reset(n);
   if (stats) stats->rays += n;
@@ -159,7 +162,7 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
   // One tracer per task on the heap (its binning buffers).
   taken += tasks * (stats ? sizeof(dacrt::DacrtTracer<true, kOccluded>) : sizeof(dacrt::DacrtTracer<false, kOccluded>));
   std::vector<TraceStats> task_stats(tasks);
-  std::vector<DacrtDetails> task_details(tasks);
+  std::vector<DacrtStats> task_dacrt_stats(tasks);
   auto run_task = [&](size_t k) {
     const size_t begin = n * k / tasks, end = n * (k + 1) / tasks;
     uint32_t* my_tid = tid + k * nt;
@@ -167,7 +170,7 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
     auto go = [&](auto tracer) {
       tracer->run(rid + begin, end - begin, my_tid, nt, box, cb);
       task_stats[k] = tracer->stats;
-      task_details[k] = tracer->details;
+      task_dacrt_stats[k] = tracer->dacrt_stats;
     };
     if (stats) go(std::make_unique<dacrt::DacrtTracer<true, kOccluded>>(ctx, scratch + begin, bin_idx + k * nt, config_.seed + k));
     else go(std::make_unique<dacrt::DacrtTracer<false, kOccluded>>(ctx, scratch + begin, bin_idx + k * nt, config_.seed + k));
@@ -184,28 +187,30 @@ void Dacrt::trace(const RayBatch& rays, HitBatch* hits, std::vector<uint8_t>* oc
     for_range(par, n, [&](size_t i) { if (hits->prim[i] != kInvalidId) hits->t[i] = rec[i].t; });
   report();
   if (stats) {
-    DacrtDetails d;
-    for (size_t k = 0; k < tasks; ++k) { *stats += task_stats[k]; d += task_details[k]; }
+    DacrtStats d;
+    for (size_t k = 0; k < tasks; ++k) { *stats += task_stats[k]; d += task_dacrt_stats[k]; }
     std::lock_guard guard(last_mutex_);
-    last_details_ = d;
+    last_stats_ = d;
   }
 }
 
-size_t Dacrt::last_trace_memory_bytes() const {
+size_t DacrtAccelerator::last_trace_memory_bytes() const {
   std::lock_guard report(last_mutex_);
   return last_memory_;
 }
 
-DacrtDetails Dacrt::last_details() const {
+DacrtStats DacrtAccelerator::last_stats() const {
   std::lock_guard report(last_mutex_);
-  return last_details_;
+  return last_stats_;
 }
 
-void Dacrt::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+void DacrtAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits,
+                                       TraceStats* stats) const {
   trace<false>(rays, &hits, nullptr, stats);
 }
 
-void Dacrt::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void DacrtAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                                      TraceStats* stats) const {
   trace<true>(rays, nullptr, &occluded, stats);
 }
 

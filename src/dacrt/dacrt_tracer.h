@@ -90,18 +90,18 @@ class DacrtTracer {
   }
 
   TraceStats stats;
-  DacrtDetails details;
+  DacrtStats dacrt_stats;
 
  private:
   // leaf_next: the rays that hit box go to a leaf next, so their shear records are prefetched.
   size_t partition(uint32_t* rid, size_t nr, const Bounds3& box, bool leaf_next = false) {
-    if constexpr (kStats) { stats.ray_box_tests += nr; details.partition_box_tests += nr; }
+    if constexpr (kStats) { stats.ray_box_tests += nr; dacrt_stats.partition_box_tests += nr; }
     return partition_rays(ctx_.rays, rid, nr, padded(box, ctx_.pad), scratch_, leaf_next ? ctx_.pre : nullptr);
   }
 
   void leaf(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
     const uint64_t tests = leaf_tests(rid, nr, tid, nt);
-    if constexpr (kStats) { stats.ray_tri_tests += tests; ++details.leaves; }
+    if constexpr (kStats) { stats.ray_tri_tests += tests; ++dacrt_stats.leaves; }
   }
 
   uint64_t leaf_tests(const uint32_t* rid, size_t nr, const uint32_t* tid, size_t nt) {
@@ -139,7 +139,7 @@ class DacrtTracer {
       // left by the first child, which is what partitioning would test (eqs. 3-5).
       if (k == 1 && s.sampled && cfg_.skip_partitioning && cfg_.resample_second) s.alpha[c] = resampled_alpha(rid, nr, s.box[c]);
       if (s.sampled && cfg_.skip_partitioning && s.alpha[c] > cfg_.skip_threshold(cnt)) {
-        if constexpr (kStats) ++details.skipped_partitions;
+        if constexpr (kStats) ++dacrt_stats.skipped_partitions;
         node(rid, nr, ctid, cnt, s.cb[c]);
       } else {
         const size_t h = partition(rid, nr, s.box[c], cnt < cfg_.delta_t);
@@ -177,8 +177,8 @@ class DacrtTracer {
   void count_sampling(uint64_t tests, bool new_node) {
     if constexpr (kStats) {
       stats.ray_box_tests += tests;
-      details.sampling_box_tests += tests;
-      details.sampled_nodes += new_node;
+      dacrt_stats.sampling_box_tests += tests;
+      dacrt_stats.sampled_nodes += new_node;
     }
   }
 

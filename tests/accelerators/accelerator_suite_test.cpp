@@ -345,7 +345,7 @@ TEST(Registry, EveryAcceleratorBuildsUnderItsOwnName) {
       EXPECT_NE(dynamic_cast<const ShaftsAccelerator*>(p), nullptr);
     }
     if (name.starts_with("dacrt")) {
-      const auto* dacrt = dynamic_cast<const Dacrt*>(p);
+      const auto* dacrt = dynamic_cast<const DacrtAccelerator*>(p);
       ASSERT_NE(dacrt, nullptr) << name;
       const DacrtConfig want_config = name == "dacrt" ? DacrtConfig::afra() : DacrtConfig::ray_sampled();
       EXPECT_EQ(dacrt->config().sampled_cost, want_config.sampled_cost) << name;

@@ -140,7 +140,7 @@ TEST(DacrtEdgeRays, NoTrianglesMissEverything) {
   const RayBatch rays = testing::random_rays(100, 3);
   const auto [ref, ref_occ] = testing::brute_force(none, rays);
   for (const DacrtConfig& config : {DacrtConfig::afra(), DacrtConfig::ray_sampled()}) {
-    const Dacrt dacrt(none, config);
+    const DacrtAccelerator dacrt(none, config);
     HitBatch got;
     std::vector<uint8_t> occ;
     dacrt.intersect(rays, got);

@@ -27,11 +27,11 @@ TEST(DacrtMemory, DependsOnlyOnRayAndTriangleCounts) {
   // count matches the formula for none.
   auto tasks_of = [](size_t bytes, size_t rays) -> size_t {
     for (size_t t = 1; t <= 1024; ++t)
-      if (Dacrt::scratch_bytes(rays, kTris, t) == bytes) return t;
+      if (DacrtAccelerator::scratch_bytes(rays, kTris, t) == bytes) return t;
     return 0;
   };
   for (const bool parallel : {false, true}) {
-    Dacrt accel(scene.triangles, DacrtConfig::from_options(testing::options_of({parallel ? "parallel=on" : "parallel=off"}),
+    DacrtAccelerator accel(scene.triangles, DacrtConfig::from_options(testing::options_of({parallel ? "parallel=on" : "parallel=off"}),
                                                            DacrtConfig::ray_sampled()));
     const RayBatch a = testing::random_rays(40000, 1);
     RayBatch b = testing::axis_parallel_rays(40000, 2);  // same size, entirely different rays
@@ -49,18 +49,18 @@ TEST(DacrtMemory, DependsOnlyOnRayAndTriangleCounts) {
       EXPECT_NE(tasks_of(ma, 40000), 0u) << ma;
       EXPECT_NE(tasks_of(mc, 80000), 0u) << mc;
     } else {
-      EXPECT_EQ(ma, Dacrt::scratch_bytes(40000, kTris, 1));
-      EXPECT_EQ(mc, Dacrt::scratch_bytes(80000, kTris, 1));
+      EXPECT_EQ(ma, DacrtAccelerator::scratch_bytes(40000, kTris, 1));
+      EXPECT_EQ(mc, DacrtAccelerator::scratch_bytes(80000, kTris, 1));
     }
     // At least the ray records and ids (> 32 bytes per ray) and a box per triangle.
     EXPECT_GT(ma, 40000u * 32u + kTris * sizeof(Bounds3) / 2);
     accel.intersect(RayBatch{}, hits);
     EXPECT_EQ(accel.last_trace_memory_bytes(), 0u);
   }
-  Dacrt serial(scene.triangles, DacrtConfig::from_options(testing::options_of({"parallel=off"}), DacrtConfig::afra()));
+  DacrtAccelerator serial(scene.triangles, DacrtConfig::from_options(testing::options_of({"parallel=off"}), DacrtConfig::afra()));
   HitBatch hits;
   serial.intersect(testing::random_rays(1000, 4), hits);
-  EXPECT_EQ(serial.last_trace_memory_bytes(), Dacrt::scratch_bytes(1000, kTris, 1));
+  EXPECT_EQ(serial.last_trace_memory_bytes(), DacrtAccelerator::scratch_bytes(1000, kTris, 1));
 }
 
 TEST(DacrtMemory, KeptBuffersGiveTheResultsOfFreshOnes) {
@@ -68,11 +68,11 @@ TEST(DacrtMemory, KeptBuffersGiveTheResultsOfFreshOnes) {
   // call must equal the same call on a fresh accelerator, bit for bit.
   const Scene scene = testing::scene_from_triangles(testing::random_soup(1500, 11));
   const DacrtConfig cfg = DacrtConfig::from_options(testing::options_of({"parallel=off"}), DacrtConfig::ray_sampled());
-  Dacrt kept(scene.triangles, cfg);
+  DacrtAccelerator kept(scene.triangles, cfg);
   int seed = 20;
   for (const size_t n : {30000u, 500u, 17u, 20000u}) {
     const RayBatch rays = testing::random_rays(n, seed++);
-    Dacrt fresh(scene.triangles, cfg);
+    DacrtAccelerator fresh(scene.triangles, cfg);
     HitBatch a, b;
     kept.intersect(rays, a);
     fresh.intersect(rays, b);
@@ -92,7 +92,7 @@ TEST(DacrtCounters, AllPairsLeafCountsExactly) {
   // One NaiveRT leaf: the root box test for every ray, then every surviving ray against every triangle.
   const Scene scene = testing::scene_from_triangles(testing::random_soup(300, 6));
   const RayBatch rays = testing::random_rays(500, 7);
-  Dacrt accel(scene.triangles, DacrtConfig::from_options(testing::options_of({"delta_t=100000", "parallel=off"}), DacrtConfig::afra()));
+  DacrtAccelerator accel(scene.triangles, DacrtConfig::from_options(testing::options_of({"delta_t=100000", "parallel=off"}), DacrtConfig::afra()));
   HitBatch hits;
   TraceStats stats;
   accel.intersect(rays, hits, &stats);
@@ -107,7 +107,7 @@ TEST(DacrtCounters, AllPairsLeafCountsExactly) {
   EXPECT_EQ(stats.ray_box_tests, rays.size());
   EXPECT_EQ(stats.ray_tri_tests, uint64_t(inside) * scene.triangles.size());
   EXPECT_EQ(stats.traversal_steps, 1u);
-  EXPECT_EQ(accel.last_details().leaves, 1u);
+  EXPECT_EQ(accel.last_stats().leaves, 1u);
 }
 
 TEST(DacrtCounters, CountingDoesNotChangeResults) {
@@ -119,13 +119,13 @@ TEST(DacrtCounters, CountingDoesNotChangeResults) {
   accel->intersect(rays, a);
   accel->intersect(rays, b, &stats);
   EXPECT_TRUE(compare_hits(a, b, 0.0f).ok());
-  const DacrtDetails d = dynamic_cast<const Dacrt&>(*accel).last_details();
+  const DacrtStats d = dynamic_cast<const DacrtAccelerator&>(*accel).last_stats();
   EXPECT_GT(d.sampled_nodes, 0u);
   EXPECT_GT(d.sampling_box_tests, 0u);
   // The counts are exact, hence repeatable: a second counting call gives every one again.
   TraceStats again;
   accel->intersect(rays, b, &again);
-  const DacrtDetails d2 = dynamic_cast<const Dacrt&>(*accel).last_details();
+  const DacrtStats d2 = dynamic_cast<const DacrtAccelerator&>(*accel).last_stats();
   EXPECT_EQ(again.ray_box_tests, stats.ray_box_tests);
   EXPECT_EQ(again.ray_tri_tests, stats.ray_tri_tests);
   EXPECT_EQ(again.traversal_steps, stats.traversal_steps);
@@ -135,7 +135,7 @@ TEST(DacrtCounters, CountingDoesNotChangeResults) {
   auto afra = make_accelerator("dacrt", scene, testing::options_of({"parallel=off"}));
   TraceStats afra_stats;
   afra->intersect(rays, b, &afra_stats);
-  const DacrtDetails da = dynamic_cast<const Dacrt&>(*afra).last_details();
+  const DacrtStats da = dynamic_cast<const DacrtAccelerator&>(*afra).last_stats();
   EXPECT_EQ(da.sampled_nodes, 0u);
   EXPECT_EQ(da.sampling_box_tests, 0u);
   EXPECT_EQ(da.skipped_partitions, 0u);
@@ -156,7 +156,7 @@ TEST(DacrtCounters, RaySamplingSavesBoxTestsOnPrimaryRays) {
   auto rs_accel = make_accelerator("dacrt-rs", scene, testing::options_of({"parallel=off"}));
   rs_accel->intersect(rays, hr, &rs);
   EXPECT_TRUE(compare_hits(ha, hr, 0.0f).ok());
-  const auto& d = dynamic_cast<const Dacrt&>(*rs_accel).last_details();
+  const auto& d = dynamic_cast<const DacrtAccelerator&>(*rs_accel).last_stats();
   EXPECT_GT(d.sampled_nodes, 0u);
   EXPECT_GT(d.skipped_partitions, 0u);
   // Measured: -21 % at 1024^2; at the sanitizer scale (384^2) nodes are smaller, so fewer of
@@ -209,7 +209,7 @@ TEST(DacrtCounters, SampledOrderVisitsTheNearChildFirstOnCoherentRays) {
     auto accel = make_accelerator("dacrt", two_walls, options);
     accel->intersect(rays, hits, &with_far);
     if (std::string(order) != "order=one-ray") {  // Afra's rule, from the direction of one ray
-      EXPECT_GT(dynamic_cast<const Dacrt&>(*accel).last_details().sampled_nodes, 0u) << order;
+      EXPECT_GT(dynamic_cast<const DacrtAccelerator&>(*accel).last_stats().sampled_nodes, 0u) << order;
     }
     EXPECT_EQ(with_far.ray_tri_tests, alone.ray_tri_tests) << order;
   }
@@ -233,7 +233,7 @@ TEST(DacrtCounters, ResampledSecondAlphaPartitionsTheRaysOnceAtTheWallBehindTheH
                                     testing::options_of({resample, "parallel=off"}));
       accel->intersect(rays, hits, &stats);
       EXPECT_EQ(std::count(hits.prim.begin(), hits.prim.end(), kInvalidId), 0) << "every ray hits the near wall";
-      partition_tests[s] = dynamic_cast<const Dacrt&>(*accel).last_details().partition_box_tests;
+      partition_tests[s] = dynamic_cast<const DacrtAccelerator&>(*accel).last_stats().partition_box_tests;
       tri_tests[s] = stats.ray_tri_tests;
     }
     EXPECT_EQ(tri_tests[1], tri_tests[0]) << resample << ": the far wall's triangles are never tested";
@@ -265,7 +265,7 @@ TEST(DacrtCounters, DepthWeightedVotesSendRaysIntoTheShallowChildFirst) {
   for (int w = 0; w < 2; ++w) {
     auto accel = make_accelerator("dacrt-rs", scene, testing::options_of({weights[w], "parallel=off"}));
     accel->intersect(rays, hits[w], &by[w]);
-    EXPECT_GT(dynamic_cast<const Dacrt&>(*accel).last_details().sampled_nodes, 0u);
+    EXPECT_GT(dynamic_cast<const DacrtAccelerator&>(*accel).last_stats().sampled_nodes, 0u);
   }
   ASSERT_EQ(std::count(hits[0].prim.begin(), hits[0].prim.end(), kInvalidId), 0) << "every ray must hit a wall";
   EXPECT_TRUE(compare_hits(hits[0], hits[1], 0.0f).ok());
@@ -301,7 +301,7 @@ TEST(DacrtCounters, SampledCostCutsOffTheGeometryTheRaysMiss) {
   accel->intersect(rays, hp, &sampled);
   ASSERT_EQ(std::count(hs.prim.begin(), hs.prim.end(), kInvalidId), 0) << "every ray must hit the wall";
   EXPECT_TRUE(compare_hits(hs, hp, 0.0f).ok());
-  const auto& d = dynamic_cast<const Dacrt&>(*accel).last_details();
+  const auto& d = dynamic_cast<const DacrtAccelerator&>(*accel).last_stats();
   EXPECT_GT(d.sampled_nodes, 0u);
   EXPECT_LT(d.partition_box_tests, sah.ray_box_tests * 80 / 100)
       << "sampled " << d.partition_box_tests << " vs sah " << sah.ray_box_tests;
@@ -320,7 +320,7 @@ TEST(DacrtCounters, CostOnlySamplesNothingWhereTheCostIsNotEvaluated) {
   auto accel = make_accelerator("dacrt", scene, testing::options_of({"parallel=off", "midpoint_ratio=1e9", "cost=sampled"}));
   accel->intersect(rays, hc, &cost_only);
   EXPECT_TRUE(compare_hits(ha, hc, 0.0f).ok());
-  const DacrtDetails d = dynamic_cast<const Dacrt&>(*accel).last_details();
+  const DacrtStats d = dynamic_cast<const DacrtAccelerator&>(*accel).last_stats();
   EXPECT_EQ(d.sampling_box_tests, 0u);
   EXPECT_EQ(d.sampled_nodes, 0u);
   EXPECT_EQ(cost_only.ray_box_tests, afra.ray_box_tests);
@@ -330,7 +330,7 @@ TEST(DacrtCounters, CostOnlySamplesNothingWhereTheCostIsNotEvaluated) {
   auto skipping = make_accelerator("dacrt", scene, testing::options_of({"parallel=off", "midpoint_ratio=1e9", "skip=on"}));
   skipping->intersect(rays, hc, &skip);
   EXPECT_TRUE(compare_hits(ha, hc, 0.0f).ok());
-  EXPECT_GT(dynamic_cast<const Dacrt&>(*skipping).last_details().sampling_box_tests, 0u);
+  EXPECT_GT(dynamic_cast<const DacrtAccelerator&>(*skipping).last_stats().sampling_box_tests, 0u);
 }
 
 TEST(DacrtParallel, SameHitsForAnyThreadCount) {
@@ -358,8 +358,8 @@ TEST(DacrtParallel, SameHitsForAnyThreadCount) {
   EXPECT_TRUE(d.ok()) << d.first;
   EXPECT_GT(d.both_hit, rays.size() / 3);
   EXPECT_EQ(s1.rays, s2.rays);
-  EXPECT_EQ(mem_one, Dacrt::scratch_bytes(rays.size(), scene.triangles.size(), 1));
-  EXPECT_EQ(accel->last_trace_memory_bytes(), Dacrt::scratch_bytes(rays.size(), scene.triangles.size(), 2));
+  EXPECT_EQ(mem_one, DacrtAccelerator::scratch_bytes(rays.size(), scene.triangles.size(), 1));
+  EXPECT_EQ(accel->last_trace_memory_bytes(), DacrtAccelerator::scratch_bytes(rays.size(), scene.triangles.size(), 2));
 }
 
 // Any hit in parallel: each task retires its own rays; the answers must not depend on how
@@ -378,7 +378,7 @@ TEST(DacrtParallel, SameOcclusionForAnyThreadCount) {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
       accel->occluded(rays, two);
     }
-    EXPECT_EQ(accel->last_trace_memory_bytes(), Dacrt::scratch_bytes(rays.size(), scene.triangles.size(), 2)) << name;
+    EXPECT_EQ(accel->last_trace_memory_bytes(), DacrtAccelerator::scratch_bytes(rays.size(), scene.triangles.size(), 2)) << name;
     EXPECT_EQ(one, two) << name;
     std::vector<uint8_t> reference;
     make_accelerator("bvh2", scene)->occluded(rays, reference);  // checked against brute force in tests/accelerators

@@ -1,5 +1,5 @@
-// Dacrt: divide-and-conquer ray tracing without a stored hierarchy (Afra 2012; ray-sampled
-// variant of Nabata, Iwasaki, Dobashi, Nishita, IPSJ Journal 2014, Algorithms 1 and 2).
+// DacrtAccelerator: divide-and-conquer ray tracing without a stored hierarchy (Afra 2012;
+// ray-sampled variant of Nabata, Iwasaki, Dobashi, Nishita, IPSJ Journal 2014, Algorithms 1, 2).
 #pragma once
 
 #include <cstddef>
@@ -16,14 +16,14 @@
 namespace rayscout {
 
 /// Work of the last trace call beyond TraceStats, filled only when stats were requested.
-struct DacrtDetails {
+struct DacrtStats {
   uint64_t partition_box_tests = 0;  ///< ray-box tests of ray-set partitioning (without the sample rays')
   uint64_t sampling_box_tests = 0;   ///< ray-box tests of the sample rays (Algorithm 2)
   uint64_t skipped_partitions = 0;   ///< children entered with the unfiltered ray set (eq. 5)
   uint64_t sampled_nodes = 0;        ///< nodes that drew sample rays
   uint64_t leaves = 0;               ///< NaiveRT calls
 
-  DacrtDetails& operator+=(const DacrtDetails& o) {
+  DacrtStats& operator+=(const DacrtStats& o) {
     partition_box_tests += o.partition_box_tests; sampling_box_tests += o.sampling_box_tests;
     skipped_partitions += o.skipped_partitions; sampled_nodes += o.sampled_nodes; leaves += o.leaves;
     return *this;
@@ -33,20 +33,21 @@ struct DacrtDetails {
 /// DACRT over a fixed triangle set. Nothing is built: every trace call recursively splits
 /// (rays, triangles) with index arrays partitioned in place, taken from an arena kept between
 /// calls, with a size that depends only on |R| and |T| (and the task count in parallel mode).
-class Dacrt final : public Accelerator {
+class DacrtAccelerator final : public Accelerator {
  public:
   /// Keeps a view of triangles (they must outlive the accelerator). name: registry name.
-  Dacrt(std::span<const Triangle> triangles, const DacrtConfig& config, std::string name = "dacrt");
-  ~Dacrt() override;
+  DacrtAccelerator(std::span<const Triangle> triangles, const DacrtConfig& config,
+                   std::string name = "dacrt");
+  ~DacrtAccelerator() override;
 
   std::string name() const override { return name_; }
   BuildInfo build_info() const override { return {}; }
   /// Scratch bytes the last trace call took, counted as it allocates them (the formula is
   /// scratch_bytes(|R|, |T|, tasks)). With concurrent calls, of the one that finished last
-  /// (here and in last_details).
+  /// (here and in last_stats).
   size_t last_trace_memory_bytes() const override;
   /// Counts of the last call that passed non-null stats.
-  DacrtDetails last_details() const;
+  DacrtStats last_stats() const;
   const DacrtConfig& config() const { return config_; }
 
   /// Scratch bytes a call with n_rays and n_triangles allocates, with `tasks` ray ranges.
@@ -71,7 +72,7 @@ class Dacrt final : public Accelerator {
   mutable std::mutex arena_mutex_;
   mutable std::mutex last_mutex_;  ///< guards the two reports below (calls may run concurrently)
   mutable size_t last_memory_ = 0;
-  mutable DacrtDetails last_details_;
+  mutable DacrtStats last_stats_;
 };
 
 }  // namespace rayscout

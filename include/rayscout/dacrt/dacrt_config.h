@@ -16,8 +16,8 @@ enum class DacrtSampling { Stride, Random };
 /// Vote rule of the sampled child order (sec. 4.3), see DacrtConfig::votes.
 enum class DacrtVotes { Entry, Sign, Interval, Literal };
 
-/// Tunables of Dacrt. The defaults give Afra's DACRT; ray_sampled() switches on the three
-/// contributions of the ray-sampling paper. Cost constants are relative (one ray-box test = 1).
+/// Tunables of DacrtAccelerator. The defaults give Afra's DACRT; ray_sampled() switches on the
+/// three contributions of the ray-sampling paper. Cost constants are relative (one ray-box test = 1).
 struct DacrtConfig {
   /// Split cost, eq. (2) with sampled hit ratios alpha (true) or eq. (1) with
   /// surface-area ratios (false, Afra). Option cost=sampled|sah.
