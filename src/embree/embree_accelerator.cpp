@@ -112,7 +112,6 @@ RTCIntersectContext make_context() {
 // with assertions, so handing it any other ray aborts the process; such rays are not traced
 // and miss (Embree defines no answer for them). An empty segment (tmin > tmax) is not traced
 // either: Embree would return it untouched, and a tfar of -inf would then read as occluded.
-// A finite direction of any length is traced, scaled (direction_exponent).
 constexpr float kEmbreeLarge = 1.844e18f;  // FLT_LARGE of Embree's math/constants.h
 
 inline bool embree_can_trace(const RayBatch& rays, size_t i) {
@@ -122,63 +121,28 @@ inline bool embree_can_trace(const RayBatch& rays, size_t i) {
          finite(rays.dz[i]) && rays.tmin[i] >= 0.0f && rays.tmin[i] <= rays.tmax[i];  // false for NaN tmax
 }
 
-// Embree reads a direction component below 1e-18 in magnitude as +1e-18 before taking its
-// reciprocal (zero_fix, sign included): on a soup of 5,000 triangles it lost 6 % of the hits of
-// rays whose direction was 4e-17 long and all of them at 4e-19. Its results scale exactly with
-// the direction by a power of two (t, u, v and the triangle, bit for bit from 2^-40 to 2^40),
-// so a direction whose largest component lies outside [2^-32, 2^32] is traced scaled by 2^k
-// into [1, 2), tmin and tmax by 2^-k, and t is scaled back by 2^k, as Accelerator::intersect
-// does for subnormal directions; this also brings directions beyond FLT_LARGE into its range.
-// k = 0 otherwise.
-inline int direction_exponent(const RayBatch& rays, size_t i) {
-  const float m = std::max({std::fabs(rays.dx[i]), std::fabs(rays.dy[i]), std::fabs(rays.dz[i])});
-  return m > 0.0f && (m < 0x1p-32f || m > 0x1p32f) ? -std::ilogb(m) : 0;
-}
-
-// Ray i as Embree traces it, with its direction scaled by 2^k and tmin, tmax by 2^-k.
-struct EmbreeRay {
-  float org[3], dir[3], tnear, tfar;
-  int k;
-};
-
-inline EmbreeRay embree_ray(const RayBatch& rays, size_t i) {
-  EmbreeRay r{{rays.ox[i], rays.oy[i], rays.oz[i]}, {rays.dx[i], rays.dy[i], rays.dz[i]}, rays.tmin[i], rays.tmax[i],
-              direction_exponent(rays, i)};
-  if (r.k != 0) {
-    for (float& d : r.dir) d = std::ldexp(d, r.k);
-    r.tnear = std::ldexp(r.tnear, -r.k);
-    r.tfar = std::ldexp(r.tfar, -r.k);
-  }
-  return r;
-}
-
-// The distance Embree reported for a ray traced with exponent k, in units of the ray's own
-// direction (inf when it overflows, as Accelerator::intersect's scaled t may).
-inline float unscaled_t(float t, int k) { return k != 0 ? std::ldexp(t, k) : t; }
-
-// Embree's ray from ours; returns the exponent k its direction was scaled by.
-inline int load_ray(const RayBatch& rays, size_t i, RTCRay& r) {
-  const EmbreeRay e = embree_ray(rays, i);
-  r.org_x = e.org[0]; r.org_y = e.org[1]; r.org_z = e.org[2]; r.tnear = e.tnear;
-  r.dir_x = e.dir[0]; r.dir_y = e.dir[1]; r.dir_z = e.dir[2]; r.tfar = e.tfar;
+// Embree's ray from ours. Accelerator::intersect and occluded have already brought the
+// direction to moderate length (Embree reads a component below 1e-18 as 1e-18).
+inline void load_ray(const RayBatch& rays, size_t i, RTCRay& r) {
+  r.org_x = rays.ox[i]; r.org_y = rays.oy[i]; r.org_z = rays.oz[i]; r.tnear = rays.tmin[i];
+  r.dir_x = rays.dx[i]; r.dir_y = rays.dy[i]; r.dir_z = rays.dz[i]; r.tfar = rays.tmax[i];
   r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
-  return e.k;
 }
 
 // Packet p of 16 consecutive rays; lanes past the end and rays Embree cannot trace are masked
-// off and hold an empty segment (tfar < tnear), so that every lane is a valid ray. k[lane]: the
-// exponent its direction was scaled by (load_ray).
-inline void load_ray16(const RayBatch& rays, size_t p, RTCRay16& r, int valid[16], int k[16]) {
+// off and hold an empty segment (tfar < tnear), so that every lane is a valid ray.
+inline void load_ray16(const RayBatch& rays, size_t p, RTCRay16& r, int valid[16]) {
   const size_t base = p * 16, n = rays.size();
   for (int lane = 0; lane < 16; ++lane) {
     const size_t i = base + lane;
     const bool traced = i < n && embree_can_trace(rays, i);
     valid[lane] = traced ? -1 : 0;
-    const EmbreeRay e = traced ? embree_ray(rays, i) : EmbreeRay{{0, 0, 0}, {0, 0, 1}, 1.0f, 0.0f, 0};
-    r.org_x[lane] = e.org[0]; r.org_y[lane] = e.org[1]; r.org_z[lane] = e.org[2]; r.tnear[lane] = e.tnear;
-    r.dir_x[lane] = e.dir[0]; r.dir_y[lane] = e.dir[1]; r.dir_z[lane] = e.dir[2]; r.tfar[lane] = e.tfar;
+    RTCRay e{};
+    if (traced) load_ray(rays, i, e);
+    else e.tnear = e.dir_z = 1.0f;  // the segment [1, 0] along +z
+    r.org_x[lane] = e.org_x; r.org_y[lane] = e.org_y; r.org_z[lane] = e.org_z; r.tnear[lane] = e.tnear;
+    r.dir_x[lane] = e.dir_x; r.dir_y[lane] = e.dir_y; r.dir_z[lane] = e.dir_z; r.tfar[lane] = e.tfar;
     r.time[lane] = 0.0f; r.mask[lane] = 0xFFFFFFFFu; r.id[lane] = 0; r.flags[lane] = 0;
-    k[lane] = e.k;
   }
 }
 
@@ -241,24 +205,22 @@ void EmbreeAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, Tr
     for_each_packet(n, [&](RTCIntersectContext& ctx, size_t p) {
       alignas(64) RTCRayHit16 rh;
       alignas(64) int valid[16];
-      int k[16];
-      load_ray16(rays, p, rh.ray, valid, k);
+      load_ray16(rays, p, rh.ray, valid);
       for (int lane = 0; lane < 16; ++lane) rh.hit.geomID[lane] = rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect16(valid, scene, &ctx, &rh);
       for (int lane = 0; lane < 16 && p * 16 + lane < n; ++lane)
         if (rh.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID)
-          hits.set(p * 16 + lane,
-                   {unscaled_t(rh.ray.tfar[lane], k[lane]), rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane]});
+          hits.set(p * 16 + lane, {rh.ray.tfar[lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane]});
     });
   } else {
     for_each_traceable_ray(rays, [&](RTCIntersectContext& ctx, size_t i) {
       RTCRayHit rh;
-      const int k = load_ray(rays, i, rh.ray);
+      load_ray(rays, i, rh.ray);
       rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(scene, &ctx, &rh);
       if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
-        hits.set(i, {unscaled_t(rh.ray.tfar, k), rh.hit.primID, rh.hit.u, rh.hit.v});
+        hits.set(i, {rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v});
     });
   }
   if (stats) stats->rays += n;  // Embree has no work counters
@@ -273,8 +235,7 @@ void EmbreeAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t
     for_each_packet(n, [&](RTCIntersectContext& ctx, size_t p) {
       alignas(64) RTCRay16 r;
       alignas(64) int valid[16];
-      int k[16];
-      load_ray16(rays, p, r, valid, k);
+      load_ray16(rays, p, r, valid);
       rtcOccluded16(valid, scene, &ctx, &r);
       for (int lane = 0; lane < 16 && p * 16 + lane < n; ++lane) {
         const size_t i = p * 16 + lane;

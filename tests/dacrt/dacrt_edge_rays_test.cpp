@@ -97,8 +97,9 @@ TEST(DacrtEdgeRays, FlatBoxBehindTheOriginIsKept) {
   expect_brute_force_hits(scene, rays, "grid behind the origin");
 }
 
-// Hits at an infinite distance: a normal but tiny direction (2e-38) overflows t for triangles
-// 100 units away, to -inf behind the origin (tmin = -inf) and +inf ahead. Brute force keeps
+// Hits at an infinite distance: a short direction (2^-32, the shortest Accelerator::intersect
+// traces unscaled) overflows t for triangles 1e30 away, to -inf behind the origin (tmin = -inf)
+// and +inf ahead. Brute force keeps
 // such hits (tmin <= t <= tmax) and breaks their ties by the smaller id like any other. Here
 // 64 triangles of one plane with one centroid, each twice (ids i and i + 64), are split by
 // position, so tied triangles meet in different nodes: a ray whose t is already -inf must still
@@ -107,7 +108,7 @@ TEST(DacrtEdgeRays, FlatBoxBehindTheOriginIsKept) {
 TEST(DacrtEdgeRays, HitsAtInfiniteDistancesMatchBruteForce) {
   std::vector<Triangle> tris;
   testing::Rng rng(5);
-  const Vec3 c{0.5f, 0.5f, 100.0f};
+  const Vec3 c{0.5f, 0.5f, 1e30f};
   for (int i = 0; i < 64; ++i) {
     Vec3 a = rng.direction() * 0.4f, b = rng.direction() * 0.4f;
     a.z = b.z = 0.0f;
@@ -117,7 +118,7 @@ TEST(DacrtEdgeRays, HitsAtInfiniteDistancesMatchBruteForce) {
   const Scene scene = testing::scene_from_triangles(tris);
   RayBatch rays;
   for (int i = 0; i < 2000; ++i) {
-    const float dz = i % 2 ? 2e-38f : -2e-38f;
+    const float dz = i % 2 ? 0x1p-32f : -0x1p-32f;
     const float tmin = i % 4 == 3 ? kInfinity : -kInfinity, tmax = i % 8 == 2 ? -kInfinity : kInfinity;
     rays.push_back({{rng.uniform(0.3f, 0.7f), rng.uniform(0.3f, 0.7f), 0.0f}, tmin, {0.0f, 0.0f, dz}, tmax});
   }

@@ -32,10 +32,11 @@ struct BuildInfo {
 /// - stats, when non-null, are added to (never reset): rays by the batch size, the work
 ///   counts exactly (see counts_work()). Work counts may depend on the thread count (DACRT's
 ///   parallel mode) and, for occluded(), stop at each ray's first blocker found.
-/// - Irregular values: a direction with a subnormal component (below FLT_MIN, not zero)
-///   whose largest is below 1 is traced scaled up by a power of two (exact, the largest into
-///   [1, 2)) with tmin and tmax scaled down, and t is scaled back (it may then overflow to
-///   inf on a real hit); components and coordinates still subnormal are traced as zero, as
+/// - Irregular values: a direction whose largest component lies outside [2^-32, 2^32], or
+///   has a subnormal component (below FLT_MIN, not zero) and its largest below 1, is traced
+///   scaled by a power of two (exact, the largest into [1, 2)) with tmin and tmax scaled
+///   inversely, and t is scaled back (it may then overflow to inf, or underflow, on a real
+///   hit); components and coordinates still subnormal are traced as zero, as
 ///   Embree reads them (a subnormal has no finite reciprocal and too few bits for the
 ///   watertight test). A zero direction misses, and so does a ray with an infinite or NaN
 ///   direction component or origin coordinate.
@@ -61,7 +62,8 @@ class Accelerator {
 
  protected:
   /// What intersect() and occluded() run, on rays whose direction components and origin
-  /// coordinates are finite and not subnormal (or whose direction is NaN, to miss).
+  /// coordinates are finite and not subnormal, with the largest direction component in
+  /// [2^-32, 2^32] or zero (or whose direction is NaN, to miss).
   virtual void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const = 0;
   virtual void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const = 0;
 };

@@ -36,10 +36,10 @@ struct EmbreeConfig {
 /// magnitude, a NaN direction, a negative or NaN tmin, a NaN tmax, or tmin > tmax: Embree's
 /// RayK::valid() and tnear >= 0) are not handed to it, since its assertion would abort the
 /// process; they miss. Our own accelerators trace them as brute force does.
-/// A finite direction of any length is traced: one whose largest component lies outside
-/// [2^-32, 2^32] is scaled by a power of two first, which changes none of Embree's answers
-/// but t's units (unscaled, Embree lost hits of directions shorter than about 1e-16 and
-/// asserted on those beyond FLT_LARGE).
+/// A finite direction of any length is traced: Accelerator::intersect scales one whose
+/// largest component lies outside [2^-32, 2^32] by a power of two first, which changes none
+/// of Embree's answers but t's units (unscaled, Embree lost hits of directions shorter than
+/// about 1e-16 and asserted on those beyond FLT_LARGE).
 /// Embree's builder leaves out a triangle with a vertex coordinate of magnitude FLT_LARGE (the
 /// float 1.844e18f) or more, which brute force still hits.
 class EmbreeAccelerator final : public Accelerator {
