@@ -512,7 +512,7 @@ int main(int argc, char** argv) {
   app.add_option("--study-views", o.study_views, "views of ablation, sampling, counts, peers and memory")
       ->delimiter(',')
       ->capture_default_str();
-  app.add_option("--json", o.json, "results file for plot_dacrt.py (default none; docs/dacrt_results.json holds the committed results)");
+  app.add_option("--json", o.json, "results file for plot_dacrt.py (default none; docs/figures/dacrt/dacrt_results.json holds the committed results)");
   app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
       ->check(CLI::IsMember({"render", "own"}))
       ->capture_default_str();

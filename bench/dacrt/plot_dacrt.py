@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Plots of dacrt_bench's results (JSON) into docs/: the paper's figs. 8-10 beside ours.
+"""Plots of dacrt_bench's results (JSON) into docs/figures/dacrt/: the paper's figs. 8-10 beside ours.
 
-usage: /usr/bin/python3 bench/dacrt/plot_dacrt.py docs/dacrt_results.json docs/
+usage: /usr/bin/python3 bench/dacrt/plot_dacrt.py docs/figures/dacrt/dacrt_results.json docs/figures/dacrt/
 """
 import os
 import sys
@@ -110,4 +110,5 @@ def main(path, out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "docs/dacrt_results.json", sys.argv[2] if len(sys.argv) > 2 else "docs")
+    main(sys.argv[1] if len(sys.argv) > 1 else "docs/figures/dacrt/dacrt_results.json",
+         sys.argv[2] if len(sys.argv) > 2 else "docs/figures/dacrt")

@@ -45,8 +45,8 @@ struct Options {
   int equal_passes = 0;       ///< > 0: every mode renders this many passes instead of the budget
   int reps = 2;               ///< independent runs per mode (interleaved); MSE * t is averaged
   std::string accel = "bvh";
-  std::string out_dir = "docs/manylight";
-  std::string json = "docs/manylight/manylight_results.json";
+  std::string out_dir = "docs/figures/manylight";
+  std::string json = "docs/figures/manylight/manylight_results.json";
 };
 
 const std::vector<BenchScene> kScenes = {
