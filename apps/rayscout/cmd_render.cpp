@@ -72,56 +72,35 @@ class ProgressBar {
 };
 
 // Film and image hold 12 bytes a pixel each, a pass ~200 bytes a camera ray and ~100 bytes for
-// each occlusion ray a camera ray's hit sends in the same batch (ao: --ao-samples; area and
-// path: --light-samples; direct, area and path: one per point light, known after the scene
-// load, when this is checked again; measured 72-96), and manylight keeps ~130 bytes per
-// shading point of the whole image (--max-batch does not split it). A 32768 x 32768 image
-// asked for ~26 GB on a 23 GB machine, and `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB:
-// the kernel killed the process after the scene load. Refused here, before any work.
-// manylight adds (measured sizes, rounded up) ~100 bytes per VPL (the light, its cluster
-// records), ~40 per pair of shading and VPL clusters (the pair's sample counts and sums, 20;
-// its r, weight and id, 12; its unit of the row's distribution, 8: 655 MB measured for 2048 x
-// 8192 pairs), and ~110 per VPL sample of a wavefront round (its sample record and shadow ray;
-// a round takes 16 points of every shading cluster). Cluster counts are rounded up to a power
-// of two, as cluster_points does (--shading-clusters 600 makes 1024), and are at most the
-// points and VPLs. `--vpls 4294967295` asked for ~430 GB.
-void check_memory(const RenderConfig& c, const std::string& integrator, const ManylightConfig& m,
-                  size_t point_lights = 0) {
+// each occlusion ray a camera ray's hit sends in the same batch (the integrator's
+// occlusion_rays_per_hit; the rays to point lights are known after the scene load, when this
+// is checked again; measured 72-96); an integrator may add memory of its own (manylight:
+// manylight_memory). A 32768 x 32768 image asked for ~26 GB on a 23 GB machine, and
+// `--ao-samples 64` at 1024 x 1024 x 4 for ~26 GB: the kernel killed the process after the
+// scene load. Refused here, before any work.
+void check_memory(const RenderConfig& c, const IntegratorEntry& integrator, size_t point_lights = 0) {
   const double pixels = double(c.width) * double(c.height);
   const double pass_rays = std::min(pixels * double(c.spp), double(c.camera_batch_limit()));
-  const bool area_or_path = integrator == "area" || integrator == "path";
-  const double fan_out = (integrator == "ao" ? double(c.ao_samples) : 0.0) + (area_or_path ? double(c.light_samples) : 0.0) +
-                         (area_or_path || integrator == "direct" ? double(point_lights) : 0.0);
-  const bool manylight = integrator == "manylight";
-  const double points = manylight ? pixels * double(c.spp) : 0.0;
-  const double vpls = manylight ? double(m.vpl_count) : 0.0;
-  const double shading_clusters = double(cluster_count(size_t(points), m.shading_clusters));
-  const double pairs = shading_clusters * double(cluster_count(size_t(vpls), m.vpl_clusters));
-  const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
-  require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + 130.0 * points + 100.0 * vpls +
-                     40.0 * pairs + 110.0 * round,
+  const double fan_out = integrator.occlusion_rays_per_hit(c, point_lights);
+  const IntegratorMemory own = integrator.own_memory ? integrator.own_memory(c) : IntegratorMemory{};
+  require_memory(24.0 * pixels + (200.0 + 100.0 * fan_out) * pass_rays + own.bytes,
                  fmt::format("--width {} x --height {} ({:.0f} pixels at 24 bytes for film and image, {:.0f} camera rays "
                              "a pass (--max-batch) at ~200 bytes{}{}) need",
                              c.width, c.height, pixels, pass_rays,
                              fan_out >= 1 ? fmt::format(" with {:.0f} occlusion rays each at ~100 bytes{}", fan_out,
                                                        point_lights > 0 ? fmt::format(" ({} to point lights)", point_lights) : "")
                                           : "",
-                             manylight ? fmt::format("; manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs "
-                                                     "(--shading-clusters x --vpl-clusters) at ~40 bytes, {:.0f} VPL "
-                                                     "samples a round (--vpl-samples) at ~110 bytes, {:.0f} shading "
-                                                     "points at ~130 bytes",
-                                                     m.vpl_count, pairs, round, points)
-                                       : ""));
+                             own.explained));
 }
 
 // What can be checked before the scene load: output paths (before the work, not after it),
 // memory, and the manylight run's files.
-void check_before_work(const RenderOptions& o) {
+void check_before_work(const RenderOptions& o, const IntegratorEntry& integrator) {
   const ManylightRunOptions& ml = manylight_cli_options();
-  const bool manylight = o.integrator == "manylight";
+  const bool manylight = integrator.option_group == &kManylightOptions;  // its files
   check_image_path(o.out, o.config.width, o.config.height, "--out " + o.out);
   if (!o.stats.empty() && o.stats != "-") check_output_path(o.stats, "--stats " + o.stats);
-  check_memory(o.config, o.integrator, ml.config);
+  check_memory(o.config, integrator);
   o.config.validate();
   if (manylight) {
     if (!ml.skip_image.empty())
@@ -157,11 +136,11 @@ void check_before_work(const RenderOptions& o) {
 
 // What needs the scene: the memory of the shadow rays to its point lights, and settings that
 // would give a silently wrong image (warnings).
-void check_after_load(const RenderOptions& o, const Scene& scene) {
+void check_after_load(const RenderOptions& o, const IntegratorEntry& integrator, const Scene& scene) {
   for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
   if (!scene.point_lights.empty())  // a shadow ray per point light and hit
-    check_memory(o.config, o.integrator, manylight_cli_options().config, scene.point_lights.size());
-  if (o.config.ray_epsilon > 0 && o.integrator != "manylight") {
+    check_memory(o.config, integrator, scene.point_lights.size());
+  if (o.config.ray_epsilon > 0 && std::ranges::find(integrator.reads, "--ray-epsilon") != integrator.reads.end()) {
     const float size = length(scene.bounds().diagonal());
     if (o.config.ray_epsilon > 0.01f * size)
       fmt::print(stderr,
@@ -169,17 +148,17 @@ void check_after_load(const RenderOptions& o, const Scene& scene) {
                  "off them, past nearby walls and contact shadows\n",
                  o.config.ray_epsilon, 100.0 * o.config.ray_epsilon / size);
   }
-  if (o.integrator == "manylight" && scene.camera.lens_radius > 0)
+  if (!integrator.thin_lens && scene.camera.lens_radius > 0)
     fmt::print(stderr,
-               "rayscout: warning: --integrator manylight renders through a pinhole: the camera's lens_radius {} "
+               "rayscout: warning: --integrator {} renders through a pinhole: the camera's lens_radius {} "
                "(depth of field) is ignored\n",
-               scene.camera.lens_radius);
-  if (o.integrator == "direct" && scene.point_lights.empty())
+               integrator.name, scene.camera.lens_radius);
+  if (integrator.point_lights_only && scene.point_lights.empty())
     fmt::print(stderr,
-               "rayscout: warning: --integrator direct lights with point lights only, and the scene has none "
+               "rayscout: warning: --integrator {} lights with point lights only, and the scene has none "
                "(its {} emissive triangles light --integrator area, path or manylight): the image will be black "
                "but for the emitters seen directly or in mirrors\n",
-               scene.emissive_triangles.size());
+               integrator.name, scene.emissive_triangles.size());
 }
 
 // Radiance beyond the float range (a light near 3e38) must not pass for a bright image.
@@ -203,7 +182,7 @@ void write_stats(const RenderOptions& o, const RenderStats& stats, const Scene& 
   j["height"] = o.config.height;
   j["spp"] = o.config.spp;
   j["seed"] = o.config.seed;
-  if (const auto& pass_seed = manylight_cli_options().pass_seed; o.integrator == "manylight" && pass_seed)
+  if (const auto& pass_seed = manylight_cli_options().pass_seed; integrator_entry(o.integrator).option_group == &kManylightOptions && pass_seed)
     j["pass_seed"] = *pass_seed;
   j["triangles"] = scene.triangles.size();
   j["load_ms"] = load_ms;
@@ -244,8 +223,9 @@ void print_summary(const RenderOptions& o, const RenderStats& stats, const Integ
 void run(const RenderOptions& o) {
   const ThreadLimit limit(o.threads);
   const int n_threads = limit.threads;
-  check_before_work(o);
-  const auto integrator = make_integrator(o.integrator);
+  const IntegratorEntry& entry = integrator_entry(o.integrator);
+  check_before_work(o, entry);
+  const auto integrator = entry.make();
   const AcceleratorOptions accel_options = checked_accel_options(o.accel, o.accel_opts);
 
   // The progress line is cleared before each warning, so that a warning starts its line.
@@ -255,7 +235,7 @@ void run(const RenderOptions& o) {
   const Scene scene = resolve_scene(o.scene);
   const double load_ms = ms_since(t);
   progress.end();
-  check_after_load(o, scene);
+  check_after_load(o, entry, scene);
   progress.draw(fmt::format("render: building {} over {} triangles", o.accel, scene.triangles.size()));
   t = SteadyClock::now();
   const auto accel = make_accelerator(o.accel, scene, accel_options);
@@ -267,9 +247,7 @@ void run(const RenderOptions& o) {
                accel->name());
   RenderConfig config = o.config;
   config.count = o.config.count && accel->counts_work();
-  progress.draw(o.integrator == "manylight" ? "render: manylight preprocess (VPLs, clusters, their visibility) and "
-                                              "calibration"
-                                            : "render: the first batch");
+  progress.draw(entry.first_progress);
   if (progress.on())
     config.on_progress = [&progress, bar = std::make_shared<ProgressBar>()](const RenderProgress& p) {
       progress.draw(bar->text(p));
@@ -319,25 +297,24 @@ void add_render_options(CLI::App& cmd, RenderOptions& o) {
   cmd.add_option("--out", o.out, "output image: .png, .exr or .pfm")->capture_default_str()->check(output_file_path());
 }
 
-// An option the chosen integrator does not read is reported, not dropped silently.
-void warn_unread_options(const CLI::App& cmd, const CLI::App& manylight, const std::string& integrator) {
-  static const std::vector<std::pair<std::string, std::vector<std::string>>> readers = {
-      {"--max-depth", {"direct", "area", "path"}},
-      {"--rr-depth", {"path"}},
-      {"--light-samples", {"area", "path"}},
-      {"--ao-samples", {"ao"}},
-      {"--ao-radius", {"ao"}},
-      // The many-light renderer offsets its rays by its own 1e-4 of the scene diagonal,
-      // makes its own batches, and keeps no traversal counters.
-      {"--ray-epsilon", {"direct", "area", "ao", "path"}},
-      {"--max-batch", {"direct", "area", "ao", "path"}},
-      {"--count", {"direct", "area", "ao", "path"}}};
-  for (const auto& [option, integrators] : readers)
-    if (cmd.count(option) > 0 && std::find(integrators.begin(), integrators.end(), integrator) == integrators.end())
-      fmt::print(stderr, "rayscout: warning: {} is ignored by --integrator {}\n", option, integrator);
-  if (integrator == "manylight") warn_unread_manylight_options(manylight);
-  else if (manylight.count_all() > 0)
-    fmt::print(stderr, "rayscout: warning: the manylight options given are ignored by --integrator {}\n", integrator);
+// An option the chosen integrator does not read is reported, not dropped silently: the
+// options some integrators read (IntegratorEntry::reads), in the order of --help, and the
+// option groups of the others.
+void warn_unread_options(const CLI::App& cmd, const IntegratorEntry& integrator) {
+  for (const CLI::Option* option : cmd.get_options()) {
+    const std::string name = option->get_name();
+    if (option->count() > 0 && read_by_some_integrators(name) &&
+        std::ranges::find(integrator.reads, name) == integrator.reads.end())
+      fmt::print(stderr, "rayscout: warning: {} is ignored by --integrator {}\n", name, integrator.name);
+  }
+  for (const auto& e : integrator_table()) {
+    if (!e.option_group) continue;
+    const CLI::App& group = *cmd.get_option_group(e.name);
+    if (&e == &integrator) e.option_group->warn_unread(group);
+    else if (group.count_all() > 0)
+      fmt::print(stderr, "rayscout: warning: the {} options given are ignored by --integrator {}\n", e.name,
+                 integrator.name);
+  }
 }
 
 CommandRegistration registration{[](CLI::App& app) {
@@ -346,12 +323,12 @@ CommandRegistration registration{[](CLI::App& app) {
   add_render_options(*cmd, *opts);
   set_memory_hint(*cmd, "lower --width/--height, --spp, --light-samples, --ao-samples or --vpls, bound the camera "
                         "batch with --max-batch (not manylight), or load a smaller scene");
-  // Integrator-specific options: one option group per integrator module (a warning names
-  // them when another integrator is chosen).
-  auto* manylight = cmd->add_option_group("manylight", "Options of --integrator manylight");
-  add_manylight_options(*manylight);
-  cmd->callback([opts, cmd, manylight] {
-    warn_unread_options(*cmd, *manylight, opts->integrator);
+  // Integrator-specific options: one option group per integrator that has its own (a warning
+  // names them when another integrator is chosen).
+  for (const auto& e : integrator_table())
+    if (e.option_group) e.option_group->add(*cmd->add_option_group(e.name, "Options of --integrator " + e.name));
+  cmd->callback([opts, cmd] {
+    warn_unread_options(*cmd, integrator_entry(opts->integrator));
     run(*opts);
   });
 }};

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "rayscout/manylight/probabilistic_visibility.h"
+#include "rayscout/manylight/visibility_cluster.h"
 
 namespace rayscout::cli {
 namespace {
@@ -104,6 +105,30 @@ void warn_unread_manylight_options(const CLI::App& group) {
     warn(fmt::format("--costs {:g},{:g}: a sample costs no more with its shadow ray than without it: skipping saves "
                      "nothing, and --visibility {} traces every sample as exact does (EVAL comes first)",
                      costs[0], costs[1], visibility));
+}
+
+const IntegratorOptionGroup kManylightOptions = {add_manylight_options, warn_unread_manylight_options};
+
+// Measured sizes, rounded up: the renderer keeps ~130 bytes per shading point of the whole image
+// (--max-batch does not split it), ~100 per VPL (the light, its cluster records), ~40 per pair
+// of shading and VPL clusters (the pair's sample counts and sums, 20; its r, weight and id, 12;
+// its unit of the row's distribution, 8: 655 MB measured for 2048 x 8192 pairs), and ~110 per
+// VPL sample of a wavefront round (its sample record and shadow ray; a round takes 16 points of
+// every shading cluster). Cluster counts are rounded up to a power of two, as cluster_points
+// does (--shading-clusters 600 makes 1024), and are at most the points and VPLs.
+// `--vpls 4294967295` asked for ~430 GB.
+IntegratorMemory manylight_memory(const RenderConfig& c) {
+  const ManylightConfig& m = parsed_options().config;
+  const double points = double(c.width) * double(c.height) * double(c.spp);
+  const double vpls = double(m.vpl_count);
+  const double shading_clusters = double(cluster_count(size_t(points), m.shading_clusters));
+  const double pairs = shading_clusters * double(cluster_count(size_t(vpls), m.vpl_clusters));
+  const double round = shading_clusters * double(m.points_per_round) * double(m.samples_per_pass);
+  return {130.0 * points + 100.0 * vpls + 40.0 * pairs + 110.0 * round,
+          fmt::format("; manylight: --vpls {} at ~100 bytes, {:.0f} cluster pairs (--shading-clusters x --vpl-clusters) "
+                      "at ~40 bytes, {:.0f} VPL samples a round (--vpl-samples) at ~110 bytes, {:.0f} shading points "
+                      "at ~130 bytes",
+                      m.vpl_count, pairs, round, points)};
 }
 
 std::unique_ptr<Integrator> make_manylight_cli_integrator() {

@@ -6,11 +6,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "integrators.h"
 #include "rayscout/manylight/manylight_integrator.h"
 
 namespace rayscout::cli {
 
-/// Adds the manylight options to `rayscout render` (called from cmd_render.cpp's hook).
+/// Adds the manylight options to `rayscout render` (through kManylightOptions).
 void add_manylight_options(CLI::App& cmd);
 
 /// The manylight options as parsed (width, height, spp and seed come from RenderConfig).
@@ -20,6 +21,13 @@ const ManylightRunOptions& manylight_cli_options();
 /// parsed run does not read, an --rmse-log with no RMSE to log, and --costs under which
 /// skipping saves nothing.
 void warn_unread_manylight_options(const CLI::App& group);
+
+/// The option group of the integrator table's entry "manylight".
+extern const IntegratorOptionGroup kManylightOptions;
+
+/// The memory of the parsed manylight run at c's size (VPLs, cluster pairs, a round's samples,
+/// the shading points), for render's memory check.
+IntegratorMemory manylight_memory(const RenderConfig& c);
 
 /// The integrator of the table entry "manylight", configured by the parsed options; warns
 /// (stderr) about a biased configuration (epsilon_bias_warning).
