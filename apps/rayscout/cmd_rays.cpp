@@ -50,6 +50,8 @@ void run_rays(const RaysArgs& a) {
   ProgressLine progress;
   progress.draw("rays: loading the scene");
   const Scene scene = resolve_scene(a.scene);
+  progress.end();
+  print_scene_warnings(scene);
   if (workload == Workload::Shadow && scene.point_lights.size() > 1)
     check_memory(a.config, workload, scene.point_lights.size());
   // Secondary workloads start at the primary hits, found with this accelerator.

@@ -137,7 +137,7 @@ void check_before_work(const RenderOptions& o, const IntegratorEntry& integrator
 // What needs the scene: the memory of the shadow rays to its point lights, and settings that
 // would give a silently wrong image (warnings).
 void check_after_load(const RenderOptions& o, const IntegratorEntry& integrator, const Scene& scene) {
-  for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", w);
+  print_scene_warnings(scene);
   if (!scene.point_lights.empty())  // a shadow ray per point light and hit
     check_memory(o.config, integrator, scene.point_lights.size());
   if (o.config.ray_epsilon > 0 && std::ranges::find(integrator.reads, "--ray-epsilon") != integrator.reads.end()) {

@@ -43,8 +43,11 @@ void run_trace(const TraceArgs& a) {
   const AcceleratorOptions options = checked_accel_options(a.accel, a.accel_opts);
   // A slow accelerator on a big ray file takes minutes per run.
   ProgressLine progress;
-  progress.draw("trace: loading the scene and the rays");
+  progress.draw("trace: loading the scene");
   const Scene scene = resolve_scene(a.scene);
+  progress.end();
+  print_scene_warnings(scene);
+  progress.draw("trace: loading the rays");
   const RayBatch rays = read_rays(a.rays);
   progress.draw(fmt::format("trace: building {} over {} triangles", a.accel, scene.triangles.size()));
   const auto accel = make_accelerator(a.accel, scene, options);

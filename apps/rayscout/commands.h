@@ -15,6 +15,7 @@
 
 #include "rayscout/core/accelerator_options.h"
 #include "rayscout/core/input_error.h"
+#include "rayscout/scene/scene.h"
 
 namespace rayscout::cli {
 
@@ -47,6 +48,11 @@ void add_accel_options(CLI::App& cmd, std::string& accel, const std::string& use
 /// The parsed --accel-opt list, once --accel and it are checked (check_accelerator): commands
 /// call it before they read a scene or ray file, so that a misspelt name or key costs nothing.
 AcceleratorOptions checked_accel_options(const std::string& accel, const std::vector<std::string>& accel_opts);
+
+/// The scene loader's warnings (a material library not found, triangles dropped, ...) on
+/// stderr, one "rayscout: warning:" line each: what every command that loads a scene prints
+/// once it is loaded (info lists them instead).
+void print_scene_warnings(const Scene& scene);
 
 /// --threads (0 = all cores; see ThreadLimit).
 void add_threads_option(CLI::App& cmd, int& threads);

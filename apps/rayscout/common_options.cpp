@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/core.h>
+
 #include "commands.h"
 #include "rayscout/accelerators.h"
 
@@ -46,6 +48,10 @@ AcceleratorOptions checked_accel_options(const std::string& accel, const std::ve
   AcceleratorOptions options = AcceleratorOptions::from_list(accel_opts);
   check_accelerator(accel, options);
   return options;
+}
+
+void print_scene_warnings(const Scene& scene) {
+  for (const auto& w : scene.warnings) fmt::print(stderr, "rayscout: warning: {}\n", printable(w));
 }
 
 void add_threads_option(CLI::App& cmd, int& threads) {

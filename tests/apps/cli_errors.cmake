@@ -340,6 +340,15 @@ file(WRITE ${WORK}/away.json [=[{"meshes": [{"shape": "box", "min": [0, 0, 0], "
 expect(0 "warning: no diffuse rays: every primary ray missed the scene" rays --scene ${WORK}/away.json --workload diffuse
        --width 8 --height 8 --out ${WORK}/away.rays)
 expect(0 "--ao-radius is ignored by --workload shadow" rays --scene cornell --workload shadow --width 8 --height 8 --ao-radius 1 --out ${WORK}/s.rays)
+# The scene loader's warnings are printed by every command that loads a scene: rays and trace
+# said nothing of a material library not found or of dropped triangles (render and info did).
+file(WRITE ${WORK}/nomtl.obj "mtllib nowhere.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n")
+foreach(command "render --width 4 --height 4 --out ${WORK}/nomtl.png"
+                "rays --workload primary --width 4 --height 4 --out ${WORK}/nomtl.rays"
+                "trace --rays ${WORK}/nomtl.rays --repeat 1")
+  separate_arguments(args UNIX_COMMAND "${command}")
+  expect(0 "rayscout: warning: .*nomtl\\.obj.*material library 'nowhere\\.mtl' not found" ${args} --scene ${WORK}/nomtl.obj)
+endforeach()
 # The log's format is read from its extension in any case, as an image's is (log.CSV was refused).
 expect(0 "wrote" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 2 --rmse-log ${WORK}/log.CSV
        --out ${WORK}/x.pfm)
@@ -497,7 +506,7 @@ if(SCRIPT)
               "${RAYSCOUT} rays --scene cornell --workload diffuse --width 8 --height 8 --out ${WORK}/bar.rays")
   # The progress line is cleared when the work ends, and before an error message, which then
   # starts the line (a script running trace per ray set keeps a clean terminal).
-  on_terminal(2 "loading the scene and the rays[^\r]*\r.\\[Krayscout: error: .*cut\\.rays" ""
+  on_terminal(2 "loading the rays[^\r]*\r.\\[Krayscout: error: .*cut\\.rays" ""
               "trace: the error does not start a cleared line" "${RAYSCOUT} trace --scene cornell --rays ${WORK}/cut.rays")
   # manylight ends the line itself before its summary: no empty line follows it.
   on_terminal(0 "pass 2/2" "\n\r?\n" "render --integrator manylight prints an empty line"
