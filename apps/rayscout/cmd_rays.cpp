@@ -54,9 +54,11 @@ void run_rays(const RaysArgs& a) {
   print_scene_warnings(scene);
   if (workload == Workload::Shadow && scene.point_lights.size() > 1)
     check_memory(a.config, workload, scene.point_lights.size());
-  // Secondary workloads start at the primary hits, found with this accelerator.
-  progress.draw(fmt::format("rays: building {} over {} triangles", a.accel, scene.triangles.size()));
-  const auto accel = make_accelerator(a.accel, scene);
+  // Secondary workloads start at the primary hits, found with this accelerator. Primary rays
+  // need no tracing: brute force, which builds nothing, stands in for a build never used.
+  const bool traces = workload != Workload::Primary;
+  if (traces) progress.draw(fmt::format("rays: building {} over {} triangles", a.accel, scene.triangles.size()));
+  const auto accel = make_accelerator(traces ? a.accel : "brute", scene);
   progress.draw(fmt::format("rays: making the {} rays of {}x{} pixels at {} spp", workload_name(workload),
                             a.config.width, a.config.height, a.config.spp));
   const RayBatch rays = make_workload(scene, *accel, workload, a.config);
@@ -89,6 +91,8 @@ CommandRegistration registration{[](CLI::App& app) {
   cmd->callback([args, cmd] {
     if (cmd->count("--ao-radius") > 0 && args->workload != "ao")
       fmt::print(stderr, "rayscout: warning: --ao-radius is ignored by --workload {}\n", args->workload);
+    if (cmd->count("--accel") > 0 && args->workload == "primary")
+      fmt::print(stderr, "rayscout: warning: --accel is ignored by --workload primary (its rays need no tracing)\n");
     run_rays(*args);
   });
 }};

@@ -349,6 +349,12 @@ foreach(command "render --width 4 --height 4 --out ${WORK}/nomtl.png"
   separate_arguments(args UNIX_COMMAND "${command}")
   expect(0 "rayscout: warning: .*nomtl\\.obj.*material library 'nowhere\\.mtl' not found" ${args} --scene ${WORK}/nomtl.obj)
 endforeach()
+# Primary rays need no tracing: no accelerator is built for them (it was, and never used), and
+# an --accel given is said to be ignored. On a terminal the progress line shows no build.
+expect(0 "warning: --accel is ignored by --workload primary" rays --scene cornell --workload primary --accel bvh2
+       --width 8 --height 8 --out ${WORK}/p.rays)
+expect_without(0 "wrote 64 primary rays" "warning" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/p.rays)
+expect_without(0 "wrote 64 diffuse rays" "warning" rays --scene cornell --workload diffuse --accel bvh2 --width 8 --height 8 --out ${WORK}/p.rays)
 # The log's format is read from its extension in any case, as an image's is (log.CSV was refused).
 expect(0 "wrote" render --integrator manylight --width 8 --height 8 --vpls 20 --passes 2 --rmse-log ${WORK}/log.CSV
        --out ${WORK}/x.pfm)
@@ -504,6 +510,8 @@ if(SCRIPT)
   on_terminal(0 "rays: building bvh over 32 triangles.*rays: making the diffuse rays of 8x8 pixels at 1 spp.*wrote" ""
               "rays shows no progress"
               "${RAYSCOUT} rays --scene cornell --workload diffuse --width 8 --height 8 --out ${WORK}/bar.rays")
+  on_terminal(0 "rays: making the primary rays of 8x8 pixels at 1 spp.*wrote" "building" "rays --workload primary builds"
+              "${RAYSCOUT} rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/bar.rays")
   # The progress line is cleared when the work ends, and before an error message, which then
   # starts the line (a script running trace per ray set keeps a clean terminal).
   on_terminal(2 "loading the rays[^\r]*\r.\\[Krayscout: error: .*cut\\.rays" ""
