@@ -47,6 +47,7 @@ void add_accel_options(CLI::App& cmd, std::string& accel, const std::string& use
 
 /// The parsed --accel-opt list, once --accel and it are checked (check_accelerator): commands
 /// call it before they read a scene or ray file, so that a misspelt name or key costs nothing.
+/// An error of the list names --accel-opt and the accelerator.
 AcceleratorOptions checked_accel_options(const std::string& accel, const std::vector<std::string>& accel_opts);
 
 /// The scene loader's warnings (a material library not found, triangles dropped, ...) on

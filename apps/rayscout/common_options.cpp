@@ -45,9 +45,18 @@ void add_accel_options(CLI::App& cmd, std::string& accel, const std::string& use
 }
 
 AcceleratorOptions checked_accel_options(const std::string& accel, const std::vector<std::string>& accel_opts) {
-  AcceleratorOptions options = AcceleratorOptions::from_list(accel_opts);
-  check_accelerator(accel, options);
-  return options;
+  check_accelerator(accel);  // an unknown name is --accel's error, reported as it is
+  try {
+    AcceleratorOptions options = AcceleratorOptions::from_list(accel_opts);
+    check_accelerator(accel, options);
+    return options;
+  } catch (const InputError& e) {
+    // The accelerator's message names the key ("option 'bins': 300 is not in [2, 256]"); the
+    // command-line option and the accelerator it was given to are named here.
+    const std::string what = e.what();
+    throw InputError("--accel-opt: " + (what.starts_with("accelerator '") ? "" : "accelerator '" + accel + "': ") +
+                     what);
+  }
 }
 
 void print_scene_warnings(const Scene& scene) {

@@ -248,6 +248,15 @@ expect(2 "option 'min_rays': -5 is not in" ${T} --accel dacrt-rs --accel-opt min
 expect(2 "option 'dir_res': 4294967300 is not in \\[1, 64\\]" ${T} --accel shafts --accel-opt dir_res=4294967300)
 expect(2 "option 'max_list': 4294967297 is not in \\[1, 31\\]" ${T} --accel shafts --accel-opt max_list=4294967297)
 expect(2 "option 'leaf_block': 4294967297 is not in \\[1, 15\\]" ${T} --accel bvh --accel-opt leaf_block=4294967297)
+# An accelerator option's error names --accel-opt and the accelerator it was given to, whatever
+# the command (it named only the key: "option 'bins': ...").
+expect(2 "^rayscout: error: --accel-opt: accelerator 'dacrt-rs': option 'bins': 4294967298 is not in \\[2, 256\\]\n$"
+       ${T} --accel dacrt-rs --accel-opt bins=4294967298)
+expect(2 "^rayscout: error: --accel-opt: accelerator 'bvh': option 'bins' given twice" render --accel-opt bins=8
+       --accel-opt bins=9 --width 8 --height 8 --out ${WORK}/x.png)
+expect(2 "^rayscout: error: --accel-opt: accelerator 'shafts' has no option\\(s\\): budgt\n$" ${T} --accel shafts --accel-opt budgt=3)
+expect(2 "^rayscout: error: --accel-opt: accelerator 'bvh': option '=8': expected key=value" ${T} --accel-opt =8)
+expect(2 "^rayscout: error: unknown accelerator 'nope'" ${T} --accel nope --accel-opt bins=8)
 # Real-valued options are finite and, where they size memory, bounded (budget_rel=inf and
 # budget_mib=1e30 used to build for ever).
 expect(2 "option 'budget_rel': 'inf' is not a finite number" ${T} --accel shafts --accel-opt budget_rel=inf)
