@@ -2,11 +2,12 @@
 #include "rayscout/core/output_path.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 
 #include "rayscout/core/input_error.h"
 
@@ -79,25 +80,97 @@ void check_distinct_files(std::span<const NamedFile> outputs, std::span<const Na
   }
 }
 
+namespace {
+
+// Writes all of bytes to fd; false (errno set) on the first error.
+bool write_all(int fd, std::string_view bytes) {
+  for (size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += size_t(n);
+  }
+  return true;
+}
+
+// Creates a file of its own beside `target` (".NAME.PID-N.tmp"), with the permissions a new
+// file gets, or those of the file it will replace; -1 (errno set) when it cannot.
+int create_temporary(const std::filesystem::path& target, std::filesystem::path& temporary) {
+  static std::atomic<unsigned> counter{0};
+  struct stat old {};
+  const bool replaces = ::stat(target.c_str(), &old) == 0;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    // ".NAME.PID-N.tmp", appended piece by piece: GCC 12 warns falsely (-Wrestrict) of "." + s.
+    std::string name(1, '.');
+    name += target.filename().string();
+    name += '.';
+    name += std::to_string(::getpid());
+    name += '-';
+    name += std::to_string(counter++);
+    name += ".tmp";
+    temporary = target.parent_path() / name;
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno == EEXIST) continue;
+    if (fd >= 0 && replaces) ::fchmod(fd, old.st_mode & 07777);
+    return fd;
+  }
+  errno = EEXIST;
+  return -1;
+}
+
+}  // namespace
+
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(label + ": cannot open " + path.string() + " for writing: " + std::strerror(errno));
-  errno = 0;
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  out.close();
-  if (!out) {
-    const int error = errno;
-    // The file holds a prefix of the bytes (a full disk, a file size limit): removed, so that
-    // no truncated image or ray file is left to pass for a whole one. Its old contents were
-    // already truncated by the open. Devices (/dev/full) and a link itself are left alone.
-    std::error_code ec;
-    try {
-      if (const std::filesystem::path target = link_target(path, label); std::filesystem::is_regular_file(target, ec))
-        std::filesystem::remove(target, ec);
-    } catch (const InputError&) {  // a link that cannot be followed: nothing was written through it
+  auto failure = [&](const std::string& what, int error) {
+    return InputError(label + ": " + what + (error ? std::string(": ") + std::strerror(error) : ""));
+  };
+  const std::string cannot_write = "cannot write " + path.string() + " (" + std::to_string(bytes.size()) + " bytes)";
+  // The file a link leads to is replaced, the link kept.
+  const std::filesystem::path target = link_target(path, label);
+  std::error_code ec;
+  const bool exists = std::filesystem::exists(target, ec);
+  const bool regular = exists && std::filesystem::is_regular_file(target, ec);
+  // Written beside the target and renamed over it once whole: a failed or interrupted write
+  // (a full disk, Ctrl-C) never leaves a partial file under the name, nor spoils the old one.
+  std::filesystem::path temporary;
+  const int fd = exists && !regular ? -1 : create_temporary(target, temporary);
+  if (fd < 0) {
+    const int open_error = errno;
+    // A device or FIFO (/dev/stdout, /dev/full) cannot be renamed over, and a writable file in
+    // a folder that is not cannot get a file beside it: written in place, as a last resort.
+    if (!exists || (regular && open_error != EACCES))
+      throw failure("cannot open " + path.string() + " for writing", open_error);
+    const int in_place = ::open(target.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    if (in_place < 0) throw failure("cannot open " + path.string() + " for writing", errno);
+    bool ok = write_all(in_place, bytes);
+    int error = errno;
+    if (::close(in_place) != 0 && ok) {
+      ok = false;
+      error = errno;
     }
-    throw InputError(label + ": cannot write " + path.string() + " (" + std::to_string(bytes.size()) + " bytes)" +
-                     (error ? std::string(": ") + std::strerror(error) : ""));
+    if (!ok) {
+      // A prefix of the bytes, the old contents already truncated: removed, so that no partial
+      // file passes for a whole one.
+      if (regular) std::filesystem::remove(target, ec);
+      throw failure(cannot_write, error);
+    }
+    return;
+  }
+  bool ok = write_all(fd, bytes);
+  int error = errno;
+  // A full disk is often reported only by the last flush, at close.
+  if (::close(fd) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  if (!ok) {
+    ::unlink(temporary.c_str());
+    throw failure(cannot_write, error);
+  }
+  if (::rename(temporary.c_str(), target.c_str()) != 0) {
+    error = errno;
+    ::unlink(temporary.c_str());
+    throw failure(cannot_write, error);
   }
 }
 

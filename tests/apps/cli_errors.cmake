@@ -425,6 +425,16 @@ if(EXISTS /bin/sh)
     if(NOT rc EQUAL 2 OR NOT err MATCHES "cannot write .*cut-short.*File too large" OR EXISTS ${written})
       message(FATAL_ERROR "a write cut short (exit ${rc}) left ${written} behind or said no error:\n${out}${err}")
     endif()
+    # Nor does it spoil the file it was to replace (it was truncated, then removed): the new one
+    # is written beside it and renamed over it only once whole.
+    file(WRITE ${written} "the previous run's output")
+    execute_process(COMMAND /bin/sh -c "trap '' XFSZ; ulimit -f 10 && exec \"$0\" \"$@\"" ${RAYSCOUT} ${args}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    file(READ ${written} kept)
+    file(GLOB temporaries ${WORK}/.cut-short*)
+    if(NOT rc EQUAL 2 OR NOT kept STREQUAL "the previous run's output" OR temporaries)
+      message(FATAL_ERROR "a write cut short (exit ${rc}) spoilt ${written} or left ${temporaries}:\n${out}${err}")
+    endif()
   endforeach()
 endif()
 # A scene whose only light is dark is refused when it is read (manylight made all-NaN pixels

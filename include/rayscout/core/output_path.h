@@ -26,9 +26,12 @@ struct NamedFile {
 /// links and relative paths are followed. Empty paths and "-" (stdout) are skipped.
 void check_distinct_files(std::span<const NamedFile> outputs, std::span<const NamedFile> inputs);
 
-/// Writes bytes to path, replacing it, and checks the write only after closing the file: a full
-/// disk is often reported only by the last flush. Throws InputError "label: cannot write
-/// path (...)" on any failure, after removing a regular file it wrote only in part.
+/// Writes bytes to path, replacing it whole: to a temporary file beside it (".NAME.PID-N.tmp"),
+/// renamed over it once written and closed (a full disk is often reported only by the last
+/// flush), so that a failed or interrupted write never leaves a partial file under the name nor
+/// spoils the file it replaces. A symbolic link is written through (its target replaced, the
+/// link kept) and a replaced file keeps its permissions; a device (/dev/stdout) is written in
+/// place. Throws InputError "label: cannot write path (...)" on any failure.
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label);
 
 }  // namespace rayscout
