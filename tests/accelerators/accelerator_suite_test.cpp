@@ -238,39 +238,44 @@ TEST_P(AgainstBruteForce, OddRaysMatchBruteForce) {
 // reciprocal. Accelerator::intersect traces them scaled by a power of two, so each must give
 // the hit of the same ray with the direction scaled up (and tmin, tmax down), its t scaled back:
 // finite for hits nearer than ~0.5, inf (but still a hit) beyond.
-TEST_P(AcceleratorSuite, SubnormalDirectionsHitWhatTheirScaledRaysHit) {
+// A direction of any length gets the answer of its unit-length ray, t scaled (the contract's
+// power-of-two scaling): 2^-129 leaves every component subnormal, 2^-100 and 2^100 lie beyond
+// what Embree reads (components below 1e-18 as 1e-18, none above FLT_LARGE). The unit ray is
+// the scaled one scaled back: a component that underflowed to zero is zero in both.
+TEST_P(AcceleratorSuite, DirectionsOfAnyLengthHitWhatTheirUnitRaysHit) {
   const auto& p = GetParam();
   const Scene scene = testing::scene_from_triangles(p.mesh.triangles);
   const RayBatch nasty = testing::nasty_rays(scene.triangles, 13);
-  constexpr int k = 129;
-  RayBatch tiny, scaled;
-  for (size_t i = 0; i < nasty.size(); ++i) {
-    Ray r = nasty[i];
-    if (!(max_component(abs(r.dir)) > 0.0f) || !std::isfinite(length(r.dir)) || !(r.tmin >= 0.0f)) continue;
-    r.dir = normalize(r.dir);
-    r.dir = {std::ldexp(r.dir.x, -k), std::ldexp(r.dir.y, -k), std::ldexp(r.dir.z, -k)};
-    r.tmin = 0.0f;
-    r.tmax = i % 2 ? kInfinity : std::ldexp(1.0f, k);  // a segment of length 1
-    ASSERT_LT(max_component(abs(r.dir)), std::numeric_limits<float>::min());
-    tiny.push_back(r);
-    scaled.push_back({r.org, 0.0f, {std::ldexp(r.dir.x, k), std::ldexp(r.dir.y, k), std::ldexp(r.dir.z, k)},
-                      std::ldexp(r.tmax, -k)});
-  }
-  ASSERT_GT(tiny.size(), 100u);
   const auto accel = make_accelerator(p.accel, scene);
-  const auto [got, got_occ] = trace_both(*accel, tiny);
-  const auto [ref, ref_occ] = trace_both(*accel, scaled);
-  size_t finite = 0, overflowed = 0;
-  for (size_t i = 0; i < tiny.size(); ++i) {
-    ASSERT_EQ(got.prim[i], ref.prim[i]) << "ray " << i;
-    EXPECT_EQ(got_occ[i], ref_occ[i]) << "ray " << i;
-    if (ref.prim[i] == kInvalidId) continue;
-    EXPECT_EQ(got.t[i], std::ldexp(ref.t[i], k)) << "ray " << i;
-    EXPECT_EQ(got.u[i], ref.u[i]) << "ray " << i;
-    (std::isfinite(got.t[i]) ? finite : overflowed) += 1;
+  for (const int k : {129, 100, 40, -40, -100}) {
+    RayBatch scaled, unit;
+    for (size_t i = 0; i < nasty.size(); ++i) {
+      const Ray r = nasty[i];
+      if (!(max_component(abs(r.dir)) > 0.0f) || !std::isfinite(length(r.dir)) || !(r.tmin >= 0.0f)) continue;
+      const Vec3 d = normalize(r.dir);
+      const Vec3 s{std::ldexp(d.x, -k), std::ldexp(d.y, -k), std::ldexp(d.z, -k)};
+      const float tmax = i % 2 ? kInfinity : 0.25f;  // or a segment of length 1/4 (2^127 scaled)
+      scaled.push_back({r.org, 0.0f, s, std::ldexp(tmax, k)});
+      unit.push_back({r.org, 0.0f, {std::ldexp(s.x, k), std::ldexp(s.y, k), std::ldexp(s.z, k)}, tmax});
+    }
+    ASSERT_GT(unit.size(), 100u);
+    if (k == 129) ASSERT_LT(max_component(abs(scaled[0].dir)), std::numeric_limits<float>::min());
+    const auto [got, got_occ] = trace_both(*accel, scaled);
+    const auto [ref, ref_occ] = trace_both(*accel, unit);
+    size_t finite = 0, overflowed = 0;
+    for (size_t i = 0; i < unit.size(); ++i) {
+      ASSERT_EQ(got.prim[i], ref.prim[i]) << "ray " << i << ", direction scaled by 2^" << -k;
+      EXPECT_EQ(got_occ[i], ref_occ[i]) << "ray " << i << ", direction scaled by 2^" << -k;
+      if (ref.prim[i] == kInvalidId) continue;
+      EXPECT_EQ(got.t[i], std::ldexp(ref.t[i], k)) << "ray " << i << ", direction scaled by 2^" << -k;
+      EXPECT_EQ(got.u[i], ref.u[i]) << "ray " << i << ", direction scaled by 2^" << -k;
+      (std::isfinite(got.t[i]) ? finite : overflowed) += 1;
+    }
+    if (k == 129) {
+      EXPECT_GT(finite, unit.size() / 20) << "hits nearer than ~0.5 keep a finite distance";
+      EXPECT_GT(overflowed, 0u) << "hits beyond FLT_MAX are hits at t = inf, not misses";
+    }
   }
-  EXPECT_GT(finite, tiny.size() / 20) << "hits nearer than ~0.5 keep a finite distance";
-  EXPECT_GT(overflowed, 0u) << "hits beyond FLT_MAX are hits at t = inf, not misses";
 }
 
 // A subnormal direction component beside normal ones, or a subnormal origin coordinate, is
