@@ -449,5 +449,50 @@ TEST(Watertight, RaysFromInsideAClosedSphereAllHit) {
   }
 }
 
+// A hit at t = -inf (tmin = -inf) or +inf (tmin = +inf): Woop's t numerator eu * az overflows for large triangles far
+// behind the origin although their true t (~ -1e19 here) and box distances are finite, so every
+// triangle the ray meets ties at -inf and the smallest id wins. The culled box interval must not
+// turn NaN (CullInterval::far(-inf)): it culled every box after the first hit (intersect) or
+// all of them (occluded with tmax = -inf); likewise CullInterval::near(+inf).
+TEST(InfiniteHitDistance, TiesAtInfinityGoToTheSmallestId) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(1.0f, 2.0f);
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 200; ++i) {
+    const float z = -1e10f * u(rng), s = 1e10f * u(rng);
+    tris.push_back({{-s, -s, z}, {s, -s, z}, {0.0f, s, z}});
+  }
+  const Scene scene = testing::scene_from_triangles(tris);
+  RayBatch rays;
+  rays.push_back({{0.0f, 0.0f, 0.0f}, -kInfinity, {0.0f, 0.0f, 0x1p-30f}, kInfinity});
+  rays.push_back({{0.0f, 0.0f, 0.0f}, -kInfinity, {0.0f, 0.0f, 0x1p-30f}, -kInfinity});
+  rays.push_back({{0.01f, 0.02f, 0.0f}, -kInfinity, {0x1p-34f, -0x1p-35f, 0x1p-30f}, kInfinity});
+  // The mirror case: ahead of the origin, t = +inf accepted by tmin = +inf (CullInterval::near).
+  rays.push_back({{0.0f, 0.0f, 0.0f}, kInfinity, {0.0f, 0.0f, -0x1p-30f}, kInfinity});
+  HitBatch ref;
+  std::vector<uint8_t> ref_occ;
+  BruteForce(scene.triangles).intersect(rays, ref);
+  BruteForce(scene.triangles).occluded(rays, ref_occ);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_TRUE(ref.prim[i] != kInvalidId && std::isinf(ref.t[i])) << "ray " << i << ": the test needs an overflowed t";
+    ASSERT_EQ(ref_occ[i], 1) << "ray " << i;
+  }
+  for (const auto& a : accelerators()) {
+    if (a.name == "brute" || a.name == "embree") continue;  // Embree refuses tmin < 0 (a miss)
+    const auto accel = make_accelerator(a.name, scene);
+    HitBatch got;
+    std::vector<uint8_t> occ;
+    accel->intersect(rays, got);
+    accel->occluded(rays, occ);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      // DACRT culls these two (filter_tmax(-inf) = -inf; tmin = +inf marks a retired ray).
+      if (a.name.starts_with("dacrt") && (i == 1 || i == 3)) continue;
+      EXPECT_EQ(got.prim[i], ref.prim[i]) << a.name << " ray " << i;
+      EXPECT_EQ(got.t[i], ref.t[i]) << a.name << " ray " << i;
+      EXPECT_EQ(occ[i], 1) << a.name << " ray " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rayscout

@@ -31,10 +31,16 @@ struct CullInterval {
     abs_slack = coords * kCoordinateSlack / max_component(abs(ray.dir));
   }
   /// Box-test far limit for a current closest distance t (|t|: a hit behind the origin, for
-  /// a ray with tmin < 0, must widen the interval too).
-  float far(float t) const { return t + (t < 0 ? -t : t) * kRelativeSlack + abs_slack; }
-  /// Box-test near limit for the ray's tmin.
-  float near(float tmin) const { return tmin - (tmin < 0 ? -tmin : tmin) * kRelativeSlack - abs_slack; }
+  /// a ray with tmin < 0, must widen the interval too). t = -inf gives +inf, not NaN (which
+  /// culled every box): a hit at -inf may be an overflowed t numerator of a triangle whose
+  /// boxes lie at finite distances, and a tie there goes to the smaller id, so no box is culled.
+  float far(float t) const {
+    return t == -kInfinity ? kInfinity : t + (t < 0 ? -t : t) * kRelativeSlack + abs_slack;
+  }
+  /// Box-test near limit for the ray's tmin; tmin = +inf gives -inf (the mirror of far).
+  float near(float tmin) const {
+    return tmin == kInfinity ? -kInfinity : tmin - (tmin < 0 ? -tmin : tmin) * kRelativeSlack - abs_slack;
+  }
 };
 
 }  // namespace rayscout
