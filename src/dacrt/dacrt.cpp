@@ -152,6 +152,16 @@ void DacrtAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<u
   if (blocks == 1) setup_block(0);
   else tbb::parallel_for(size_t(0), blocks, setup_block);
 
+  // Rays to miss (a NaN direction, see Accelerator::intersect) pass every box test, so each
+  // would be tested against every triangle: leave them out of rid (their results stay misses).
+  size_t live = n;
+  bool any_nan = false;
+  for (size_t i = 0; i < n; ++i) any_nan |= std::isnan(rays.dx[i]) | std::isnan(rays.dy[i]) | std::isnan(rays.dz[i]);
+  if (any_nan)
+    live = size_t(std::remove_if(rid, rid + n, [&](uint32_t i) {
+                    return std::isnan(rays.dx[i]) | std::isnan(rays.dy[i]) | std::isnan(rays.dz[i]);
+                  }) - rid);
+
   float magnitude = std::max(max_component(abs(box.lo)), max_component(abs(box.hi)));
   for (const float m : block_magnitude) magnitude = std::max(magnitude, m);
   dacrt::TraceContext ctx{&config_, rec, shear, triangles_.data(), boxes,
@@ -164,7 +174,7 @@ void DacrtAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<u
   std::vector<TraceStats> task_stats(tasks);
   std::vector<DacrtStats> task_dacrt_stats(tasks);
   auto run_task = [&](size_t k) {
-    const size_t begin = n * k / tasks, end = n * (k + 1) / tasks;
+    const size_t begin = live * k / tasks, end = live * (k + 1) / tasks;
     uint32_t* my_tid = tid + k * nt;
     std::iota(my_tid, my_tid + nt, 0u);
     auto go = [&](auto tracer) {

@@ -176,7 +176,7 @@ TEST(DacrtEdgeRays, DegenerateTrianglesMatchBruteForce) {
 // direction and keeps its origin). It must not set the box padding: pad_for(inf) grew every
 // box to infinity, and one such ray made the whole batch test every ray against every
 // triangle. Its batch does the work of the same batch with a NaN origin there instead (never
-// counted in the padding; the NaN direction itself passes every box test).
+// counted in the padding; the ray itself is left out of the trace, see RaysThatMustMissCostNothing).
 TEST(DacrtEdgeRays, AnInfiniteOriginDoesNotDisableFiltering) {
   const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
   const RayBatch plain = testing::pinhole_rays(testing::kInsideEye, testing::kInsideLook, 60.0f, 64, 64);
@@ -199,6 +199,56 @@ TEST(DacrtEdgeRays, AnInfiniteOriginDoesNotDisableFiltering) {
       EXPECT_EQ(got.ray_tri_tests, want.ray_tri_tests) << name << ", origin " << bad;
       EXPECT_EQ(got.ray_box_tests, want.ray_box_tests) << name << ", origin " << bad;
     }
+  }
+}
+
+// Rays that must miss (an infinite or NaN direction component or origin coordinate:
+// Accelerator::intersect traces them with a NaN direction, which passes every box test) cost
+// nothing: a batch with such rays among ordinary ones does exactly the work of the ordinary
+// rays alone, and they miss. (They were tested against every triangle.)
+TEST(DacrtEdgeRays, RaysThatMustMissCostNothing) {
+  const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
+  const RayBatch plain = testing::pinhole_rays(testing::kInsideEye, testing::kInsideLook, 60.0f, 64, 64);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = kInfinity;
+  const std::vector<Ray> bad = {
+      {{0.0f, 1.0f, 0.0f}, 0.0f, {nan, 1.0f, 0.0f}, inf},   {{0.0f, 1.0f, 0.0f}, 0.0f, {inf, 0.0f, 0.0f}, inf},
+      {{nan, 1.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, inf},   {{0.0f, -inf, 0.0f}, 0.0f, {0.0f, 1.0f, 0.0f}, inf},
+      {{0.0f, 1.0f, 0.0f}, -inf, {-inf, inf, nan}, inf},
+  };
+  RayBatch mixed;  // a bad ray after every 500th ordinary one, and two at the end
+  for (size_t i = 0; i < plain.size(); ++i) {
+    mixed.push_back(plain[i]);
+    if (i % 500 == 0) mixed.push_back(bad[i / 500 % bad.size()]);
+  }
+  for (const Ray& r : {bad[0], bad[1]}) mixed.push_back(r);
+  for (const auto& [name, opts] : kFlavours) {
+    const auto accel = make_accelerator(name, scene, testing::options_of(opts));
+    TraceStats want, got, want_occ, got_occ;
+    HitBatch want_hits, got_hits;
+    std::vector<uint8_t> want_o, got_o;
+    accel->intersect(plain, want_hits, &want);
+    accel->intersect(mixed, got_hits, &got);
+    accel->occluded(plain, want_o, &want_occ);
+    accel->occluded(mixed, got_o, &got_occ);
+    EXPECT_EQ(got.ray_tri_tests, want.ray_tri_tests) << name;
+    EXPECT_EQ(got.ray_box_tests, want.ray_box_tests) << name;
+    EXPECT_EQ(got.traversal_steps, want.traversal_steps) << name;
+    EXPECT_EQ(got_occ.ray_tri_tests, want_occ.ray_tri_tests) << name;
+    EXPECT_EQ(got_occ.ray_box_tests, want_occ.ray_box_tests) << name;
+    size_t j = 0;
+    for (size_t i = 0; i < mixed.size(); ++i) {
+      const bool is_bad = !is_finite(mixed[i].org) || !is_finite(mixed[i].dir);
+      if (is_bad) {
+        EXPECT_EQ(got_hits.prim[i], kInvalidId) << name << " ray " << i;
+        EXPECT_EQ(got_o[i], 0) << name << " ray " << i;
+        continue;
+      }
+      EXPECT_EQ(got_hits.prim[i], want_hits.prim[j]) << name << " ray " << i;
+      EXPECT_EQ(got_hits.t[i], want_hits.t[j]) << name << " ray " << i;
+      EXPECT_EQ(got_o[i], want_o[j]) << name << " ray " << i;
+      ++j;
+    }
+    EXPECT_EQ(j, plain.size());
   }
 }
 
