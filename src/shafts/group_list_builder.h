@@ -40,6 +40,16 @@ inline int sample_enters(const Bounds3& b, float ox, float oy, float oz, float i
   return tn <= tf ? 1 : 0;
 }
 
+/// The sample rays of `per` that must enter a box for hitProbability >= min_prob: the least
+/// count with count / per >= min_prob, or per + 1 (none can) when min_prob > 1. Algorithm 1
+/// depends on min_prob only through it.
+inline int required_hits(double min_prob, int per) {
+  int need = 0;
+  while (need < per && double(need) / double(per) < min_prob) ++need;
+  if (per > 0 && double(need) / double(per) < min_prob) need = per + 1;
+  return need;
+}
+
 /// cullNodeSubtree's answer when no descendant overlaps the shaft.
 inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 
@@ -114,14 +124,12 @@ class GroupListBuilder {
   uint64_t build(double min_prob, int max_len, uint64_t active, std::vector<uint32_t>* lists) {
     for (uint64_t m = active; m; m &= m - 1) lists[std::countr_zero(m)].clear();
     // count / per >= min_prob as an integer count (same decision, no division per member).
-    need_ = 0;
-    while (need_ < per_ && double(need_) / double(per_) < min_prob) ++need_;
-    if (per_ > 0 && double(need_) / double(per_) < min_prob) need_ = per_ + 1;
+    need_ = required_hits(min_prob, per_);
     uint64_t live = active;
     auto& stack = scratch_.stack;
     stack.clear();
     stack.push(tree_.root, active);  // line 1
-    const bool shortcut = min_prob <= 1.0;
+    const bool shortcut = need_ <= per_;  // min_prob <= 1
     while (!stack.empty()) {
       const auto [node, mask_in] = stack.pop();
       const uint64_t mask = mask_in & live;
@@ -297,20 +305,27 @@ inline constexpr float kFirstReach = 4.0f;
 /// clamped to kFirstReach voxel diagonals, then half that, and so on (ShaftConfig::
 /// near_retries, ours); then raised thresholds min_prob + (i+1)/20 for i < retries, distances
 /// still clamped (sec. 4.3 only says "raised gradually"; the step is the reference
-/// implementation's). `clamp(reach)` clamps the distances;
+/// implementation's), skipping a threshold whose required_hits for `per` samples per shaft
+/// equals the previous build's (the same lists again: with 3 samples and min_prob 7/8, only
+/// 1.025 of 0.925, 0.975, ..., 1.375 changes anything). `clamp(reach)` clamps the distances;
 /// `rebuild(min_prob, clamped)` rebuilds the lists that overflowed and returns whether all fit
 /// now (clamped: a rebuild of the first kind). Returns whether all fit (else the caller falls
 /// back to cullNodeSubtree(root), GroupListBuilder::fallback).
 template <class Rebuild, class Clamp>
-bool retry_overflow(int near_retries, int retries, double min_prob, float voxel_diagonal, Rebuild rebuild,
+bool retry_overflow(int near_retries, int retries, double min_prob, int per, float voxel_diagonal, Rebuild rebuild,
                     Clamp clamp) {
   float reach = kFirstReach * voxel_diagonal;
   for (int i = 0; i < near_retries; ++i, reach *= 0.5f) {
     clamp(reach);
     if (rebuild(min_prob, true)) return true;
   }
-  for (int i = 0; i < retries; ++i)
-    if (rebuild(min_prob + double(i + 1) / 20.0, false)) return true;
+  int need = required_hits(min_prob, per);
+  for (int i = 0; i < retries; ++i) {
+    const double p = min_prob + double(i + 1) / 20.0;
+    if (required_hits(p, per) == need) continue;
+    need = required_hits(p, per);
+    if (rebuild(p, false)) return true;
+  }
   return false;
 }
 

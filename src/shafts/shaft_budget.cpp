@@ -41,7 +41,8 @@ void build_one(const TreeView& tree, const ShaftGrid& grid, ShaftCoord coord, co
   auto fits = [&](double min_prob) { return builder.build(min_prob, config.max_list, 1, &list) == 1; };
   const bool ok = fits(config.min_prob) ||
                   detail::retry_overflow(
-                      config.near_retries, config.retries, config.min_prob, length(shaft.voxel().diagonal()),
+                      config.near_retries, config.retries, config.min_prob, config.samples.value(),
+                      length(shaft.voxel().diagonal()),
                       [&](double p, bool) { return fits(p); }, [&](float reach) { samples.clamp_hits(reach); });
   if (!ok) builder.fallback(1, &list);
 }

@@ -157,7 +157,7 @@ class VoxelListMaker {
     uint64_t failed = all & ~builder.build(config.min_prob, config.max_list, all, lists_.data());
     if (failed)
       detail::retry_overflow(
-          config.near_retries, config.retries, config.min_prob, length(group.voxel().diagonal()),
+          config.near_retries, config.retries, config.min_prob, config.samples.value(), length(group.voxel().diagonal()),
           [&](double p, bool clamped) {
             (clamped ? vl.near_retries : vl.retries) += size_t(std::popcount(failed));
             failed &= ~builder.build(p, config.max_list, failed, lists_.data());

@@ -198,7 +198,7 @@ TEST(OverflowPolicy, ClampsNearFirstThenRaisesTheThreshold) {
     calls.clear();
     float reach = -1.0f;
     return detail::retry_overflow(
-        near_retries, retries, 0.5, 2.0f,
+        near_retries, retries, 0.5, 20, 2.0f,
         [&](double p, bool clamped) {
           calls.push_back({p, clamped, reach});
           return int(calls.size()) == fits_at;
@@ -224,6 +224,36 @@ TEST(OverflowPolicy, ClampsNearFirstThenRaisesTheThreshold) {
   EXPECT_FALSE(calls[0].clamped);
   EXPECT_EQ(calls[0].reach, -1.0f) << "near_retries = 0: raised thresholds only, no clamp";
   EXPECT_DOUBLE_EQ(calls[0].min_prob, 0.55);
+}
+
+// A raised threshold that asks as many sample rays to enter a box as the previous build did
+// gives the same lists: retry_overflow skips it. The defaults: shafts-wide (3 samples, min_prob
+// 7/8) rebuilds only at 1.025 (not at 0.925, 0.975, 1.075, ...), shafts (4, 1/2) at 0.55 and 0.8.
+TEST(OverflowPolicy, SkipsThresholdsThatCannotChangeTheList) {
+  auto raised = [](double min_prob, int per, int near_retries) {
+    std::vector<double> calls;
+    EXPECT_FALSE(detail::retry_overflow(
+        near_retries, 10, min_prob, per, 1.0f,
+        [&](double p, bool clamped) {
+          if (!clamped) calls.push_back(p);
+          return false;
+        },
+        [](float) {}));
+    return calls;
+  };
+  for (const int near_retries : {0, 5}) {
+    const auto wide = raised(7.0 / 8.0, 3, near_retries);
+    ASSERT_EQ(wide.size(), 1u);
+    EXPECT_DOUBLE_EQ(wide[0], 7.0 / 8.0 + 0.15);
+    const auto binary = raised(0.5, 4, near_retries);
+    ASSERT_EQ(binary.size(), 2u);
+    EXPECT_DOUBLE_EQ(binary[0], 0.55);
+    EXPECT_DOUBLE_EQ(binary[1], 0.8);
+  }
+  EXPECT_EQ(detail::required_hits(0.875, 3), 3);
+  EXPECT_EQ(detail::required_hits(1.025, 3), 4);
+  EXPECT_EQ(detail::required_hits(0.0, 3), 0);
+  EXPECT_EQ(raised(0.5, 20, 0).size(), 10u) << "20 samples: every step of 1/20 asks one more";
 }
 
 // A clamp lets a sample ray count as hitting at the reach at the latest.
