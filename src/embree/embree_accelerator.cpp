@@ -96,11 +96,17 @@ void EmbreeAccelerator::State::attach_triangles(std::span<const Triangle> triang
   std::memcpy(verts, triangles.data(), n * sizeof(Triangle));
   for (uint32_t i = 0; i < 3 * n; ++i) index[i] = i;  // below 2^32: Embree refused a larger vertex buffer
   rtcCommitGeometry(geom.get());
+  throw_if_error("committing the geometry");
   rtcAttachGeometryByID(scene, geom.get(), 0);
+  throw_if_error("attaching the geometry");
 }
 
 namespace {
 
+// Left incoherent (RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT, the default): a batch carries no
+// coherence hint (camera, shadow, AO and diffuse rays all come as plain batches), and with
+// COHERENT Embree's 16-wide packets take its frustum path and switch to single rays later,
+// which suits camera rays only. A hint would need a field in the Accelerator interface.
 RTCIntersectContext make_context() {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
