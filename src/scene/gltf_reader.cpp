@@ -329,6 +329,12 @@ Mesh read_gltf(const std::filesystem::path& path) {
     throw InputError(file + ": a primitive's indices reach past its vertex count (assimp dropped those faces)");
   if (!scene) {
     const std::string defect = container_defect(data, binary, doc);
+    // glTF 2.0 sec. 3.5.1: an asset without scenes "SHOULD be treated as a library of individual
+    // entities"; rendering all its root nodes would place alternatives on top of each other.
+    if (defect.empty() && doc.is_object() &&
+        (!doc.contains("scenes") || (doc["scenes"].is_array() && doc["scenes"].empty())))
+      throw InputError(file + ": no scenes: a glTF file without scenes is a library of assets, not a scene "
+                              "to render (glTF 2.0 sec. 3.5.1); list its root nodes in a scene");
     throw InputError(file + ": " + (defect.empty() ? "assimp cannot read it: " + std::string(importer.GetErrorString()) : defect));
   }
   Mesh mesh;

@@ -502,6 +502,19 @@ TEST(GltfReader, DefaultSceneElseTheFirst) {
   EXPECT_EQ(load_scene(dir.write("none.gltf", gltf)).triangles[0].v0.z, 5.0f);
 }
 
+// A file without scenes is a library of assets, not a scene (glTF 2.0 sec. 3.5.1: it "SHOULD be
+// treated as a library of individual entities"): refused, saying so, rather than with assimp's
+// "No scene" (given for "scenes": [] too).
+TEST(GltfReader, FileWithoutScenesIsRefusedAsALibrary) {
+  TempDir dir;
+  for (const char* scenes : {"", R"("scenes": [], )"}) {
+    std::string gltf = triangle_gltf(std::string(scenes) + R"("nodes": [{"mesh": 0}])");
+    gltf.erase(gltf.find(R"("scene": 0, )"), 12);
+    testing::expect_contains(testing::input_error_of([&] { load_scene(dir.write("lib.gltf", gltf)); }),
+                             {"lib.gltf: no scenes: a glTF file without scenes is a library of assets"});
+  }
+}
+
 // KHR_materials_emissive_strength scales emissiveFactor, per material, in file order.
 TEST(GltfReader, EmissiveStrength) {
   TempDir dir;
