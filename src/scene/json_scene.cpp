@@ -3,12 +3,14 @@
 #include "json_scene.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "json_fields.h"
@@ -134,6 +136,36 @@ class JsonSceneLoader {
     }
   }
 
+  // What an unknown material name may have meant: the defined name closest to it when it is a
+  // likely typo ("flor" for "floor"), else the defined names, so that the user can pick one.
+  static std::string material_hint(const std::string& name, const detail::SceneBuilder& builder) {
+    const auto& mats = builder.materials();
+    if (mats.empty()) return "no material is defined: define it under \"materials\"";
+    const auto lower = [](char c) { return char(std::tolower((unsigned char)c)); };
+    const auto distance = [&](const std::string& a, const std::string& b) {  // Levenshtein, case-insensitive
+      std::vector<size_t> row(b.size() + 1);
+      for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+      for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diag = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j)
+          diag = std::exchange(row[j], std::min({row[j] + 1, row[j - 1] + 1, diag + (lower(a[i - 1]) != lower(b[j - 1]))}));
+      }
+      return row[b.size()];
+    };
+    const Material* best = nullptr;
+    size_t best_distance = std::max<size_t>(1, name.size() / 3) + 1;  // more edits than a third: no typo
+    for (const Material& m : mats)
+      if (m.name.size() < 256 && name.size() < 256)
+        if (const size_t d = distance(name, m.name); d < best_distance) best = &m, best_distance = d;
+    if (best) return "did you mean \"" + best->name + "\"?";
+    std::string names;
+    const size_t shown = std::min<size_t>(mats.size(), 8);
+    for (size_t i = 0; i < shown; ++i) names += (i ? ", \"" : "\"") + mats[i].name + "\"";
+    return "defined: " + names + (mats.size() > shown ? " and " + std::to_string(mats.size() - shown) + " more" : "") +
+           "; define it under \"materials\"";
+  }
+
   // The scene material of a placement's own "material": a defined name, or an inline object that
   // defines a new one (named meshes[i].material unless it has a "name").
   uint32_t placement_material(const Placement& pl, detail::SceneBuilder& builder) const {
@@ -141,7 +173,7 @@ class JsonSceneLoader {
     if (pl.material->is_string()) {
       const std::string name = pl.material->get<std::string>();
       const auto found = builder.find(name);
-      if (!found) f_.fail(field, "unknown material \"" + name + "\" (define it under \"materials\")");
+      if (!found) f_.fail(field, "unknown material \"" + name + "\" (" + material_hint(name, builder) + ")");
       return *found;
     }
     if (!pl.material->is_object())

@@ -48,6 +48,8 @@ class SceneBuilder {
   uint32_t define(const Material& m);
   std::optional<uint32_t> find(const std::string& name) const;
   Material& material(uint32_t index) { return scene_.materials[index]; }
+  /// The materials defined so far, in definition order.
+  const std::vector<Material>& materials() const { return scene_.materials; }
 
   /// Scene material indices of the mesh's own materials (interned by name). A material
   /// whose name exists with other values keeps the first definition; that adds a warning

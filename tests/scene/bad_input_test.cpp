@@ -532,6 +532,23 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
                   {"scene.json: meshes[0].material.name: a material name must not be empty"});
 }
 
+// An unknown material name said only "define it under materials", even when "materials" held
+// the name it misspelt: it names the likely one, else the defined ones.
+TEST(SceneBadInput, JsonUnknownMaterialNamesWhatIsDefined) {
+  TempDir dir;
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}, {"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1],
+                                      "material": "flor"}], "materials": {"floor": {"diffuse": 0.5}}})"),
+                  {"scene.json: meshes[1].material: unknown material \"flor\" (did you mean \"floor\"?)"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": "Floor "}],
+                                      "materials": {"floor": {"diffuse": 0.5}}})"),
+                  {"did you mean \"floor\"?"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": "stone"}],
+                                      "materials": {"floor": {"diffuse": 0.5}}})"),
+                  {"unknown material \"stone\" (defined: \"floor\"; define it under \"materials\")"});
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "m"}]})"),
+                  {"unknown material \"m\" (no material is defined: define it under \"materials\")"});
+}
+
 // Keys of the other form of a shape were ignored.
 TEST(SceneBadInput, JsonShapeKeysOfAnotherForm) {
   TempDir dir;
