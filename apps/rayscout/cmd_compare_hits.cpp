@@ -117,6 +117,12 @@ bool compare_hit_files(const Comparison& c, const ResultFile& fa, const ResultFi
   if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
   const bool ok = grazing_within_bound(d.grazing, d.rays, args) && d.ok();
   fmt::print("result:                {} (tolerance {:g})\n", ok ? "OK" : "DIFFERENT", args.tolerance);
+  // Tracers of other arithmetic (embree) differ in t by the precision of the coordinates, which
+  // t alone does not show: a researcher comparing them without --rays got DIFFERENT and no clue.
+  if (!ok && !c.cfg.rays && d.t_mismatch > 0 && d.hit_miss == 0 && d.other_prim == 0)
+    fmt::print("hint:                  only distances differ, judged against t alone; if the files come from one RAYS "
+               "file, give it (--rays FILE) to judge them in world space, where a float hit point is only as exact as "
+               "its coordinates\n");
   return ok;
 }
 
