@@ -228,6 +228,12 @@ float srgb_to_linear(float e) {
   return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f);
 }
 
+// "unknown image format ''" told a user who wrote --out render nothing about what was missing.
+static std::string unknown_format(const std::string& ext) {
+  return ext.empty() ? "no file extension to tell the image format by (use .png, .exr or .pfm)"
+                     : "unknown image format '" + ext + "' (use .png, .exr or .pfm)";
+}
+
 void check_image_path(const std::filesystem::path& path, int width, int height, const std::string& label) {
   const std::string name = label.empty() ? path.string() : label;
   std::error_code ec;
@@ -235,7 +241,7 @@ void check_image_path(const std::filesystem::path& path, int width, int height, 
   if (std::filesystem::is_directory(path, ec)) throw InputError(name + ": is a directory, not an image file");
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
-    throw InputError(name + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+    throw InputError(name + ": " + unknown_format(ext));
   // stb's PNG writer sizes its filtered rows, (3 width + 1) height bytes, in an int.
   if (ext == ".png" && (3 * int64_t(width) + 1) * int64_t(height) > INT_MAX)
     throw InputError(name + ": a PNG of " + std::to_string(width) + "x" + std::to_string(height) +
@@ -266,7 +272,7 @@ Image read_image(const std::filesystem::path& path) {
   if (ext == ".png") return read_png(path);
   if (ext == ".exr") return read_exr(path);
   if (ext == ".pfm") return read_pfm(path);
-  throw InputError(path.string() + ": unknown image format '" + ext + "' (use .png, .exr or .pfm)");
+  throw InputError(path.string() + ": " + unknown_format(ext));
 }
 
 }  // namespace rayscout

@@ -318,7 +318,7 @@ expect(2 "--skip-image .*s\\.bmp: unknown image format '.bmp'"
        render --integrator manylight --width 8 --height 8 --out ${WORK}/x.png --skip-image ${WORK}/s.bmp)
 expect(2 "--skip-image .*: is a directory, not an image file"
        render --integrator manylight --width 8 --height 8 --out ${WORK}/x.png --skip-image ${WORK})
-expect(2 "--out .*/noext: unknown image format ''" render --width 8 --height 8 --out ${WORK}/noext)
+expect(2 "--out .*/noext: no file extension to tell the image format by \\(use \\.png, \\.exr or \\.pfm\\)" render --width 8 --height 8 --out ${WORK}/noext)
 expect(2 "--out .*d\\.bmp: unknown image format '.bmp'" diff ${WORK}/a8.pfm ${WORK}/a8.pfm --out ${WORK}/d.bmp)
 expect(2 "--stats .*no-such-dir/s.json: folder" render --width 8 --height 8 --out ${WORK}/x.png --stats ${WORK}/no-such-dir/s.json)
 expect(2 "--out .*no-such-dir/r.rays: folder" rays --scene cornell --workload primary --width 8 --height 8 --out ${WORK}/no-such-dir/r.rays)
