@@ -37,15 +37,28 @@ void add_accel_options(CLI::App& cmd, std::string& accel, const std::string& use
                        std::vector<std::string>* accel_opts) {
   std::string names;
   for (const auto& a : accelerators()) names += (names.empty() ? "" : ", ") + a.name;
+  // Checked when parsed, as --integrator is: a misspelt name is a usage error naming the option
+  // and the help (it said only "unknown accelerator 'bvh4'", once the command ran).
+  const CLI::Validator known(
+      [](const std::string& name) {
+        try {
+          check_accelerator(name);
+          return std::string();
+        } catch (const InputError& e) {
+          return std::string(e.what());
+        }
+      },
+      "");
   cmd.add_option("--accel", accel, "accelerator " + use + ": " + names + " (`rayscout accelerators` describes them)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(known);
   if (accel_opts)
     cmd.add_option("--accel-opt", *accel_opts,
                    "accelerator tunable key=value, repeatable (`rayscout accelerators` names them or their doc)");
 }
 
 AcceleratorOptions checked_accel_options(const std::string& accel, const std::vector<std::string>& accel_opts) {
-  check_accelerator(accel);  // an unknown name is --accel's error, reported as it is
+  check_accelerator(accel);  // an unknown name is --accel's error (checked when parsed)
   try {
     AcceleratorOptions options = AcceleratorOptions::from_list(accel_opts);
     check_accelerator(accel, options);

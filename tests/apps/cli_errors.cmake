@@ -267,7 +267,10 @@ expect(2 "^rayscout: error: --accel-opt: accelerator 'bvh': option 'bins' given 
        --accel-opt bins=9 --width 8 --height 8 --out ${WORK}/x.png)
 expect(2 "^rayscout: error: --accel-opt: accelerator 'shafts' has no option\\(s\\): budgt\n$" ${T} --accel shafts --accel-opt budgt=3)
 expect(2 "^rayscout: error: --accel-opt: accelerator 'bvh': option '=8': expected key=value" ${T} --accel-opt =8)
-expect(2 "^rayscout: error: unknown accelerator 'nope'" ${T} --accel nope --accel-opt bins=8)
+# An unknown --accel is a usage error: it names the option and the command's help, as an
+# unknown --integrator does.
+expect(2 "^rayscout: error: --accel: unknown accelerator 'nope' \\(known: brute, [a-z0-9, -]+\\)\nRun 'rayscout [a-z]+ --help' for the options\\.\n$"
+       ${T} --accel nope --accel-opt bins=8)
 # Real-valued options are finite and, where they size memory, bounded (budget_rel=inf and
 # budget_mib=1e30 used to build for ever).
 expect(2 "option 'budget_rel': 'inf' is not a finite number" ${T} --accel shafts --accel-opt budget_rel=inf)
