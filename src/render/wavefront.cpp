@@ -74,12 +74,18 @@ class PassPlan {
 
 }  // namespace
 
+std::string samples_beyond_32_bits(const char* what, int width, int height, int spp) {
+  return std::string(what) + ": width " + std::to_string(width) + " x height " + std::to_string(height) + " x spp " +
+         std::to_string(spp) + " = " + std::to_string(uint64_t(width) * uint64_t(height) * uint64_t(spp)) +
+         " camera samples, more than 2^32 - 1 (sample ids are 32-bit): lower spp, or average images of other seeds";
+}
+
 void RenderConfig::validate() const {
   if (width <= 0 || height <= 0 || width > 1 << 15 || height > 1 << 15)
     throw InputError("render: width and height must be in 1..32768");
   if (spp <= 0 || spp > 1 << 16) throw InputError("render: spp must be in 1..65536");
   if (uint64_t(width) * uint64_t(height) * uint64_t(spp) > (uint64_t(1) << 32) - 1)
-    throw InputError("render: width * height * spp must stay below 2^32");
+    throw InputError(samples_beyond_32_bits("render", width, height, spp));
   if (max_depth < 0) throw InputError("render: max_depth must be >= 0");
   if (rr_depth < 0) throw InputError("render: rr_depth must be >= 0");
   if (light_samples < 1 || ao_samples < 1) throw InputError("render: light_samples and ao_samples must be >= 1");

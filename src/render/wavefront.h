@@ -1,6 +1,7 @@
 // WavefrontIntegrator: the batch loop every integrator of rayscout shares.
 #pragma once
 
+#include <string>
 #include <cstdint>
 #include <vector>
 
@@ -126,5 +127,9 @@ inline Vec3 sample_ao_direction(const PathSampler& sampler, const Vec3& n, int k
 void generate_camera_rays(const Scene& scene, int width, int height, int spp, uint64_t seed,
                           RayBatch& rays, std::vector<PathState>* paths, int sample_begin = 0,
                           int sample_end = -1, int row_begin = 0, int row_end = -1);
+
+/// The error for width x height x spp camera samples beyond 32-bit sample ids, with the values
+/// (it said only "width * height * spp must stay below 2^32"); `what` is "render" or "workload".
+std::string samples_beyond_32_bits(const char* what, int width, int height, int spp);
 
 }  // namespace rayscout

@@ -57,7 +57,7 @@ RayBatch make_workload(const Scene& scene, const Accelerator& accel, Workload wo
   if (config.width <= 0 || config.height <= 0 || config.spp <= 0)
     throw InputError("workload: width, height and spp must be positive");
   if (uint64_t(config.width) * uint64_t(config.height) * uint64_t(config.spp) > (uint64_t(1) << 32) - 1)
-    throw InputError("workload: width * height * spp must stay below 2^32");
+    throw InputError(samples_beyond_32_bits("workload", config.width, config.height, config.spp));
   RayBatch primary;
   std::vector<PathState> paths;
   generate_camera_rays(scene, config.width, config.height, config.spp, config.seed, primary, &paths);

@@ -219,7 +219,8 @@ expect(2 "--width 32768 x --height 32768 \\(1073741824 pixels at 24 bytes for fi
 expect(2 "16777216 camera rays a pass \\(--max-batch\\) at ~200 bytes with 64 occlusion rays each at ~100 bytes\\) need at least 11[0-9]\\.[0-9] GB"
        render --integrator ao --ao-samples 64 --width 4096 --height 4096 --spp 4 --out ${WORK}/x.png)
 # Sizes whose sample count passes 2^32 are refused before the scene is read (it is missing here).
-expect(2 "width \\* height \\* spp must stay below 2\\^32"
+# The message gives the values and the way out.
+expect(2 "render: width 1024 x height 1024 x spp 4096 = 4294967296 camera samples, more than 2\\^32 - 1 \\(sample ids are 32-bit\\): lower spp"
        render --scene ${WORK}/missing.obj --width 1024 --height 1024 --spp 4096 --max-batch 1000 --out ${WORK}/x.png)
 # A ray offset of a sizeable part of the scene is warned about (rays would start past walls).
 expect(0 "--ray-epsilon 0.5 is 14 % of the scene's diagonal"

@@ -179,6 +179,19 @@ TEST(RenderConfig, ValidateRefusesSettingsOutOfRange) {
   refused([](RenderConfig& c) { c.width = 0; });
   refused([](RenderConfig& c) { c.spp = 1 << 17; });
   refused([](RenderConfig& c) { c.width = c.height = 1 << 15; c.spp = 4; });  // 2^32 rays
+  // The message gives the values (it said only "width * height * spp must stay below 2^32").
+  try {
+    RenderConfig cfg = small_config();
+    cfg.width = cfg.height = 1 << 15;
+    cfg.spp = 4;
+    cfg.validate();
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("render: width 32768 x height 32768 x spp 4 = 4294967296 camera samples, "
+                                         "more than 2^32 - 1"),
+              std::string::npos)
+        << e.what();
+  }
   refused([](RenderConfig& c) { c.ao_samples = 0; });
   refused([](RenderConfig& c) { c.max_batch_rays = -1; });  // was the default, silently
   // An infinite offset once rendered an AO image of open sky (every ray left from infinity).

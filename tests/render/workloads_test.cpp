@@ -131,5 +131,19 @@ TEST(Workloads, NamesRoundTripAndAnUnknownNameIsAnInputError) {
   EXPECT_EQ(workload_names(), (std::vector<std::string>{"primary", "shadow", "ao", "diffuse"}));
 }
 
+// More samples than 32-bit ids is an error giving the values (checked before any ray is made).
+TEST(Workloads, SampleCountBeyond32BitsNamesTheValues) {
+  const Scene scene = default_scene();
+  const auto accel = make_accelerator("brute", scene);
+  try {
+    make_workload(scene, *accel, Workload::Primary, {.width = 65536, .height = 65536, .spp = 1});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("workload: width 65536 x height 65536 x spp 1 = 4294967296 camera samples"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rayscout
