@@ -1,6 +1,7 @@
 // The benchmark scenes load with the triangle counts and bounds of their SOURCE.md.
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <string>
 
 #include "rayscout/core/scenes_dir.h"
@@ -16,6 +17,8 @@ struct RealScene {
   size_t dropped;   // zero-area faces among them (dropped by the scene, reported in a warning)
   Vec3 lo, hi;      // bounding box from SOURCE.md (printed to ~6 digits)
 };
+// ctest lists the case by its file, not as "48-byte object <15-42 3A-29 ...>".
+void PrintTo(const RealScene& r, std::ostream* os) { *os << r.file; }
 
 class RealScenes : public ::testing::TestWithParam<RealScene> {};
 
