@@ -382,16 +382,18 @@ class JsonSceneLoader {
     if (f.lens_radius) c.lens_radius = *f.lens_radius;
     // The framing camera backs off by radius / sin(fov / 2): a tiny fov_deg puts it out of reach.
     if (!f.eye) f_.bounded(max_component(abs(c.eye)), "camera.eye (the framing camera's, for this fov_deg; give an eye)");
-    // Default: |look_at - eye|, in double so that neither a tiny nor a huge distance rounds to 0 or inf.
-    const double dx = double(c.look_at.x) - c.eye.x, dy = double(c.look_at.y) - c.eye.y, dz = double(c.look_at.z) - c.eye.z;
-    c.focus_distance = f.focus_distance ? *f.focus_distance : float(std::sqrt(dx * dx + dy * dy + dz * dz));
-    if (!(c.focus_distance > 0))
-      f_.fail("camera.focus_distance", "|look_at - eye| rounds to 0 in float; give a focus_distance");
+    // The frame first: eye == look_at is "camera.look_at: must differ from camera.eye", not a
+    // focus distance that rounds to 0 (which asked for a focus_distance that did not help).
     try {
       camera_frame(c, 1.0f);  // the frame every camera ray will use: "camera.up: is parallel ..."
     } catch (const InputError& e) {
       throw InputError(f_.file() + ": " + e.what());
     }
+    // Default: |look_at - eye|, in double so that neither a tiny nor a huge distance rounds to 0 or inf.
+    const double dx = double(c.look_at.x) - c.eye.x, dy = double(c.look_at.y) - c.eye.y, dz = double(c.look_at.z) - c.eye.z;
+    c.focus_distance = f.focus_distance ? *f.focus_distance : float(std::sqrt(dx * dx + dy * dy + dz * dz));
+    if (!(c.focus_distance > 0))
+      f_.fail("camera.focus_distance", "|look_at - eye| rounds to 0 in float; give a focus_distance");
   }
 
   std::filesystem::path path_;

@@ -477,6 +477,10 @@ TEST(SceneBadInput, JsonSyntaxAndTypes) {
                   {"scene.json: camera.fov_deg: expected a number in (0, 180)"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0,0,1], "look_at": [0,0,0], "up": [0,0,2]}})"),
                   {"scene.json: camera.up: is parallel"});
+  // eye == look_at said "camera.focus_distance: |look_at - eye| rounds to 0 in float; give a
+  // focus_distance", and a focus_distance given then gave this error.
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0.3,0.3,0], "look_at": [0.3,0.3,0]}})"),
+                  {"scene.json: camera.look_at: must differ from camera.eye"});
 }
 
 TEST(SceneBadInput, JsonUnknownKeysAndValues) {
