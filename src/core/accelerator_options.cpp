@@ -101,8 +101,13 @@ void AcceleratorOptions::check_all_used(const std::string& accelerator) const {
   std::string unknown;
   for (const auto& [key, value] : values_)
     if (!used_.count(key)) unknown += (unknown.empty() ? "" : ", ") + key;
-  if (!unknown.empty())
-    throw InputError("accelerator '" + accelerator + "' has no option(s): " + unknown);
+  if (unknown.empty()) return;
+  // The keys the accelerator asked for are its options: naming them spares a trip to its doc.
+  std::string known;
+  for (const std::string& key : used_)
+    known += (known.empty() ? "" : ", ") + key;
+  throw InputError("accelerator '" + accelerator + "' has no option(s): " + unknown +
+                   (known.empty() ? " (it has no options)" : " (its options: " + known + ")"));
 }
 
 }  // namespace rayscout

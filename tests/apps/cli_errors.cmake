@@ -266,7 +266,7 @@ expect(2 "^rayscout: error: --accel-opt: accelerator 'dacrt-rs': option 'bins': 
        ${T} --accel dacrt-rs --accel-opt bins=4294967298)
 expect(2 "^rayscout: error: --accel-opt: accelerator 'bvh': option 'bins' given twice" render --accel-opt bins=8
        --accel-opt bins=9 --width 8 --height 8 --out ${WORK}/x.png)
-expect(2 "^rayscout: error: --accel-opt: accelerator 'shafts' has no option\\(s\\): budgt\n$" ${T} --accel shafts --accel-opt budgt=3)
+expect(2 "^rayscout: error: --accel-opt: accelerator 'shafts' has no option\\(s\\): budgt \\(its options: bins, budget_mib, budget_rel, [a-z_, ]+\\)\n$" ${T} --accel shafts --accel-opt budgt=3)
 expect(2 "^rayscout: error: --accel-opt: accelerator 'bvh': option '=8': expected key=value" ${T} --accel-opt =8)
 # An unknown --accel is a usage error: it names the option and the command's help, as an
 # unknown --integrator does.

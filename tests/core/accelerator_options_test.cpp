@@ -35,5 +35,28 @@ TEST(AcceleratorOptions, RepeatedKeyAndUnusedKeyAreErrors) {
   EXPECT_THROW(o.check_all_used("bvh"), InputError);  // ...and so reported
 }
 
+// The error names the keys the accelerator read, its options, so that a misspelt key needs no
+// trip to the accelerator's doc (it named only the unknown key).
+TEST(AcceleratorOptions, UnusedKeyErrorNamesTheKeysRead) {
+  AcceleratorOptions o;
+  o.set("skpi=on");
+  o.get_bool("skip", true);
+  o.get_int("bins", 32);
+  try {
+    o.check_all_used("dacrt-rs");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "accelerator 'dacrt-rs' has no option(s): skpi (its options: bins, skip)");
+  }
+  AcceleratorOptions none;
+  none.set("x=1");
+  try {
+    none.check_all_used("brute");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "accelerator 'brute' has no option(s): x (it has no options)");
+  }
+}
+
 }  // namespace
 }  // namespace rayscout
