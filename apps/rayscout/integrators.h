@@ -50,6 +50,7 @@ struct IntegratorEntry {
   std::function<IntegratorMemory(const RenderConfig&)> own_memory = {};
   /// What the progress line says before the first batch.
   std::string first_progress = "render: the first batch";
+  /// Creates the integrator for a run.
   std::function<std::unique_ptr<Integrator>()> make = {};
 };
 
