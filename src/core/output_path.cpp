@@ -118,6 +118,18 @@ int create_temporary(const std::filesystem::path& target, std::filesystem::path&
   return -1;
 }
 
+/// Writes bytes to fd and closes it; false, with errno's value in error, when either fails (a
+/// full disk is often reported only by the last flush, at close).
+bool write_and_close(int fd, std::string_view bytes, int& error) {
+  bool ok = write_all(fd, bytes);
+  error = errno;
+  if (::close(fd) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  return ok;
+}
+
 }  // namespace
 
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label) {
@@ -142,13 +154,7 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
       throw failure("cannot open " + path.string() + " for writing", open_error);
     const int in_place = ::open(target.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (in_place < 0) throw failure("cannot open " + path.string() + " for writing", errno);
-    bool ok = write_all(in_place, bytes);
-    int error = errno;
-    if (::close(in_place) != 0 && ok) {
-      ok = false;
-      error = errno;
-    }
-    if (!ok) {
+    if (int error = 0; !write_and_close(in_place, bytes, error)) {
       // A prefix of the bytes, the old contents already truncated: removed, so that no partial
       // file passes for a whole one.
       if (regular) std::filesystem::remove(target, ec);
@@ -156,19 +162,12 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
     }
     return;
   }
-  bool ok = write_all(fd, bytes);
-  int error = errno;
-  // A full disk is often reported only by the last flush, at close.
-  if (::close(fd) != 0 && ok) {
-    ok = false;
-    error = errno;
-  }
-  if (!ok) {
+  if (int error = 0; !write_and_close(fd, bytes, error)) {
     ::unlink(temporary.c_str());
     throw failure(cannot_write, error);
   }
   if (::rename(temporary.c_str(), target.c_str()) != 0) {
-    error = errno;
+    const int error = errno;
     ::unlink(temporary.c_str());
     throw failure(cannot_write, error);
   }
