@@ -319,11 +319,11 @@ bool retry_overflow(int near_retries, int retries, double min_prob, int per, flo
     clamp(reach);
     if (rebuild(min_prob, true)) return true;
   }
-  int need = required_hits(min_prob, per);
-  for (int i = 0; i < retries; ++i) {
+  for (int i = 0, need = required_hits(min_prob, per); i < retries; ++i) {
     const double p = min_prob + double(i + 1) / 20.0;
-    if (required_hits(p, per) == need) continue;
-    need = required_hits(p, per);
+    const int raised = required_hits(p, per);
+    if (raised == need) continue;  // the same lists again
+    need = raised;
     if (rebuild(p, false)) return true;
   }
   return false;

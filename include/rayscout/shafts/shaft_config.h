@@ -64,6 +64,7 @@ struct ShaftConfig {
   int near_retries = 5;
   /// Then the threshold becomes min_prob + (i+1)/20 for i < retries (distances still
   /// clamped; the reference implementation's step, sec. 4.3 only says "raised gradually");
+  /// a raise needing as many sample hits as the previous build is skipped (the same lists);
   /// after that the list is the single node cullNodeSubtree(root) (ours).
   int retries = 10;
   /// Which shafts get lists; Camera and CameraVoxels sample from scene.camera.
