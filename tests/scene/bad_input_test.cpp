@@ -1,6 +1,7 @@
 // Every bad-input case gives an InputError naming the file and line, or the JSON field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -534,6 +535,42 @@ TEST(SceneBadInput, JsonUnknownKeysAndValues) {
                   {"scene.json: materials: a material name must not be empty"});
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj", "material": {"name": ""}}]})"),
                   {"scene.json: meshes[0].material.name: a material name must not be empty"});
+}
+
+// Values docs/scene-format.md refuses (shapes, transforms) and its example messages, word for word.
+TEST(SceneBadInput, JsonShapeAndTransformValuesTheDocRefuses) {
+  TempDir dir;
+  const auto msg = [&](const std::string& json) {  // from the file name on (the folder varies)
+    const std::string m = json_error(dir, json);
+    return m.substr(std::min(m.size(), m.find("scene.json")));
+  };
+  EXPECT_EQ(msg(R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov_deg": "wide"}})"),
+            "scene.json: camera.fov_deg: expected a number, found string");
+  EXPECT_EQ(msg(R"({"meshes": [{"file": "tri.obj"}], "camera": {"fvo_deg": 60}})"),
+            "scene.json: camera.fvo_deg: unknown key (expected one of: eye, look_at, up, fov_deg, lens_radius, "
+            "focus_distance)");
+  EXPECT_EQ(msg(R"({"meshes": []})"), "scene.json: no triangles (empty scene)");
+  // A zero scale, on any axis, flattens the mesh like a singular matrix.
+  for (const char* scale : {"0", "[1, 0, 1]"})
+    EXPECT_EQ(msg(std::string(R"({"meshes": [{"file": "tri.obj", "transform": {"scale": )") + scale + "}}]}"),
+              "scene.json: meshes[0].transform.scale: scale must not be zero (it flattens the mesh)");
+  EXPECT_EQ(msg(R"({"meshes": [{"file": "tri.obj", "transform": {"matrix": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
+                                                                            "translate": [1, 0, 0]}}]})"),
+            "scene.json: meshes[0].transform: \"matrix\" cannot be combined with translate/scale/rotate");
+  EXPECT_EQ(msg(R"({"meshes": [{"file": "tri.obj", "transform": {"rotate": {"axis": [0, 0, 0], "deg": 90}}}]})"),
+            "scene.json: meshes[0].transform.rotate.axis: direction must not be zero");
+  // A box needs max above min on every axis; a quad's size must be positive.
+  EXPECT_EQ(msg(R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 0, 1]}]})"),
+            "scene.json: meshes[0].max: must exceed min on every axis");
+  EXPECT_EQ(msg(R"({"meshes": [{"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": 0}]})"),
+            "scene.json: meshes[0].size: expected a positive number");
+  EXPECT_EQ(msg(R"({"meshes": [{"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": [1, -2]}]})"),
+            "scene.json: meshes[0].size[1]: expected a positive number");
+  EXPECT_EQ(msg(R"({"meshes": [{"shape": "quad", "center": [0, 0, 0], "normal": [0, 0, 1], "size": [1]}]})"),
+            "scene.json: meshes[0].size: expected a number or [width, height]");
+  EXPECT_EQ(msg(R"({"meshes": [{"file": "tri.obj"}], "lights": [{"type": "area", "emission": 1, "file": "tri.obj",
+                                                                         "shape": "box"}]})"),
+            "scene.json: lights[0]: needs \"file\" or a shape, not both");
 }
 
 // An unknown material name said only "define it under materials", even when "materials" held

@@ -248,6 +248,57 @@ TEST(JsonScene, CameraLightsAndIdOrder) {
   EXPECT_TRUE(s.warnings.empty());
 }
 
+// The defaults docs/scene-format.md gives: of a new material and of a glossy one without specular
+// or exponent, of a point light's intensity, of an area light's material, and of the camera keys
+// left out (focus_distance = |look_at - eye|).
+TEST(JsonScene, DocumentedDefaults) {
+  TempDir dir;
+  dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("d.json", R"({
+    "meshes": [{"file": "tri.obj", "material": "new"},
+               {"file": "tri.obj", "material": "shiny", "transform": {"translate": [2, 0, 0]}},
+               {"file": "tri.obj", "material": "dull", "transform": {"translate": [4, 0, 0]}},
+               {"file": "tri.obj", "material": "flat", "transform": {"translate": [6, 0, 0]}}],
+    "materials": {"new": {}, "shiny": {"type": "glossy"}, "dull": {"type": "glossy", "diffuse": 0.3},
+                  "flat": {"type": "glossy", "exponent": 0}},
+    "lights": [{"type": "point", "position": [0, 0, 5]},
+               {"type": "area", "corner": [0, 3, 0], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "emission": [5, 4, 3]}],
+    "camera": {"eye": [0, 0, 5], "look_at": [0, 3, 1]}
+  })"));
+  ASSERT_EQ(s.triangles.size(), 6u);
+  const Material& fresh = s.material_of(0);
+  EXPECT_EQ(fresh.name, "new");
+  EXPECT_EQ(fresh.type, Material::Type::Diffuse);
+  expect_near(fresh.diffuse, Vec3(0.8f), 0);
+  expect_near(fresh.specular, Vec3(0), 0);
+  EXPECT_EQ(fresh.exponent, 0.0f);
+  expect_near(fresh.emission, Vec3(0), 0);
+  // Glossy: specular 0.5, or 1 - the largest diffuse component when that is less; exponent 50
+  // unless given.
+  const Material& shiny = s.material_of(1);
+  EXPECT_EQ(shiny.type, Material::Type::Glossy);
+  expect_near(shiny.specular, Vec3(0.2f));
+  EXPECT_EQ(shiny.exponent, 50.0f);
+  expect_near(s.material_of(2).specular, Vec3(0.5f), 0);
+  EXPECT_EQ(s.material_of(2).exponent, 50.0f);
+  EXPECT_EQ(s.material_of(3).exponent, 0.0f);
+  // A point light without intensity: 1 W/sr. An area light: a black diffuse "lights[i].material".
+  ASSERT_EQ(s.point_lights.size(), 1u);
+  expect_near(s.point_lights[0].intensity, Vec3(1), 0);
+  EXPECT_EQ(s.emissive_triangles, (std::vector<uint32_t>{4, 5}));
+  const Material& lamp = s.material_of(4);
+  EXPECT_EQ(lamp.name, "lights[1].material");
+  EXPECT_EQ(lamp.type, Material::Type::Diffuse);
+  expect_near(lamp.diffuse, Vec3(0), 0);
+  expect_near(lamp.emission, {5, 4, 3}, 0);
+  // Camera keys left out.
+  expect_near(s.camera.up, {0, 1, 0}, 0);
+  EXPECT_EQ(s.camera.fov_deg, 60.0f);
+  EXPECT_EQ(s.camera.lens_radius, 0.0f);
+  EXPECT_EQ(s.camera.focus_distance, 5.0f);  // |(0, 3, -4)|
+  EXPECT_TRUE(s.warnings.empty());
+}
+
 TEST(JsonScene, NoLightsGetsAPointLightAndAWarning) {
   TempDir dir;
   dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

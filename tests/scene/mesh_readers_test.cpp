@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -425,6 +426,41 @@ TEST(PlyReader, AsciiRoundTrip) {
   expect_ply_mesh(load_scene(dir.write("cr.ply", cr)));
   cr[cr.find("4 0 1 2 3")] = '5';
   expect_contains(input_error_of([&] { load_scene(dir.write("bad_cr.ply", cr)); }), {"bad_cr.ply:19:"});
+}
+
+// docs/scene-format.md: the face list may be named vertex_index, and the sized type names
+// (int8 ... float64) are aliases of char ... double.
+TEST(PlyReader, VertexIndexListAndSizedTypeNames) {
+  TempDir dir;
+  const Mesh m = read_mesh(dir.write("sized.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float64 x\n"
+                                                   "property float32 y\nproperty int8 z\nproperty uint16 skipped\n"
+                                                   "element face 1\nproperty list uint8 int32 vertex_index\nend_header\n"
+                                                   "0.5 0 -1 65535\n1 0 -128 0\n0 1.25 127 0\n3 2 1 0\n"));
+  ASSERT_EQ(m.positions.size(), 3u);
+  expect_vec(m.positions[0], {0.5f, 0, -1});
+  expect_vec(m.positions[1], {1, 0, -128});
+  expect_vec(m.positions[2], {0, 1.25f, 127});
+  ASSERT_EQ(m.faces.size(), 1u);
+  EXPECT_EQ(m.faces[0], (std::array<uint32_t, 3>{2, 1, 0}));
+  // An int8 holds -128 to 127, as a char does.
+  expect_contains(input_error_of([&] {
+                    read_mesh(dir.write("big.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                   "property float y\nproperty int8 z\nelement face 1\n"
+                                                   "property list uchar int vertex_index\nend_header\n"
+                                                   "0 0 128\n1 0 0\n0 1 0\n3 0 1 2\n"));
+                  }),
+                  {"big.ply:10: '128' is out of range for char (-128 to 127)"});
+}
+
+// The format is told by the extension in any case: ".OBJ" is an OBJ file, ".Json" a scene.
+TEST(ReadMesh, ExtensionInAnyCase) {
+  TempDir dir;
+  EXPECT_EQ(load_scene(dir.write("TRI.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")).triangles.size(), 1u);
+  EXPECT_EQ(load_scene(dir.write("s.Json", R"({"meshes": [{"file": "TRI.OBJ"}]})")).triangles.size(), 1u);
+  expect_contains(input_error_of([&] { load_scene(dir.write("mesh.stl", "solid")); }),
+                  {"mesh.stl: unknown mesh format '.stl' (expected .obj, .ply, .gltf, .glb or a .json scene)"});
+  expect_contains(input_error_of([&] { load_scene(dir.write("mesh", "v 0 0 0")); }),
+                  {"mesh: no file extension to tell the format by (expected .obj, .ply, .gltf, .glb or a .json scene)"});
 }
 
 TEST(PlyReader, BinaryAfterClassicMacHeader) {
