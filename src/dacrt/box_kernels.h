@@ -45,24 +45,42 @@ inline Bounds3 padded(const Bounds3& b, float pad) { return {b.lo - Vec3(pad), b
 /// The padding for coordinates up to magnitude m: 2^-18 m, about 32 ulps.
 inline float pad_for(float m) { return m * (1.0f / 262144.0f); }
 
-/// The tmax used to filter a ray: t + |t| kHitSlack, never below t (max_ps's operand order:
-/// -inf + inf = NaN gives t). A hit at t = -inf (tmin = -inf, an overflowed distance) must
-/// still let in the boxes of triangles tied with it at -inf, which the smaller id wins. A
-/// retired ray (tmin = +inf) still fails every box test.
+/// The tmax used to filter a ray: t + |t| kHitSlack (never below t), and +inf for t = -inf,
+/// as bvh's CullInterval::far: a hit at -inf (tmin = -inf) may be an overflowed t numerator
+/// of a triangle whose box lies at a finite distance, so the boxes of triangles tied with it
+/// there (the smaller id wins) and, for tmax = -inf, every box must stay in. NaN stays NaN.
 inline float filter_tmax(float t) {
   const float grown = t + std::fabs(t) * kHitSlack;
-  return grown > t ? grown : t;
+  return t == -kInfinity ? kInfinity : (grown > t ? grown : t);
 }
 
-/// intersect_box for one ray record against box with tmax = filter_tmax(current t), so a box
-/// entered at or before the current hit (entry <= t) is kept.
+/// The tmin used to filter a ray: -inf for tmin = +inf (CullInterval::near; the mirror of
+/// filter_tmax: a t numerator overflowing to +inf in a box at a finite distance). A retired
+/// ray's NaN tmin stays NaN, which fails every box test.
+inline float filter_tmin(float tmin) { return tmin == kInfinity ? -kInfinity : tmin; }
+
+#if defined(__AVX512F__)
+/// filter_tmin and filter_tmax in 16 lanes, one fixupimm each (token +inf -> -inf, token -inf
+/// -> +inf; every other token keeps the first operand), so the filter costs one instruction
+/// more than before the infinite cases: t + |t| kHitSlack >= t for every other t.
+inline __m512 filter_tmin16(__m512 tmin) { return _mm512_fixupimm_ps(tmin, tmin, _mm512_set1_epi32(0x4 << 20), 0); }
+inline __m512 filter_tmax16(__m512 t) {
+  const __m512 grown = _mm512_add_ps(t, _mm512_mul_ps(_mm512_abs_ps(t), _mm512_set1_ps(kHitSlack)));
+  return _mm512_fixupimm_ps(grown, t, _mm512_set1_epi32(0x5 << 16), 0);
+}
+#endif
+
+/// intersect_box for one ray record against box with tmin = filter_tmin(tmin) and tmax =
+/// filter_tmax(current t), so a box entered at or before the current hit (entry <= t) is kept.
 inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear) {
-  return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, r.tmin, filter_tmax(r.t), tnear);
+  return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, filter_tmin(r.tmin), filter_tmax(r.t),
+                       tnear);
 }
 
 /// As above, also giving the exit distance tfar (the tmax-clipped far end of the overlap).
 inline bool ray_hits_box(const RayRecord& r, const Bounds3& box, float& tnear, float& tfar) {
-  return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, r.tmin, filter_tmax(r.t), tnear, tfar);
+  return intersect_box(Vec3(r.ox, r.oy, r.oz), Vec3(r.ix, r.iy, r.iz), box, filter_tmin(r.tmin), filter_tmax(r.t),
+                       tnear, tfar);
 }
 
 /// Which child a sample ray votes for: 0 (left), 1 (right) or -1 (none), from whether it
@@ -100,9 +118,8 @@ struct BoxX16 {
   __mmask16 test(const __m512 (&f)[8], __mmask16 valid, __m512& tnear, __m512& tfar) const {
     const __m512 robust = _mm512_set1_ps(kSlabFarScale);
     const __m512i sign_bit = _mm512_set1_epi32(INT32_MIN);
-    tnear = f[3];
-    tfar = _mm512_add_ps(f[7], _mm512_mul_ps(_mm512_abs_ps(f[7]), _mm512_set1_ps(kHitSlack)));  // filter_tmax
-    tfar = _mm512_max_ps(tfar, f[7]);
+    tnear = filter_tmin16(f[3]);
+    tfar = filter_tmax16(f[7]);
     for (int a = 0; a < 3; ++a) {
       const __m512 o = f[a], inv = f[4 + a];
       const __m512 t0 = _mm512_mul_ps(_mm512_sub_ps(lo[a], o), inv);
@@ -200,6 +217,7 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
   const __m256 hix = _mm256_set1_ps(box.hi.x), hiy = _mm256_set1_ps(box.hi.y), hiz = _mm256_set1_ps(box.hi.z);
   const __m256 robust = _mm256_set1_ps(kSlabFarScale), slack = _mm256_set1_ps(kHitSlack);
   const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
+  const __m256 pinf = _mm256_set1_ps(kInfinity), ninf = _mm256_set1_ps(-kInfinity);
   const float* base = reinterpret_cast<const float*>(rays);
   constexpr size_t kAhead = 32;
   for (; i + 8 <= n; i += 8) {
@@ -209,11 +227,12 @@ __attribute__((noinline)) inline size_t partition_rays(const RayRecord* rays, ui
     const __m256i off = _mm256_slli_epi32(id, 3);
     const __m256 ox = _mm256_i32gather_ps(base + 0, off, 4), oy = _mm256_i32gather_ps(base + 1, off, 4);
     const __m256 oz = _mm256_i32gather_ps(base + 2, off, 4);
-    __m256 tnear = _mm256_i32gather_ps(base + 3, off, 4);
+    const __m256 tmin = _mm256_i32gather_ps(base + 3, off, 4);
     const __m256 ix = _mm256_i32gather_ps(base + 4, off, 4), iy = _mm256_i32gather_ps(base + 5, off, 4);
     const __m256 iz = _mm256_i32gather_ps(base + 6, off, 4), t = _mm256_i32gather_ps(base + 7, off, 4);
+    __m256 tnear = _mm256_blendv_ps(tmin, ninf, _mm256_cmp_ps(tmin, pinf, _CMP_EQ_OQ));  // filter_tmin
     __m256 tfar = _mm256_add_ps(t, _mm256_mul_ps(_mm256_and_ps(t, abs_mask), slack));  // filter_tmax
-    tfar = _mm256_max_ps(tfar, t);
+    tfar = _mm256_blendv_ps(_mm256_max_ps(tfar, t), pinf, _mm256_cmp_ps(t, ninf, _CMP_EQ_OQ));
     avx2::slab(lox, hix, ox, ix, robust, tnear, tfar);
     avx2::slab(loy, hiy, oy, iy, robust, tnear, tfar);
     avx2::slab(loz, hiz, oz, iz, robust, tnear, tfar);
@@ -261,7 +280,7 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
 #if defined(__AVX512F__)
   const __m512 ox = _mm512_set1_ps(r.ox), oy = _mm512_set1_ps(r.oy), oz = _mm512_set1_ps(r.oz);
   const __m512 ix = _mm512_set1_ps(r.ix), iy = _mm512_set1_ps(r.iy), iz = _mm512_set1_ps(r.iz);
-  const __m512 robust = _mm512_set1_ps(kSlabFarScale), tmin = _mm512_set1_ps(r.tmin),
+  const __m512 robust = _mm512_set1_ps(kSlabFarScale), tmin = _mm512_set1_ps(filter_tmin(r.tmin)),
                tmax = _mm512_set1_ps(filter_tmax(r.t));
   const __m512i one = _mm512_set1_epi32(1);
   // One ray for all boxes: its near and far planes are chosen once, by the sign of its inverse
@@ -298,7 +317,7 @@ inline void sample_pairs(const RayRecord& r, const BoxSoa& lb, const BoxSoa& rb,
 #elif defined(__AVX2__)
   const __m256 ox = _mm256_set1_ps(r.ox), oy = _mm256_set1_ps(r.oy), oz = _mm256_set1_ps(r.oz);
   const __m256 ix = _mm256_set1_ps(r.ix), iy = _mm256_set1_ps(r.iy), iz = _mm256_set1_ps(r.iz);
-  const __m256 robust = _mm256_set1_ps(kSlabFarScale), tmin = _mm256_set1_ps(r.tmin),
+  const __m256 robust = _mm256_set1_ps(kSlabFarScale), tmin = _mm256_set1_ps(filter_tmin(r.tmin)),
                tmax = _mm256_set1_ps(filter_tmax(r.t));
   // Returns the hit mask as all-ones lanes.
   auto test = [&](const BoxSoa& b, int i, __m256& tnear, __m256& tfar) {

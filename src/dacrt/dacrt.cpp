@@ -152,15 +152,17 @@ void DacrtAccelerator::trace(const RayBatch& rays, HitBatch* hits, std::vector<u
   if (blocks == 1) setup_block(0);
   else tbb::parallel_for(size_t(0), blocks, setup_block);
 
-  // Rays to miss (a NaN direction, see Accelerator::intersect) pass every box test, so each
-  // would be tested against every triangle: leave them out of rid (their results stay misses).
+  // Rays to miss pass every box test, so each would be tested against every triangle: leave
+  // them out of rid (their results stay misses). A NaN direction (see Accelerator::intersect),
+  // and an empty or NaN segment: [+inf, tmax < +inf] and [tmin > -inf, -inf] would pass the
+  // boxes by filter_tmin/filter_tmax, and a NaN tmin is the retired marker.
+  auto must_miss = [&](size_t i) {
+    return std::isnan(rays.dx[i]) | std::isnan(rays.dy[i]) | std::isnan(rays.dz[i]) | !(rays.tmin[i] <= rays.tmax[i]);
+  };
   size_t live = n;
-  bool any_nan = false;
-  for (size_t i = 0; i < n; ++i) any_nan |= std::isnan(rays.dx[i]) | std::isnan(rays.dy[i]) | std::isnan(rays.dz[i]);
-  if (any_nan)
-    live = size_t(std::remove_if(rid, rid + n, [&](uint32_t i) {
-                    return std::isnan(rays.dx[i]) | std::isnan(rays.dy[i]) | std::isnan(rays.dz[i]);
-                  }) - rid);
+  bool any_miss = false;
+  for (size_t i = 0; i < n; ++i) any_miss |= must_miss(i);
+  if (any_miss) live = size_t(std::remove_if(rid, rid + n, must_miss) - rid);
 
   float magnitude = std::max(max_component(abs(box.lo)), max_component(abs(box.hi)));
   for (const float m : block_magnitude) magnitude = std::max(magnitude, m);

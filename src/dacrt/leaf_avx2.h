@@ -56,11 +56,8 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
     __m256i best_p = kAny ? izero : gi(reinterpret_cast<const int*>(out.prim), id);
     __m256 best_u = zero, best_v = zero;
     int changed = 0;
-    // Retired any-hit rays (t = -inf, tmin = +inf: see retire()) cost no tests, as in the
-    // scalar kernel; a ray given tmax = -inf alone can still hit at t = -inf.
-    int active = kAny ? valid & ~_mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(best_t, _mm256_set1_ps(-kInfinity), _CMP_EQ_OQ),
-                                                                  _mm256_cmp_ps(tmin, _mm256_set1_ps(kInfinity), _CMP_EQ_OQ)))
-                      : valid;
+    // Retired any-hit rays (NaN tmin: see retire()) cost no tests, as in the scalar kernel.
+    int active = kAny ? valid & ~_mm256_movemask_ps(_mm256_cmp_ps(tmin, tmin, _CMP_UNORD_Q)) : valid;
     const __m256 x0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kx, izero)), x1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kx, ione));
     const __m256 y0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(ky, izero)), y1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(ky, ione));
     const __m256 z0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kz, izero)), z1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(kz, ione));

@@ -90,11 +90,8 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
     };
     __m512 best_u = zero, best_v = zero;
     __mmask16 changed = 0;
-    // Retired any-hit rays (t = -inf, tmin = +inf: see retire()) cost no tests, as in the
-    // scalar kernel; a ray given tmax = -inf alone can still hit at t = -inf.
-    const __mmask16 retired = kAny ? _mm512_mask_cmp_ps_mask(_mm512_cmp_ps_mask(best_t, _mm512_set1_ps(-kInfinity), _CMP_EQ_OQ),
-                                                             tmin, _mm512_set1_ps(kInfinity), _CMP_EQ_OQ)
-                                   : 0;
+    // Retired any-hit rays (NaN tmin: see retire()) cost no tests, as in the scalar kernel.
+    const __mmask16 retired = kAny ? _mm512_cmp_ps_mask(tmin, tmin, _CMP_UNORD_Q) : 0;
     __mmask16 active = static_cast<__mmask16>(valid & ~retired);
     const __mmask16 x0 = _mm512_cmpeq_epi32_mask(kx, izero), x1 = _mm512_cmpeq_epi32_mask(kx, ione);
     const __mmask16 y0 = _mm512_cmpeq_epi32_mask(ky, izero), y1 = _mm512_cmpeq_epi32_mask(ky, ione);

@@ -10,7 +10,8 @@
 namespace rayscout::dacrt {
 
 /// Per-ray state of one trace call; index = ray id. t shrinks as hits are found; a ray that
-/// left the set (occluded) has t = -inf and tmin = +inf so every box and triangle test fails.
+/// left the set (occluded) has a NaN tmin, so every box and triangle test fails (no input ray
+/// has one: rays with an empty or NaN segment are left out at setup).
 struct alignas(32) RayRecord {
   float ox, oy, oz, tmin;
   float ix, iy, iz, t;  ///< 1 / direction (as RayPrecomp::inv_dir), current closest t
@@ -53,10 +54,11 @@ struct alignas(32) TriBox {
 };
 static_assert(sizeof(TriBox) == 32);
 
-/// Marks an any-hit ray as done.
-inline void retire(RayRecord& r) {
-  r.t = -std::numeric_limits<float>::infinity();
-  r.tmin = std::numeric_limits<float>::infinity();
-}
+/// Marks an any-hit ray as done. Not tmin = +inf (with t = -inf), which filtering reads as a
+/// segment at infinity (filter_tmin) and an input ray [+inf, +inf] has.
+inline void retire(RayRecord& r) { r.tmin = std::numeric_limits<float>::quiet_NaN(); }
+
+/// Whether retire() marked r.
+inline bool retired(const RayRecord& r) { return r.tmin != r.tmin; }
 
 }  // namespace rayscout::dacrt

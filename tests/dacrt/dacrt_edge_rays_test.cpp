@@ -134,6 +134,44 @@ TEST(DacrtEdgeRays, HitsAtInfiniteDistancesMatchBruteForce) {
   expect_brute_force_hits(scene, rays, "hits at +-inf");
 }
 
+// The same with finite box distances: triangles 1e10 wide, 1e10 away, a direction 2^-30 long
+// (InfiniteHitDistance in tests/accelerators). Woop's t numerator overflows although t (~1e19)
+// and every box distance are finite, so a ray meets all its triangles at t = -inf (+inf ahead)
+// and the smallest id wins. Segments [-inf, +inf] (a first hit at -inf must not cull the other
+// nodes), [-inf, -inf] and [+inf, +inf] (the only point of the segment is the overflowed t; a
+// box test with tmax = -inf or tmin = +inf culls every finite box, as bvh's CullInterval must
+// not), and [0, +inf] ahead (where a smaller triangle's finite t wins). 64 shapes around one centre, each twice (ids i and i + 64).
+TEST(DacrtEdgeRays, OverflowedHitsInFiniteBoxesMatchBruteForce) {
+  std::vector<Triangle> tris;
+  testing::Rng rng(7);
+  const Vec3 c{0.0f, 0.0f, -1e10f};
+  for (int i = 0; i < 64; ++i) {
+    Vec3 a = rng.direction() * (1e10f * rng.uniform(1.0f, 2.0f)), b = rng.direction() * (1e10f * rng.uniform(1.0f, 2.0f));
+    a.z = b.z = 0.0f;
+    tris.push_back({c + a, c + b, c - a - b});
+  }
+  for (size_t i = 0; i < 64; ++i) tris.push_back(tris[i]);
+  const Scene scene = testing::scene_from_triangles(tris);
+  RayBatch rays;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 o{rng.uniform(-0.01f, 0.01f), rng.uniform(-0.01f, 0.01f), 0.0f};
+    switch (i % 4) {
+      case 0: rays.push_back({o, -kInfinity, {0.0f, 0.0f, 0x1p-30f}, kInfinity}); break;
+      case 1: rays.push_back({o, -kInfinity, {0.0f, 0.0f, 0x1p-30f}, -kInfinity}); break;
+      case 2: rays.push_back({o, kInfinity, {0.0f, 0.0f, -0x1p-30f}, kInfinity}); break;
+      default: rays.push_back({o, 0.0f, {0.0f, 0.0f, -0x1p-30f}, kInfinity}); break;
+    }
+  }
+  const auto [ref, ref_occ] = testing::brute_force(scene.triangles, rays);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_NE(ref.prim[i], kInvalidId) << "ray " << i << ": the test needs a hit";
+    if (i % 4 < 3) {
+      ASSERT_EQ(ref.t[i], i % 4 < 2 ? -kInfinity : kInfinity) << "ray " << i << ": the test needs an overflowed t";
+    }
+  }
+  expect_brute_force_hits(scene, rays, "overflowed hits in finite boxes");
+}
+
 // No triangles (the scene loader refuses such scenes; a library caller may not): every ray
 // misses, as for brute force, and the call takes no scratch memory.
 TEST(DacrtEdgeRays, NoTrianglesMissEverything) {
@@ -203,9 +241,10 @@ TEST(DacrtEdgeRays, AnInfiniteOriginDoesNotDisableFiltering) {
 }
 
 // Rays that must miss (an infinite or NaN direction component or origin coordinate:
-// Accelerator::intersect traces them with a NaN direction, which passes every box test) cost
-// nothing: a batch with such rays among ordinary ones does exactly the work of the ordinary
-// rays alone, and they miss. (They were tested against every triangle.)
+// Accelerator::intersect traces them with a NaN direction, which passes every box test; an
+// empty or NaN segment, [+inf, 5] and [0, -inf] of which pass every box by filter_tmin and
+// filter_tmax) cost nothing: a batch with such rays among ordinary ones does exactly the work
+// of the ordinary rays alone, and they miss. (They were tested against every triangle.)
 TEST(DacrtEdgeRays, RaysThatMustMissCostNothing) {
   const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
   const RayBatch plain = testing::pinhole_rays(testing::kInsideEye, testing::kInsideLook, 60.0f, 64, 64);
@@ -214,6 +253,9 @@ TEST(DacrtEdgeRays, RaysThatMustMissCostNothing) {
       {{0.0f, 1.0f, 0.0f}, 0.0f, {nan, 1.0f, 0.0f}, inf},   {{0.0f, 1.0f, 0.0f}, 0.0f, {inf, 0.0f, 0.0f}, inf},
       {{nan, 1.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, inf},   {{0.0f, -inf, 0.0f}, 0.0f, {0.0f, 1.0f, 0.0f}, inf},
       {{0.0f, 1.0f, 0.0f}, -inf, {-inf, inf, nan}, inf},
+      {{0.0f, 1.0f, 0.0f}, inf, {1.0f, 0.0f, 0.0f}, 5.0f},  {{0.0f, 1.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, -inf},
+      {{0.0f, 1.0f, 0.0f}, 2.0f, {1.0f, 0.0f, 0.0f}, 1.0f}, {{0.0f, 1.0f, 0.0f}, nan, {1.0f, 0.0f, 0.0f}, inf},
+      {{0.0f, 1.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, nan},
   };
   RayBatch mixed;  // a bad ray after every 500th ordinary one, and two at the end
   for (size_t i = 0; i < plain.size(); ++i) {
@@ -237,7 +279,7 @@ TEST(DacrtEdgeRays, RaysThatMustMissCostNothing) {
     EXPECT_EQ(got_occ.ray_box_tests, want_occ.ray_box_tests) << name;
     size_t j = 0;
     for (size_t i = 0; i < mixed.size(); ++i) {
-      const bool is_bad = !is_finite(mixed[i].org) || !is_finite(mixed[i].dir);
+      const bool is_bad = !is_finite(mixed[i].org) || !is_finite(mixed[i].dir) || !(mixed[i].tmin <= mixed[i].tmax);
       if (is_bad) {
         EXPECT_EQ(got_hits.prim[i], kInvalidId) << name << " ray " << i;
         EXPECT_EQ(got_o[i], 0) << name << " ray " << i;

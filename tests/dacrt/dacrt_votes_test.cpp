@@ -2,6 +2,10 @@
 // (every rule; the literal rule is the paper's) and ray partitioning.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cfloat>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -128,6 +132,8 @@ TEST(DacrtVotes, ChildSamplesCountWhatTheScalarRuleGives) {
     if (i % 11 == 0) rays[i].ox = 0.0f;  // on the face the first pair shares: exit = entry
     if (i % 37 == 0) (i % 3 == 0 ? rays[i].ix : i % 3 == 1 ? rays[i].iy : rays[i].iz) = i % 2 ? 0.0f : -0.0f;
     if (i % 29 == 0) retire(rays[i]);
+    if (i % 31 == 0) rays[i].tmin = kInfinity;  // segments at infinity (filter_tmin, filter_tmax)
+    if (i % 41 == 0) rays[i].t = -kInfinity;
   }
   for (DacrtVotes rule : {DacrtVotes::Entry, DacrtVotes::Sign, DacrtVotes::Interval, DacrtVotes::Literal}) {
     uint64_t rule_votes[2] = {0, 0};
@@ -164,8 +170,49 @@ TEST(DacrtVotes, ChildSamplesCountWhatTheScalarRuleGives) {
   }
 }
 
+// The filter's limits at infinity are bvh's CullInterval ones: t = -inf keeps every box
+// (tmax +inf), tmin = +inf too (tmin -inf); a retired ray (NaN tmin) fails every box test.
+// With AVX-512 the 16-lane forms give the scalar ones bit for bit.
+TEST(DacrtBoxKernels, FilterLimitsAtInfinityAreCullIntervals) {
+  const float inf = kInfinity, nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(filter_tmax(-inf), inf);
+  EXPECT_EQ(filter_tmax(inf), inf);
+  EXPECT_TRUE(std::isnan(filter_tmax(nan)));
+  EXPECT_GT(filter_tmax(-1e30f), -1e30f);
+  EXPECT_EQ(filter_tmin(inf), -inf);
+  EXPECT_EQ(filter_tmin(-inf), -inf);
+  EXPECT_EQ(filter_tmin(2.0f), 2.0f);
+  EXPECT_TRUE(std::isnan(filter_tmin(nan)));
+  const Bounds3 box{{-1e30f, -1e30f, -1e30f}, {1e30f, 1e30f, 1e30f}};
+  RayRecord r = record({0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f});
+  float tnear;
+  EXPECT_TRUE(ray_hits_box(r, box, tnear));
+  r.tmin = inf;  // the segment [+inf, +inf]
+  EXPECT_TRUE(ray_hits_box(r, box, tnear));
+  r.tmin = -inf;
+  r.t = -inf;    // [-inf, -inf], or a hit at -inf
+  EXPECT_TRUE(ray_hits_box(r, box, tnear));
+  retire(r);
+  EXPECT_TRUE(retired(r));
+  EXPECT_FALSE(ray_hits_box(r, box, tnear));
+#if defined(__AVX512F__)
+  const float v[16] = {inf, -inf, nan, 0.0f, -0.0f, 1.0f, -1.0f, 1e-45f, -1e-45f, 3e38f, -3e38f, FLT_MAX, -FLT_MAX,
+                       0.5f, -7.25f, 1e-40f};
+  alignas(64) float lo[16], hi[16];
+  _mm512_store_ps(lo, filter_tmin16(_mm512_loadu_ps(v)));
+  _mm512_store_ps(hi, filter_tmax16(_mm512_loadu_ps(v)));
+  for (int k = 0; k < 16; ++k) {
+    EXPECT_EQ(std::bit_cast<uint32_t>(lo[k]), std::bit_cast<uint32_t>(filter_tmin(v[k]))) << v[k];
+    // +-0 may differ in sign only (max_ps's operand order), which no comparison sees.
+    EXPECT_TRUE(std::bit_cast<uint32_t>(hi[k]) == std::bit_cast<uint32_t>(filter_tmax(v[k])) ||
+                (hi[k] == 0.0f && filter_tmax(v[k]) == 0.0f)) << v[k];
+  }
+#endif
+}
+
 // partition_rays (AVX-512, AVX2 or scalar, whichever this build has) keeps exactly the rays
-// the scalar ray_hits_box keeps, in order, with full chunks, a tail and rays in box planes.
+// the scalar ray_hits_box keeps, in order, with full chunks, a tail, rays in box planes,
+// segments at infinity and retired rays.
 TEST(DacrtBoxKernels, PartitionKeepsWhatTheScalarTestKeeps) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-4.0f, 4.0f), s(0.1f, 3.0f);
@@ -175,6 +222,9 @@ TEST(DacrtBoxKernels, PartitionKeepsWhatTheScalarTestKeeps) {
   for (size_t i = 0; i < n; ++i) {
     rays[i] = record({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, i % 3 ? kInfinity : s(rng));
     if (i % 3 == 0) rays[i] = in_plane_of(box, int(i), rays[i]);
+    if (i % 5 == 1) rays[i].tmin = kInfinity;
+    if (i % 7 == 2) rays[i].t = -kInfinity;
+    if (i % 11 == 3) retire(rays[i]);
   }
   std::vector<uint32_t> rid(n), scratch(n), want_in, want_out;
   for (uint32_t i = 0; i < n; ++i) {
