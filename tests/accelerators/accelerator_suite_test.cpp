@@ -259,7 +259,9 @@ TEST_P(AcceleratorSuite, DirectionsOfAnyLengthHitWhatTheirUnitRaysHit) {
       unit.push_back({r.org, 0.0f, {std::ldexp(s.x, k), std::ldexp(s.y, k), std::ldexp(s.z, k)}, tmax});
     }
     ASSERT_GT(unit.size(), 100u);
-    if (k == 129) ASSERT_LT(max_component(abs(scaled[0].dir)), std::numeric_limits<float>::min());
+    if (k == 129) {
+      ASSERT_LT(max_component(abs(scaled[0].dir)), std::numeric_limits<float>::min());
+    }
     const auto [got, got_occ] = trace_both(*accel, scaled);
     const auto [ref, ref_occ] = trace_both(*accel, unit);
     size_t finite = 0, overflowed = 0;
