@@ -5,9 +5,9 @@ writes OUT_DIR/{A_uniform,B_far,C_axis,D_segments,E_lattice,G_scaled}.rays, N ra
 for a scene box [LO, HI] (`rayscout info` prints it). Deterministic (seed 7).
 """
 import os, struct, sys
-import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from bench_inputs import require_dir  # noqa: E402
+from bench_inputs import require_dir, require_module  # noqa: E402
+np = require_module("numpy", "python3-numpy")
 def write(path, o, tmin, d, tmax):
     n = len(o)
     a = np.zeros((n, 8), dtype='<f4')

@@ -7,12 +7,12 @@ import os
 import sys
 from collections import defaultdict
 
-import matplotlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import load_json, require_dir, require_module  # noqa: E402
+
+matplotlib = require_module("matplotlib", "python3-matplotlib")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from bench_inputs import load_json, require_dir  # noqa: E402
 
 
 def main(path, out):
@@ -110,5 +110,7 @@ def main(path, out):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) > 3:
+        sys.exit(__doc__.strip().splitlines()[-1])
     main(sys.argv[1] if len(sys.argv) > 1 else "docs/figures/dacrt/dacrt_results.json",
          sys.argv[2] if len(sys.argv) > 2 else "docs/figures/dacrt")

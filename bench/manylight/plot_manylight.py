@@ -1,19 +1,19 @@
 #!/usr/bin/python3
 """Plots of the manylight bench: RMSE over time per scene and mode, and the skip-rate images
-(the paper's Fig. 3) side by side. Usage: plot_manylight.py RESULT_DIR OUT_PREFIX
+(the paper's Fig. 3) side by side.
+Usage: /usr/bin/python3 bench/manylight/plot_manylight.py RESULT_DIR OUT_PREFIX
 RESULT_DIR holds rmse_over_time.csv and the *_skip_*.png written by manylight_bench."""
 import os
 import sys
 from collections import defaultdict
 
-import matplotlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import read_csv, require_dir, require_module  # noqa: E402
 
+matplotlib = require_module("matplotlib", "python3-matplotlib")
 matplotlib.use("Agg")
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from bench_inputs import read_csv, require_dir  # noqa: E402
 
 MODES = ["exact", "veach", "conservative", "proposed"]
 COLORS = {"exact": "black", "veach": "tab:orange", "conservative": "tab:blue", "proposed": "tab:red"}
@@ -21,7 +21,7 @@ COLORS = {"exact": "black", "veach": "tab:orange", "conservative": "tab:blue", "
 
 def main():
     if len(sys.argv) != 3:
-        sys.exit("usage: plot_manylight.py RESULT_DIR OUT_PREFIX")
+        sys.exit("usage: /usr/bin/python3 bench/manylight/plot_manylight.py RESULT_DIR OUT_PREFIX")
     src, out = sys.argv[1], sys.argv[2]
     require_dir(os.path.dirname(out) or ".")
     curves = defaultdict(list)

@@ -1,19 +1,18 @@
 #!/usr/bin/python3
 """Plots of bench/shafts CSVs: per-scene results and the budget / direction-resolution sweep.
 
-usage: plot_shafts.py main.csv sweep.csv outdir
+usage: /usr/bin/python3 bench/shafts/plot_shafts.py MAIN.csv SWEEP.csv OUT_DIR
 """
 import os
 import sys
 from collections import defaultdict
 
-import matplotlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from bench_inputs import read_csv, require_dir, require_module  # noqa: E402
 
+matplotlib = require_module("matplotlib", "python3-matplotlib")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from bench_inputs import read_csv, require_dir  # noqa: E402
 
 # The columns of shafts_bench --csv that the plots read.
 MAIN_COLUMNS = ["scene", "base", "workload", "steps_bvh", "steps_shafts", "ms_bvh", "ms_shafts"]

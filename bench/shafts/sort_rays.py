@@ -7,15 +7,15 @@ separable from the coherence a classification-sorted batch would give any traver
 VOXELS along its longest axis; directions fall into DIR_RES x DIR_RES cells on each cube face,
 as in ShaftGrid. The sort is stable, so rays of one key keep their order.
 
-usage: sort_rays.py IN.rays OUT.rays [VOXELS] [DIR_RES]   (defaults 16 and 4)
+usage: /usr/bin/python3 bench/shafts/sort_rays.py IN.rays OUT.rays [VOXELS] [DIR_RES]   (defaults 16 and 4)
 """
 import os
 import sys
 
-import numpy as np
-
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from bench_inputs import read_bytes, require_dir  # noqa: E402
+from bench_inputs import read_bytes, require_dir, require_module  # noqa: E402
+
+np = require_module("numpy", "python3-numpy")
 
 HEADER = 16  # "RAYS", uint32 version, uint64 count (include/rayscout/core/ray_file.h)
 

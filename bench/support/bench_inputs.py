@@ -3,9 +3,11 @@ malformed file ends with one line naming it (exit 1) instead of a traceback.
 
 A script imports it with
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-    from bench_inputs import load_json, read_csv, read_bytes, require_dir
+    from bench_inputs import load_json, read_csv, read_bytes, require_dir, require_module
+It uses the standard library only, so that it loads under any python3 and can say what is missing.
 """
 import csv
+import importlib
 import json
 import os
 import sys
@@ -13,6 +15,18 @@ import sys
 
 def _fail(path, why):
     sys.exit(f"{os.path.basename(sys.argv[0])}: {path}: {why}")
+
+
+def require_module(name, package):
+    """The imported module, or exit 1 with one line naming the Debian package: the scripts run
+    with /usr/bin/python3, whose matplotlib and numpy come from Debian; another python3 on PATH
+    (pyenv, a venv) may have neither."""
+    try:
+        return importlib.import_module(name)
+    except ImportError:
+        sys.exit(f"{os.path.basename(sys.argv[0])}: needs the Python module {name.split('.')[0]}, which "
+                 f"{sys.executable} does not have: run the script with /usr/bin/python3 "
+                 f"(Debian package {package})")
 
 
 def read_bytes(path):
