@@ -16,6 +16,7 @@
 #include <tbb/global_control.h>
 
 #include "bench_support.h"
+#include "rayscout/accelerators.h"
 #include "rayscout/core/scenes_dir.h"
 #include "rayscout/core/stopwatch.h"
 #include "rayscout/render/renderer.h"
@@ -225,8 +226,7 @@ void run_scene(const Scene& scene, const std::string& sname, const Options& o, s
   for (const Variant& v : variants) {
     const auto base = v.base == "wide" ? ShaftsAccelerator::Base::Wide : ShaftsAccelerator::Base::Binary;
     // The options as the registry reads them; a key the accelerator does not read is an error.
-    AcceleratorOptions opts;
-    for (const auto& kv : o.accel_opts) opts.set(kv);
+    AcceleratorOptions opts = AcceleratorOptions::from_list(o.accel_opts);
     auto [cfg, bvh_cfg] = ShaftsAccelerator::settings_from_options(opts, base);
     opts.check_all_used(base == ShaftsAccelerator::Base::Wide ? "shafts-wide" : "shafts");
     if (v.budget_rel > 0) cfg.budget_rel = v.budget_rel;
@@ -234,7 +234,7 @@ void run_scene(const Scene& scene, const std::string& sname, const Options& o, s
     const Built built = build_alternated(scene, base, cfg, bvh_cfg, o.build_reps);
     const ShaftsAccelerator& acc = *built.acc;
     if (sets.empty() && !build_only)
-      sets = make_ray_sets(scene, acc, o.width, o.height, split(o.sweep ? std::string("shadow,ao,diffuse") : o.workloads));
+      sets = make_ray_sets(scene, acc, o.width, o.height, split(o.workloads));
     const ShaftStats& st = acc.collection_stats();
     const double bvh_mib = acc.bvh_memory_bytes() / 1048576.0;
     // budget_mib, when set, overrides budget_rel (ShaftConfig): the heading names the one in force.
@@ -275,19 +275,20 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", o.scenes, "comma-separated scene files: a path as given (absolute or from the current folder), else a "
                  "bench view by name (sponza = bench/scenes/sponza.json), else relative to $RAYSCOUT_SCENES; a file found "
                  "nowhere is skipped (default: sibenik-a, sponza, conference)");
-  app.add_option("--workloads", o.workloads, "primary,shadow,ao,diffuse,path (bounces 1-3 of a path-traced frame at half the width and height), "
-                 "or none (builds only, for build times)")
-      ->capture_default_str();
+  auto* workloads = app.add_option("--workloads", o.workloads,
+                                   "primary,shadow,ao,diffuse,path (bounces 1-3 of a path-traced frame at half the width and height), "
+                                   "or none (builds only, for build times); with --sweep the default is shadow,ao,diffuse")
+                        ->capture_default_str();
   app.add_option("--base", o.bases, "binary,wide")->capture_default_str();
   app.add_option("--accel-opt", o.accel_opts, "shafts or BVH build option key=value (docs/shafts.md)");
   app.add_option("--width", o.width)->capture_default_str()->check(CLI::Range(1, 32768));
   app.add_option("--height", o.height)->capture_default_str()->check(CLI::Range(1, 32768));
-  app.add_option("--reps", o.reps, "timed repetitions (median)")->capture_default_str()->check(CLI::Range(1, 1000000));
-  app.add_option("--threads", o.threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine")
+  app.add_option("--reps", o.reps, "timed repetitions of each side, plain and shafts alternated after an untimed warm-up (median)")->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--threads", o.threads, "0 = all cores; 1 (default) times with the thread's CPU clock, robust on a loaded machine; more with the wall clock")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--sweep", o.sweep, "a table per budget_rel (0.25-4) and per dir_res (2-8) instead of one per base, on shadow, ao and diffuse "
-               "rays (--workloads none: builds only)");
+               "rays unless --workloads is given (--workloads none: builds only)");
   app.add_option("--csv", o.csv, "also write rows as CSV to this file");
   app.add_option("--build-reps", o.build_reps, "builds of BVH and accelerator, alternated (median build times)")
       ->capture_default_str()
@@ -295,12 +296,20 @@ int main(int argc, char** argv) {
   app.add_option("--profile-side", o.profile_side, "plain|lists: only trace that side reps times per ray set (for perf stat)")
       ->check(CLI::IsMember({"plain", "lists"}));
   CLI11_PARSE(app, argc, argv);
+  // The sweep's own default (its CSV feeds plot_shafts.py's sweep plot); a given --workloads wins.
+  if (o.sweep && workloads->count() == 0) o.workloads = "shadow,ao,diffuse";
   return bench::run_bench("shafts_bench", [&] {
+    // An empty list would print headings without rows and exit 0.
+    for (const auto& [option, list] : {std::pair{"--scenes", &o.scenes}, {"--workloads", &o.workloads}, {"--base", &o.bases}})
+      if (split(*list).empty()) throw InputError(std::string(option) + ": empty (give at least one name)");
     bench::check_names("--base", split(o.bases), {"binary", "wide"});
     const std::vector<std::string> wl = split(o.workloads);
     bench::check_names("--workloads", wl, {"primary", "shadow", "ao", "diffuse", "path", "none"});
     if (std::find(wl.begin(), wl.end(), "none") != wl.end() && wl.size() > 1)
       throw InputError("--workloads: 'none' (builds only) cannot be combined with workloads");
+    // A bad --accel-opt ends the run before the first scene loads, not after it.
+    for (const std::string& b : split(o.bases))
+      check_accelerator(b == "wide" ? "shafts-wide" : "shafts", AcceleratorOptions::from_list(o.accel_opts));
 
     const int nthreads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
