@@ -494,9 +494,17 @@ class DacrtBench {
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"Experiments of the ray-sampling DACRT paper"};
-  for (const auto& v : paper_views()) o.views.push_back(v.name);
-  app.add_option("--views", o.views, "views (default: all ten)")->delimiter(',');
+  CLI::App app{
+      "Experiments of the ray-sampling DACRT paper. Times are medians of --reps traces, after one untimed warm-up "
+      "trace; 1 thread is timed by process CPU time, more by the wall clock. dacrt and dacrt-rs (and --variants) "
+      "are interleaved in resolution, variants and peers; ablation and sampling time one configuration after another; "
+      "peers builds bvh and embree afresh for each repetition, without a warm-up."};
+  std::string view_list;
+  for (const auto& v : paper_views()) {
+    o.views.push_back(v.name);
+    view_list += (view_list.empty() ? "" : ",") + v.name;
+  }
+  app.add_option("--views", o.views, "views of resolution and variants (default: all ten: " + view_list + ")")->delimiter(',');
   app.add_option("--res", o.res, "square resolutions")->delimiter(',')->check(CLI::Range(1, 16384))->capture_default_str();
   app.add_flag("--big", o.big, "also 4096^2");
   app.add_option("--reps", o.reps, "repetitions per measurement (median)")->check(CLI::Range(1, 1000000))->capture_default_str();
@@ -516,7 +524,9 @@ int main(int argc, char** argv) {
   app.add_option("--source", o.source, "ray sets: render (bench/scenes + the renderer's batches) or own (bench camera)")
       ->check(CLI::IsMember({"render", "own"}))
       ->capture_default_str();
-  app.add_option("--batches", o.batches, "only these batches (e.g. primary,shadow,mirror@1; default all)")->delimiter(',');
+  app.add_option("--batches", o.batches,
+                 "only these batches: primary, shadow, ao, mirror or path, @N for bounce N (e.g. primary,shadow,mirror@1; "
+                 "default all)")->delimiter(',');
   app.add_option("--variants", o.variants,
                  "experiment 'variants': label=key:value;key:value options on top of dacrt-rs, timed side by side "
                  "with dacrt and dacrt-rs (e.g. 'cs=cost:sampled;skip:on')");
@@ -531,6 +541,12 @@ int main(int argc, char** argv) {
     check_batch_names(o.batches);
     // Without a variant the table would have no column to take the ratios against.
     if (o.variants_only && o.variants.empty()) throw InputError("--variants-only: give at least one --variants");
+    // A bad variant key ends the run here, not after the headings and the first view's scene.
+    for (const std::string& v : o.variants) {
+      AcceleratorOptions opts = AcceleratorOptions::from_list(parse_variant(v).second);
+      opts.set("parallel", o.threads > 1 ? "on" : "off");
+      check_accelerator("dacrt-rs", opts);
+    }
     if (!o.json.empty()) check_output_path(o.json, "--json");
     if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
