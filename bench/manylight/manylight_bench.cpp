@@ -45,8 +45,10 @@ struct Options {
   int equal_passes = 0;       ///< > 0: every mode renders this many passes instead of the budget
   int reps = 2;               ///< independent runs per mode (interleaved); MSE * t is averaged
   std::string accel = "bvh";
-  std::string out_dir = "docs/figures/manylight";
-  std::string json = "docs/figures/manylight/manylight_results.json";
+  // The committed results, wherever the bench is run from (a relative default wrote under the
+  // current folder, e.g. build/docs/..., while --help said it was the committed results).
+  std::string out_dir = RAYSCOUT_SOURCE_DIR "/docs/figures/manylight";
+  std::string json = RAYSCOUT_SOURCE_DIR "/docs/figures/manylight/manylight_results.json";
 };
 
 const std::vector<BenchScene> kScenes = {
@@ -172,7 +174,10 @@ nlohmann::json summarise(const ManylightRenderer& r, const Runs& runs, const std
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"manylight_bench: the experiments of Nabata & Iwasaki 2019"};
+  CLI::App app{
+      "manylight_bench: the experiments of Nabata & Iwasaki 2019. Every mode renders for --budget seconds of "
+      "process CPU time (or --equal-passes passes); the modes are interleaved within each of --reps repetitions, "
+      "and the tables give the mean over the repetitions (MSE x time averaged), not a median."};
   app.add_option("--scenes", o.scenes, "sponza, sibenik_glossy, conference_large")->capture_default_str();
   app.add_option("--width", o.width)->capture_default_str()->check(CLI::Range(1, 32768));
   app.add_option("--height", o.height)->capture_default_str()->check(CLI::Range(1, 32768));
@@ -183,7 +188,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1e-6, 1e3));
   app.add_option("--threads", o.threads, "threads (the budgets are process CPU time, all threads summed)")
       ->capture_default_str()->check(CLI::Range(1, 4096));
-  app.add_option("--reps", o.reps, "independent runs per mode")->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--reps", o.reps, "independent runs per mode, modes interleaved within each (the tables average them)")->capture_default_str()->check(CLI::Range(1, 1000000));
   app.add_option("--equal-passes", o.equal_passes,
                  "render this many passes per mode instead of --budget (paired comparison; 0 = use --budget); "
                  "the reference still takes --budget x --ref-factor")
