@@ -136,9 +136,11 @@ inline std::string machine_description() {
 }
 
 /// Prints "skipping NAME: WHY (RAYSCOUT_SCENES=...)" to stdout, beside the tables: a scene whose
-/// files are missing leaves a gap in them, not an error.
+/// files are missing leaves a gap in them, not an error. The loader's own message already names
+/// the variable when a mesh path used it; it is not said twice.
 inline void print_skip(const std::string& name, const std::string& why) {
-  fmt::print("skipping {}: {} ({})\n", name, why, scenes_dir_origin());
+  if (why.find("RAYSCOUT_SCENES") != std::string::npos) fmt::print("skipping {}: {}\n", name, why);
+  else fmt::print("skipping {}: {} ({})\n", name, why, scenes_dir_origin());
 }
 
 /// The scene `arg` names ("cornell", or a scene or mesh file), or nullopt after a skip line when
