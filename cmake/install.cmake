@@ -1,0 +1,47 @@
+# Install rules and the CMake package: find_package(rayscout CONFIG) gives rayscout::<module>,
+# the names the tree's aliases have, so an engine's target_link_libraries reads the same either way.
+include(CMakePackageConfigHelpers)
+
+set(rayscout_export_targets rayscout_core_private)  # see src/core/CMakeLists.txt
+foreach(module IN LISTS RAYSCOUT_MODULES)
+  if(TARGET rayscout_${module})  # embree only with RAYSCOUT_WITH_EMBREE
+    set_target_properties(rayscout_${module} PROPERTIES EXPORT_NAME ${module})
+    list(APPEND rayscout_export_targets rayscout_${module})
+  endif()
+endforeach()
+set_target_properties(rayscout_core_private PROPERTIES EXPORT_NAME core_private)
+
+install(TARGETS ${rayscout_export_targets} EXPORT rayscoutTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS rayscout RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The embree module's header only when its library is built.
+if(TARGET rayscout_embree)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/rayscout DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+else()
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/rayscout DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN embree EXCLUDE)
+endif()
+
+set(rayscout_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/rayscout)
+install(EXPORT rayscoutTargets NAMESPACE rayscout:: DESTINATION ${rayscout_cmake_dir})
+# What the config tells a consumer about this build (plain ON/OFF for its if()s).
+foreach(option NATIVE WITH_EMBREE)
+  if(RAYSCOUT_${option})
+    set(rayscout_config_${option} ON)
+  else()
+    set(rayscout_config_${option} OFF)
+  endif()
+endforeach()
+configure_package_config_file(cmake/rayscoutConfig.cmake.in ${PROJECT_BINARY_DIR}/rayscoutConfig.cmake
+                              INSTALL_DESTINATION ${rayscout_cmake_dir})
+# 0.x: a minor release may change the API, so only the same minor version is compatible.
+if(PROJECT_VERSION_MAJOR EQUAL 0)
+  set(rayscout_compatibility SameMinorVersion)
+else()
+  set(rayscout_compatibility SameMajorVersion)
+endif()
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/rayscoutConfigVersion.cmake
+                                 COMPATIBILITY ${rayscout_compatibility})
+install(FILES ${PROJECT_BINARY_DIR}/rayscoutConfig.cmake ${PROJECT_BINARY_DIR}/rayscoutConfigVersion.cmake
+        DESTINATION ${rayscout_cmake_dir})
