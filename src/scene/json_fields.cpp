@@ -164,7 +164,8 @@ Json read_json_document(const std::string& text, const std::string& file) {
   return builder.take();
 }
 
-void apply_material(const JsonFields& f, const Json& j, const std::string& field, Material& m, bool allow_name) {
+void apply_material(const JsonFields& f, const Json& j, const std::string& field, Material& m, bool allow_name,
+                    std::vector<std::string>& warnings) {
   if (allow_name) f.check_keys(j, field, {"name", "type", "diffuse", "specular", "exponent", "emission"});
   else f.check_keys(j, field, {"type", "diffuse", "specular", "exponent", "emission"});
   if (j.contains("type")) {
@@ -184,6 +185,20 @@ void apply_material(const JsonFields& f, const Json& j, const std::string& field
   if (m.type == Material::Type::Glossy && no_specular) m.specular = Vec3(std::min(0.5f, 1.0f - max_component(m.diffuse)));
   if (m.type == Material::Type::Glossy && m.exponent == 0 && !j.contains("exponent")) m.exponent = 50.0f;
   if (m.type == Material::Type::Glossy) check_glossy_energy(f, field, m);
+  // A field the type never reads most likely lacks its "type": {"specular": 0.5} alone stays
+  // diffuse and rendered as plain diffuse, silently.
+  const auto ignored = [&](const char* key, const char* type, const char* why) {
+    if (j.contains(key))
+      warnings.push_back(printable(f.file() + ": " + JsonFields::join(field, key) + ": ignored by a " + type +
+                                   " material (" + why + ")"));
+  };
+  if (m.type == Material::Type::Diffuse) {
+    ignored("specular", "diffuse", "give \"type\": \"glossy\" or \"mirror\" to use it");
+    ignored("exponent", "diffuse", "give \"type\": \"glossy\" to use it");
+  } else if (m.type == Material::Type::Mirror) {
+    ignored("diffuse", "mirror", "a mirror has no diffuse lobe; \"type\": \"glossy\" has both");
+    ignored("exponent", "mirror", "a mirror reflects in one direction; \"type\": \"glossy\" has a Phong lobe");
+  }
 }
 
 Transform parse_transform(const JsonFields& f, const Json& j, const std::string& field) {

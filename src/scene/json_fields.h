@@ -8,6 +8,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -115,8 +116,10 @@ class JsonFields {
   std::string file_;
 };
 
-/// Applies the fields of a material object to m (omitted fields keep their value).
-void apply_material(const JsonFields& f, const Json& j, const std::string& field, Material& m, bool allow_name);
+/// Applies the fields of a material object to m (omitted fields keep their value); a field that
+/// m's type does not read (specular on a diffuse material, ...) adds a warning.
+void apply_material(const JsonFields& f, const Json& j, const std::string& field, Material& m, bool allow_name,
+                    std::vector<std::string>& warnings);
 
 /// A transform object (scale, then rotate, then translate, or a "matrix") or an array of them
 /// applied first to last.

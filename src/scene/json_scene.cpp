@@ -114,16 +114,17 @@ class JsonSceneLoader {
     std::vector<std::vector<uint32_t>> maps(placements.size());
     for (size_t i = 0; i < placements.size(); ++i)
       if (!placements[i].material) maps[i] = builder.intern_all(*placements[i].mesh, placements[i].source, &scene.warnings);
-    if (root.contains("materials")) define_materials(root["materials"], builder);
+    if (root.contains("materials")) define_materials(root["materials"], builder, scene.warnings);
     for (size_t i = 0; i < placements.size(); ++i)
       if (placements[i].material)
-        maps[i].assign(placements[i].mesh->materials.size(), placement_material(placements[i], builder));
+        maps[i].assign(placements[i].mesh->materials.size(),
+                       placement_material(placements[i], builder, scene.warnings));
     return maps;
   }
 
   // The "materials" entries: each overrides the fields it gives of a material of that name, or
   // defines a new one.
-  void define_materials(const Json& mats, detail::SceneBuilder& builder) const {
+  void define_materials(const Json& mats, detail::SceneBuilder& builder, std::vector<std::string>& warnings) const {
     f_.expect_object(mats, "materials");
     for (const auto& [name, value] : mats.items()) {
       if (JsonFields::is_comment(name)) continue;
@@ -131,7 +132,7 @@ class JsonSceneLoader {
       Material m;
       if (auto existing = builder.find(name)) m = builder.material(*existing);
       m.name = name;
-      apply_material(f_, value, JsonFields::join("materials", name), m, false);
+      apply_material(f_, value, JsonFields::join("materials", name), m, false, warnings);
       builder.define(m);
     }
   }
@@ -168,7 +169,8 @@ class JsonSceneLoader {
 
   // The scene material of a placement's own "material": a defined name, or an inline object that
   // defines a new one (named meshes[i].material unless it has a "name").
-  uint32_t placement_material(const Placement& pl, detail::SceneBuilder& builder) const {
+  uint32_t placement_material(const Placement& pl, detail::SceneBuilder& builder,
+                              std::vector<std::string>& warnings) const {
     const std::string field = JsonFields::join(pl.field, "material");
     if (pl.material->is_string()) {
       const std::string name = pl.material->get<std::string>();
@@ -184,7 +186,7 @@ class JsonSceneLoader {
       m.name = f_.string((*pl.material)["name"], JsonFields::join(field, "name"));
       if (m.name.empty()) f_.fail(JsonFields::join(field, "name"), "a material name must not be empty");
     }
-    apply_material(f_, *pl.material, field, m, true);
+    apply_material(f_, *pl.material, field, m, true, warnings);
     if (builder.find(m.name)) f_.fail(JsonFields::join(field, "name"), "material \"" + m.name + "\" is already defined");
     return builder.define(m);
   }

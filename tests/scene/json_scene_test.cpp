@@ -155,6 +155,31 @@ TEST(JsonScene, UnusedMaterialWarns) {
   EXPECT_EQ(unused, 1u);
 }
 
+// A field the material's type never reads is said: {"specular": 0.5} without "type" stayed a
+// plain diffuse material, silently; an MTL material overridden keeps its type, so the warning
+// follows the type it ends up with.
+TEST(JsonScene, MaterialFieldsTheTypeIgnoresWarn) {
+  TempDir dir;
+  write_room(dir);
+  const Scene s = load_scene(dir.write("scene.json", R"({
+    "meshes": [{"file": "room.obj"},
+               {"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": {"diffuse": 0.3, "specular": 0.5}},
+               {"shape": "box", "min": [2, 0, 0], "max": [3, 1, 1], "material": {"type": "mirror", "diffuse": 0.2,
+                                                                               "exponent": 10}}],
+    "materials": {"floor": {"exponent": 20}, "wall": {"exponent": 30}}})"));
+  std::vector<std::string> ignored;
+  for (const auto& w : s.warnings)
+    if (w.find(": ignored by a") != std::string::npos) ignored.push_back(w);
+  ASSERT_EQ(ignored.size(), 4u) << ::testing::PrintToString(s.warnings);
+  testing::expect_contains(ignored[0], {"scene.json: materials.floor.exponent: ignored by a diffuse material",
+                               "\"type\": \"glossy\""});
+  testing::expect_contains(ignored[1], {"scene.json: meshes[1].material.specular: ignored by a diffuse material"});
+  testing::expect_contains(ignored[2], {"scene.json: meshes[2].material.diffuse: ignored by a mirror material"});
+  testing::expect_contains(ignored[3], {"scene.json: meshes[2].material.exponent: ignored by a mirror material"});
+  // wall is glossy in its MTL: its exponent is read, not warned about.
+  for (const auto& w : ignored) EXPECT_EQ(w.find("wall"), std::string::npos) << w;
+}
+
 TEST(JsonScene, TransformsMoveTheVerticesAsComputedByHand) {
   TempDir dir;
   dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
