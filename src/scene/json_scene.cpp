@@ -389,7 +389,16 @@ class JsonSceneLoader {
     try {
       camera_frame(c, 1.0f);  // the frame every camera ray will use: "camera.up: is parallel ..."
     } catch (const InputError& e) {
-      throw InputError(f_.file() + ": " + e.what());
+      // A key the file does not give holds its default, which the message must name: a camera
+      // looking straight down with the default up said only that camera.up is parallel.
+      std::string what = e.what();
+      if (!f.up && what.starts_with("camera.up: is parallel"))
+        what += " (camera.up is not given and defaults to [0, 1, 0]: give one across the view, such as [0, 0, -1] "
+                "for a camera looking straight down)";
+      if (!f.look_at && what.starts_with("camera.look_at: must differ"))
+        what += " (camera.look_at is not given and defaults to the centre of the bounds, (" + format_number(c.look_at.x) +
+                ", " + format_number(c.look_at.y) + ", " + format_number(c.look_at.z) + "): give one)";
+      throw InputError(f_.file() + ": " + what);
     }
     // Default: |look_at - eye|, in double so that neither a tiny nor a huge distance rounds to 0 or inf.
     const double dx = double(c.look_at.x) - c.eye.x, dy = double(c.look_at.y) - c.eye.y, dz = double(c.look_at.z) - c.eye.z;

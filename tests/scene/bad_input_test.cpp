@@ -482,6 +482,21 @@ TEST(SceneBadInput, JsonSyntaxAndTypes) {
   // focus_distance", and a focus_distance given then gave this error.
   expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0.3,0.3,0], "look_at": [0.3,0.3,0]}})"),
                   {"scene.json: camera.look_at: must differ from camera.eye"});
+  // A key left out holds its default, which the message names: these named only keys the file
+  // does not give. (tri.obj spans [0, 1] x [0, 1] x {0}: its centre is (0.5, 0.5, 0).)
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0.5, 3, 0]}})"),
+                  {"scene.json: camera.up: is parallel to the view direction (camera.up is not given and defaults to "
+                   "[0, 1, 0]"});
+  expect_contains(json_error(dir, R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0.5, 0.5, 0]}})"),
+                  {"scene.json: camera.look_at: must differ from camera.eye (camera.look_at is not given and defaults "
+                   "to the centre of the bounds, (0.5, 0.5, 0)"});
+  // Given keys are the user's own: no default to name.
+  for (const char* camera : {R"({"eye": [0,0,1], "look_at": [0,0,0], "up": [0,0,2]})",
+                             R"({"eye": [0.3,0.3,0], "look_at": [0.3,0.3,0]})"})
+    EXPECT_EQ(json_error(dir, std::string(R"({"meshes": [{"file": "tri.obj"}], "camera": )") + camera + "}")
+                  .find("is not given"),
+              std::string::npos)
+        << camera;
 }
 
 TEST(SceneBadInput, JsonUnknownKeysAndValues) {
