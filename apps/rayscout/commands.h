@@ -69,9 +69,10 @@ CLI::Validator file_path();
 CLI::Validator output_file_path();
 
 /// Use with ->transform(in_range(lo, hi)): the option's value must be a number in [lo, hi]
-/// (hi omitted: >= lo, finite). Unlike CLI::Range it rejects NaN and infinity, reads integers
-/// as decimal (CLI11 alone reads "010" as 8) and rejects "-1" for an unsigned option (CLI11
-/// alone wraps it). The help shows the range; an error names the option and the value.
+/// (hi omitted: >= lo, finite; an integer for an integral T). Unlike CLI::Range it rejects NaN
+/// and infinity, reads integers as decimal (CLI11 alone reads "010" as 8) and rejects "-1" for
+/// an unsigned option (CLI11 alone wraps it). The help shows the range; an error names the
+/// option and the value.
 template <typename T>
 CLI::Validator in_range(T lo, T hi = std::numeric_limits<T>::max()) {
   const bool open = hi == std::numeric_limits<T>::max();
@@ -89,7 +90,8 @@ CLI::Validator in_range(T lo, T hi = std::numeric_limits<T>::max()) {
           ok = CLI::detail::lexical_cast(text, value) && std::isfinite(value);
         }
         if (ok && value >= lo && value <= hi) return {};
-        return "'" + text + "' is not a number " + range;
+        // "'1e3' is not a number" would puzzle: it is one, but not the integer this option takes.
+        return "'" + text + "' is not " + (std::is_integral_v<T> ? "an integer " : "a number ") + range;
       },
       open ? "min " + CLI::detail::to_string(lo) : range);  // help: "INT:min 1=4" (4 is the default)
 }

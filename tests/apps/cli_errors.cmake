@@ -188,23 +188,26 @@ expect_without(0 "result: +OK" "warning" compare-hits ${WORK}/p.occl ${WORK}/p.o
 # Option values out of range: exit 2 naming the option and the value, before any work (never a
 # hang, a wrapped unsigned value or a silent fallback to the default).
 set(R render --width 8 --height 8 --out ${WORK}/x.png)
-expect(2 "--threads: '-3' is not a number >= 0" ${R} --threads -3)
+expect(2 "--threads: '-3' is not an integer >= 0" ${R} --threads -3)
 expect(2 "--ao-radius: 'nan' is not a number >= 0" ${R} --integrator ao --ao-radius nan)
 expect(2 "--ray-epsilon: '-1' is not a number >= 0" ${R} --ray-epsilon -1)
-expect(2 "--max-batch: '-5' is not a number >= 0" ${R} --max-batch -5)
-expect(2 "--seed: '-1' is not a number" ${R} --seed -1)
-expect(2 "--seed: '18446744073709551616' is not a number" ${R} --seed 18446744073709551616)
-expect(2 "--width: '100000' is not a number in \\[1, 32768\\]" ${R} --width 100000)
-expect(2 "--vpls: '-1' is not a number" ${R} --integrator manylight --vpls -1)
-expect(2 "--vpls: '0' is not a number" ${R} --integrator manylight --vpls 0)
-expect(2 "--passes: '-1' is not a number in \\[1, 2147483647\\]" ${R} --integrator manylight --passes -1)
-expect(2 "--passes: '4294967297' is not a number in \\[1, 2147483647\\]" ${R} --integrator manylight --passes 4294967297
+expect(2 "--max-batch: '-5' is not an integer >= 0" ${R} --max-batch -5)
+expect(2 "--seed: '-1' is not an integer" ${R} --seed -1)
+expect(2 "--seed: '18446744073709551616' is not an integer" ${R} --seed 18446744073709551616)
+expect(2 "--width: '100000' is not an integer in \\[1, 32768\\]" ${R} --width 100000)
+# A number that is not an integer said "'1e3' is not a number", which it is.
+expect(2 "--spp: '1e3' is not an integer in \\[1, 65536\\]" ${R} --spp 1e3)
+expect(2 "--width: '16.5' is not an integer in \\[1, 32768\\]" ${R} --width 16.5)
+expect(2 "--vpls: '-1' is not an integer" ${R} --integrator manylight --vpls -1)
+expect(2 "--vpls: '0' is not an integer" ${R} --integrator manylight --vpls 0)
+expect(2 "--passes: '-1' is not an integer in \\[1, 2147483647\\]" ${R} --integrator manylight --passes -1)
+expect(2 "--passes: '4294967297' is not an integer in \\[1, 2147483647\\]" ${R} --integrator manylight --passes 4294967297
        --vpls 20 --time-budget 0.01)  # (the budget ends the render at once where the value is accepted)
 expect(2 "--time-budget: 'inf' is not a number >= 0" ${R} --integrator manylight --time-budget inf)
 expect(2 "--clamp-distance: '-1' is not a number >= 0" ${R} --integrator manylight --clamp-distance -1)
-expect(2 "--visibility-samples: '0' is not a number in \\[1, 65536\\]" ${R} --integrator manylight --visibility-samples 0)
-expect(2 "--shading-clusters: '-4' is not a number >= 1" ${R} --integrator manylight --shading-clusters -4)
-expect(2 "--seed: '-1' is not a number" rays --scene cornell --seed -1 --out ${WORK}/x.rays)
+expect(2 "--visibility-samples: '0' is not an integer in \\[1, 65536\\]" ${R} --integrator manylight --visibility-samples 0)
+expect(2 "--shading-clusters: '-4' is not an integer >= 1" ${R} --integrator manylight --shading-clusters -4)
+expect(2 "--seed: '-1' is not an integer" rays --scene cornell --seed -1 --out ${WORK}/x.rays)
 expect(2 "--ao-radius: '-1' is not a number >= 0" rays --scene cornell --workload ao --ao-radius -1 --out ${WORK}/x.rays)
 # More rays than memory holds (here 137 GB): refused before the work, not killed by the kernel;
 # a secondary workload holds the primary rays and hits too (112 bytes a ray).
@@ -242,8 +245,8 @@ expect(2 "1073741824 shading points at ~130 bytes\\) need at least 14[0-9]\\.[0-
 # The shafts' camera pre-pass grows with prepass_width^2 (here ~40-64 GB): refused, not killed.
 expect(2 "shafts pre-pass: prepass_width 16384 \\(201326592 pixels, up to [0-9]+ rays each at 32 bytes, twice while growing\\) needs at least"
        trace --scene cornell --rays ${WORK}/ok.rays --accel shafts --accel-opt select=camera --accel-opt prepass_width=16384)
-expect(2 "--threads: '-3' is not a number >= 0" trace --scene cornell --rays ${WORK}/ok.rays --threads -3)
-expect(2 "--repeat: '0' is not a number >= 1" trace --scene cornell --rays ${WORK}/ok.rays --repeat 0)
+expect(2 "--threads: '-3' is not an integer >= 0" trace --scene cornell --rays ${WORK}/ok.rays --threads -3)
+expect(2 "--repeat: '0' is not an integer >= 1" trace --scene cornell --rays ${WORK}/ok.rays --repeat 0)
 # Integers are decimal: CLI11 alone reads 010 as 8.
 expect(0 "10x8" render --width 010 --height 8 --out ${WORK}/x.png)
 expect(0 "in \\[1, 32768\\]" render --help)
@@ -517,7 +520,7 @@ foreach(integrator direct area ao path manylight)
   endif()
 endforeach()
 # Manylight's visibility samples are traced one cluster pair at a time: bounded.
-expect(2 "--visibility-samples: '65537' is not a number in \\[1, 65536\\]" ${ML} --visibility-samples 65537 --out ${WORK}/x.pfm)
+expect(2 "--visibility-samples: '65537' is not an integer in \\[1, 65536\\]" ${ML} --visibility-samples 65537 --out ${WORK}/x.pfm)
 # manylight renders through a pinhole: a scene's thin lens is said to be ignored.
 file(WRITE ${WORK}/lens.json [=[{"meshes": [{"shape": "box", "min": [-1, -1, -1], "max": [1, 1, 1]}],
   "lights": [{"type": "point", "position": [0, 3, 3], "intensity": 10}],
