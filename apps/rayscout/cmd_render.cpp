@@ -49,7 +49,8 @@ class ProgressBar {
     if (p.pass != pass_) record_done(p.pass, p.elapsed_s);
     if (p.bounce >= p.max_depth) record_done(p.pass + 1, p.elapsed_s);
     pass_ = p.pass;
-    const double done = (double(p.pass) + double(p.bounce + 1) / double(p.max_depth + 1)) / double(p.passes);
+    // In doubles: --max-depth may be INT_MAX.
+    const double done = (double(p.pass) + (double(p.bounce) + 1) / (double(p.max_depth) + 1)) / double(p.passes);
     const int width = 24, filled = std::clamp(int(done * width + 0.5), 0, width);
     const std::string bounce = p.max_depth > 0 ? fmt::format(" bounce {}/{}", p.bounce, p.max_depth) : "";
     const std::string left =

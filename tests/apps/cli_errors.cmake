@@ -562,6 +562,10 @@ if(SCRIPT)
   on_terminal(0 "render: loading the scene.*render: building bvh over 32 triangles.*pass 4/4[^\r]*~[0-9.]+ s left"
               "pass 1/4[^\r]*left" "render's progress"
               "${RAYSCOUT} render --integrator path --width 32 --height 32 --spp 4 --max-batch 1024 --out ${WORK}/bar.png")
+  # --max-depth takes any int: the bar's share of a pass per bounce overflowed at INT_MAX
+  # (undefined; the sanitizer build stops on it).
+  on_terminal(0 "bounce 0/2147483647" "" "render's progress at --max-depth 2147483647"
+              "${RAYSCOUT} render --integrator path --width 8 --height 8 --max-depth 2147483647 --out ${WORK}/bar.png")
   execute_process(COMMAND ${RAYSCOUT} trace --scene cornell --rays ${WORK}/ok.rays --repeat 3
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT err STREQUAL "")
