@@ -28,8 +28,6 @@
 namespace rayscout {
 namespace {
 
-using bench::median;
-
 /// One accelerator column: registry name plus options ("embree" with robust=off is Embree's fastest mode).
 struct Column {
   std::string label, accel;
@@ -171,16 +169,13 @@ class CoreBench {
   /// Builds every column with interleaved repetitions; a row of the build table (median of
   /// the reported build_ms).
   std::vector<std::unique_ptr<Accelerator>> build_all(const Scene& scene, const std::string& scene_name, int threads) {
-    std::vector<std::vector<double>> build_ms(columns_.size());
     std::vector<std::unique_ptr<Accelerator>> accels(columns_.size());
-    for (int r = 0; r < opt_.build_repeat; ++r)
-      for (size_t c = 0; c < columns_.size(); ++c) {
-        if (!timed(c)) { build_ms[c].push_back(0); continue; }
-        accels[c] = build(columns_[c], scene);
-        build_ms[c].push_back(accels[c]->build_info().build_ms);
-      }
-    std::vector<double> build_med;
-    for (const auto& b : build_ms) build_med.push_back(median(b));
+    const std::vector<double> build_med =
+        bench::interleaved_medians(columns_.size(), {.count = opt_.build_repeat, .warm_up = false}, [&](size_t c) {
+          if (!timed(c)) return 0.0;
+          accels[c] = build(columns_[c], scene);
+          return accels[c]->build_info().build_ms;
+        });
     build_table_ += fmt::format("| {} | {} | {} |", scene_name, scene.triangles.size(), threads);
     for (double b : build_med) build_table_ += fmt::format(" {:.0f} |", b);
     build_table_ += fmt::format(" {:.2f} | {:.1f} | {:.1f} |\n", build_med[1] / build_med[2],
@@ -193,15 +188,11 @@ class CoreBench {
   /// A row of the trace table: a warm-up, then repeat rounds of every column once.
   void time_row(const std::vector<std::unique_ptr<Accelerator>>& accels, const bench::RaySet& set,
                 const std::string& scene_name, int threads) {
-    for (const auto& a : accels)
-      if (a) bench::trace(*a, set);  // warm-up
-    std::vector<std::vector<double>> times(columns_.size());
-    for (int r = 0; r < opt_.repeat; ++r)
-      for (size_t c = 0; c < columns_.size(); ++c)
-        times[c].push_back(timed(c) ? bench::trace_ms(g_clock, *accels[c], set) : 0.0);
+    const std::vector<double> ms = bench::interleaved_medians(columns_.size(), {.count = opt_.repeat}, [&](size_t c) {
+      return timed(c) ? bench::trace_ms(g_clock, *accels[c], set) : 0.0;
+    });
     std::vector<double> mrays;
-    for (size_t c = 0; c < columns_.size(); ++c)
-      mrays.push_back(timed(c) ? mrays_per_s(set.rays.size(), median(times[c])) : 0.0);
+    for (size_t c = 0; c < columns_.size(); ++c) mrays.push_back(timed(c) ? mrays_per_s(set.rays.size(), ms[c]) : 0.0);
     trace_table_ += fmt::format("| {} | {} | {} | {} |", scene_name, workload_label(set), set.rays.size(), threads);
     for (double m : mrays) trace_table_ += fmt::format(" {:.2f} |", m);
     double best = 0;

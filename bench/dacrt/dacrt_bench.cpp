@@ -155,30 +155,20 @@ class DacrtBench {
     for (const Accelerator* a : accs) trace(*a, *largest);
   }
 
-  /// Median time of reps traces of s (ms). One thread is timed by the process CPU time, more
-  /// by the wall clock (bench_support.h).
-  double time_trace(const Accelerator& a, const RaySet& s) const {
-    std::vector<double> t;
-    for (int r = 0; r < o_.reps; ++r) t.push_back(trace_ms(clock_, a, s));
-    return median(t);
-  }
-
-  /// Median times of accs on s (ms), their repetitions interleaved so that a change of load
-  /// on the shared machine hits every side of a ratio alike.
+  /// Median times of reps traces of s (ms) by each of accs, their repetitions interleaved so
+  /// that a change of load on the shared machine hits every side of a ratio alike. One thread
+  /// is timed by the process CPU time, more by the wall clock (bench_support.h). No warm-up
+  /// here: the callers warm up once on the largest of their sets (warm_up).
   std::vector<double> interleaved_ms(const std::vector<const Accelerator*>& accs, const RaySet& s) const {
-    std::vector<std::vector<double>> t(accs.size());
-    for (int r = 0; r < o_.reps; ++r)
-      for (size_t k = 0; k < accs.size(); ++k) t[k].push_back(trace_ms(clock_, *accs[k], s));
-    std::vector<double> medians;
-    for (const auto& tk : t) medians.push_back(median(tk));
-    return medians;
+    return interleaved_medians(accs.size(), {.count = o_.reps, .warm_up = false},
+                               [&](size_t k) { return trace_ms(clock_, *accs[k], s); });
   }
 
   /// Sum over the study's sets of a's median times (ms), after a warm-up.
   double frame_ms(const Accelerator& a, const Study& st) const {
     warm_up({&a}, st.sets);
     double t = 0;
-    for (const auto& s : st.sets) t += time_trace(a, s);
+    for (const auto& s : st.sets) t += interleaved_ms({&a}, s)[0];
     return t;
   }
 

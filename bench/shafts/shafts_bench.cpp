@@ -83,16 +83,11 @@ Measure measure(const ShaftsAccelerator& acc, const RaySet& set, int reps) {
   };
   run(true, &m.with);
   run(false, &m.without);
-  run(true, nullptr);  // warm-up
-  run(false, nullptr);
-  std::vector<double> a, b;
-  for (int r = 0; r < reps; ++r) {
-    // Alternate the order so neither side always runs on a warmer cache.
-    if (r % 2) { a.push_back(run(true, nullptr)); b.push_back(run(false, nullptr)); }
-    else { b.push_back(run(false, nullptr)); a.push_back(run(true, nullptr)); }
-  }
-  m.ms_with = median(a);
-  m.ms_without = median(b);
+  // Plain (0) and shafts (1), the order alternated so neither side always runs on a warmer cache.
+  const std::vector<double> ms =
+      bench::interleaved_medians(2, {.count = reps, .alternate = true}, [&](size_t k) { return run(k == 1, nullptr); });
+  m.ms_without = ms[0];
+  m.ms_with = ms[1];
   // Classification + lookup alone (what every listed ray pays before its traversal).
   std::vector<double> l;
   size_t sink = 0;

@@ -51,6 +51,32 @@ inline const char* clock_name(Clock clock) {
   return "wall clock";
 }
 
+/// How interleaved_medians runs its rounds.
+struct Rounds {
+  int count = 1;           ///< timed rounds (every driver checks its repetition option is >= 1)
+  bool warm_up = true;     ///< one untimed call of each column before the rounds
+  bool alternate = false;  ///< odd rounds call the columns in reverse order, so none always follows the same one
+};
+
+/// Median over rounds.count rounds of measure(k), for each column k < n. A round calls every
+/// column once (interleaved), so that a change of load on a shared machine moves every column
+/// alike instead of the ratio between them. measure returns a time or anything else to take
+/// the median of (core_bench's builds return their own build_ms).
+template <class Measure>
+std::vector<double> interleaved_medians(size_t n, const Rounds& rounds, Measure&& measure) {
+  if (rounds.warm_up)
+    for (size_t k = 0; k < n; ++k) (void)measure(k);
+  std::vector<std::vector<double>> values(n);
+  for (int r = 0; r < rounds.count; ++r)
+    for (size_t i = 0; i < n; ++i) {
+      const size_t k = rounds.alternate && r % 2 ? n - 1 - i : i;
+      values[k].push_back(measure(k));
+    }
+  std::vector<double> medians;
+  for (const auto& v : values) medians.push_back(median(v));
+  return medians;
+}
+
 /// One traced batch of a workload and the query it is traced with.
 struct RaySet {
   std::string kind;        ///< "primary", "shadow", "ao", "diffuse", "mirror", "path", ...
