@@ -29,10 +29,7 @@ namespace rayscout {
 namespace {
 
 /// One accelerator column: registry name plus options ("embree" with robust=off is Embree's fastest mode).
-struct Column {
-  std::string label, accel;
-  std::vector<std::string> options;
-};
+using Column = bench::ColumnSpec;
 
 std::unique_ptr<Accelerator> build(const Column& c, const Scene& scene) {
   return make_accelerator(c.accel, scene, AcceleratorOptions::from_list(c.options));
@@ -48,22 +45,8 @@ struct Options {
   int width = 1024, height = 1024, repeat = 5, build_repeat = 3;
   bool embree_variants = true;  ///< also Embree robust=off and packet=16 columns
   bool bvh2 = true;             ///< the bvh2 column
-  std::vector<std::string> extra;  ///< extra columns "label:accel[:key=value,...]"
+  std::vector<std::string> extra;  ///< extra columns "label:accel[:key=value,...]" (bench::parse_column)
 };
-
-// Parses "label:accel[:key=value,key=value]" into a column.
-Column parse_column(const std::string& spec) {
-  const size_t a = spec.find(':');
-  if (a == std::string::npos) throw std::runtime_error("--column '" + spec + "': expected label:accel[:options]");
-  const size_t b = spec.find(':', a + 1);
-  Column c{spec.substr(0, a), spec.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1), {}};
-  for (size_t p = b; p != std::string::npos && p + 1 < spec.size();) {
-    const size_t q = spec.find(',', p + 1);
-    c.options.push_back(spec.substr(p + 1, q == std::string::npos ? std::string::npos : q - p - 1));
-    p = q;
-  }
-  return c;
-}
 
 /// Prints the tree shape of a wide BVH column and its exact counters on one ray set (stderr).
 void print_extra_counters(const Column& column, const Accelerator& accel, const bench::RaySet& set) {
@@ -99,7 +82,7 @@ class CoreBench {
       columns_.push_back({"embree-fast", "embree", {"robust=off"}});
       columns_.push_back({"embree-p16", "embree", {"packet=16"}});
     }
-    for (const auto& e : opt.extra) columns_.push_back(parse_column(e));
+    for (const auto& e : opt.extra) columns_.push_back(bench::parse_column("--column", e));
   }
 
   int run() {

@@ -63,7 +63,7 @@ struct Options {
   std::vector<std::string> study_views{"sibenik-a", "sponza-a"};
   std::string source = "render";
   std::vector<std::string> batches;   // empty = every batch
-  std::vector<std::string> variants;  // "label=key:value;key:value", dacrt-rs plus these options
+  std::vector<std::string> variants;  // "label[:accel][:key=value,...]", dacrt-rs unless accel is dacrt
   bool variants_only = false;         // no dacrt / dacrt-rs columns (profiling one variant)
 };
 
@@ -71,21 +71,6 @@ struct Options {
 using Config = std::pair<std::string, std::vector<std::string>>;
 
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
-
-/// "label=key:value;key:value" (--variants) as the label and its "key=value" options.
-Config parse_variant(const std::string& spec) {
-  const auto eq = spec.find('=');
-  std::vector<std::string> extra;
-  const std::string rest = eq == std::string::npos ? "" : spec.substr(eq + 1);
-  for (size_t a = 0; !rest.empty() && a != std::string::npos;) {
-    const size_t b = rest.find(';', a);
-    std::string kv = rest.substr(a, b == std::string::npos ? std::string::npos : b - a);
-    if (const auto c = kv.find(':'); c != std::string::npos) kv[c] = '=';
-    if (!kv.empty()) extra.push_back(kv);
-    a = b == std::string::npos ? b : b + 1;
-  }
-  return {spec.substr(0, eq), extra};
-}
 
 /// "VmRSS" or "VmHWM" (peak resident) of this process in bytes, from /proc/self/status.
 double status_bytes(const std::string& key) {
@@ -251,15 +236,16 @@ class DacrtBench {
   /// Variants: dacrt, dacrt-rs and option sets on top of dacrt-rs, repetitions interleaved so
   /// that every ratio is measured side by side; plus each one's counts.
   void variants() {
-    // Every variant is dacrt-rs plus its options (the first column is plain dacrt).
-    std::vector<Config> configs = {{"dacrt", {"cost=sah", "order=one-ray", "skip=off"}}, {"dacrt-rs", {}}};
+    // A variant is dacrt-rs (or dacrt) plus its options; the first column is plain dacrt.
+    std::vector<ColumnSpec> configs = {{"dacrt", "dacrt-rs", {"cost=sah", "order=one-ray", "skip=off"}},
+                                       {"dacrt-rs", "dacrt-rs", {}}};
     if (o_.variants_only) configs.clear();
-    for (const auto& v : o_.variants) configs.push_back(parse_variant(v));
+    for (const auto& v : o_.variants) configs.push_back(parse_column("--variants", v, "dacrt-rs"));
     // With --variants-only the ratios are against the first variant, not dacrt.
     fmt::print("## Variants (ms, repetitions interleaved after a warm-up, ratio = {} / variant; box = partition+sampling tests, tri = triangle tests, per ray)\n\n",
-               configs.front().first);
+               configs.front().label);
     fmt::print("| view | res | batch | rays |");
-    for (const auto& c : configs) fmt::print(" {} |", c.first);
+    for (const auto& c : configs) fmt::print(" {} |", c.label);
     fmt::print("\n|---|---|---|---|");
     for (size_t k = 0; k < configs.size(); ++k) fmt::print("---|");
     fmt::print("\n");
@@ -271,7 +257,7 @@ class DacrtBench {
         continue;
       }
       std::vector<std::unique_ptr<Accelerator>> accs;
-      for (const auto& c : configs) accs.push_back(make("dacrt-rs", *scene, c.second));
+      for (const auto& c : configs) accs.push_back(make(c.accel, *scene, c.options));
       for (int res : o_.res) {
         std::vector<double> frame(configs.size(), 0.0);
         std::vector<const Accelerator*> timed;
@@ -291,7 +277,7 @@ class DacrtBench {
             fmt::print(" {:.1f} ({:.2f}x; box {:.1f}+{:.1f}, tri {:.2f}) |", m, base / m,
                        double(d.partition_box_tests) / double(s.rays.size()),
                        double(d.sampling_box_tests) / double(s.rays.size()), double(st.ray_tri_tests) / double(s.rays.size()));
-            out_["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"config", configs[k].first},
+            out_["variants"].push_back({{"view", v.name}, {"res", res}, {"batch", s.label()}, {"config", configs[k].label},
                                         {"ms", m}, {"partition_box", d.partition_box_tests},
                                         {"sampling_box", d.sampling_box_tests}, {"tri", st.ray_tri_tests}});
           }
@@ -518,8 +504,8 @@ int main(int argc, char** argv) {
                  "only these batches: primary, shadow, ao, mirror or path, @N for bounce N (e.g. primary,shadow,mirror@1; "
                  "default all)")->delimiter(',');
   app.add_option("--variants", o.variants,
-                 "experiment 'variants': label=key:value;key:value options on top of dacrt-rs, timed side by side "
-                 "with dacrt and dacrt-rs (e.g. 'cs=cost:sampled;skip:on')");
+                 "experiment 'variants': label[:accel][:key=value,...], dacrt-rs (or accel dacrt) with these "
+                 "options, timed side by side with dacrt and dacrt-rs (repeatable; e.g. cs:cost=sampled,skip=on)");
   app.add_flag("--variants-only", o.variants_only, "experiment 'variants' without the dacrt and dacrt-rs columns");
   CLI11_PARSE(app, argc, argv);
   return run_bench("dacrt_bench", [&] {
@@ -533,9 +519,11 @@ int main(int argc, char** argv) {
     if (o.variants_only && o.variants.empty()) throw InputError("--variants-only: give at least one --variants");
     // A bad variant key ends the run here, not after the headings and the first view's scene.
     for (const std::string& v : o.variants) {
-      AcceleratorOptions opts = AcceleratorOptions::from_list(parse_variant(v).second);
+      const ColumnSpec c = parse_column("--variants", v, "dacrt-rs");
+      check_names("--variants", {c.accel}, {"dacrt", "dacrt-rs"});  // the table reads DACRT's own counts
+      AcceleratorOptions opts = AcceleratorOptions::from_list(c.options);
       opts.set("parallel", o.threads > 1 ? "on" : "off");
-      check_accelerator("dacrt-rs", opts);
+      check_accelerator(c.accel, opts);
     }
     if (!o.json.empty()) check_output_path(o.json, "--json");
     if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);

@@ -131,6 +131,36 @@ inline void check_names(const std::string& option, const std::vector<std::string
     }
 }
 
+/// A labelled accelerator and its options: a column of core_bench (--column) or dacrt_bench
+/// (--variants).
+struct ColumnSpec {
+  std::string label, accel;
+  std::vector<std::string> options;  ///< "key=value", as rayscout's --accel-opt takes them
+};
+
+/// Parses "label:accel[:key=value,key=value,...]"; with a default_accel, "label[:key=value,...]"
+/// too (a field holding '=' is options, never an accelerator name). Throws InputError naming
+/// option and the expected form; the keys are checked by check_accelerator, not here.
+inline ColumnSpec parse_column(const std::string& option, const std::string& spec, const std::string& default_accel = "") {
+  const std::string form = default_accel.empty() ? "label:accel[:key=value,...]" : "label[:accel][:key=value,...]";
+  const size_t a = spec.find(':');
+  ColumnSpec c{spec.substr(0, a), default_accel, {}};
+  std::string rest = a == std::string::npos ? "" : spec.substr(a + 1);
+  if (const size_t b = rest.find(':'); rest.substr(0, b).find('=') == std::string::npos) {
+    if (b != std::string::npos || !rest.empty()) c.accel = rest.substr(0, b);
+    rest = b == std::string::npos ? "" : rest.substr(b + 1);
+  }
+  // A label with '=' or ';' is the older dacrt_bench form "label=key:value;key:value".
+  if (c.label.empty() || c.accel.empty() || c.label.find_first_of("=;") != std::string::npos)
+    throw InputError(option + " '" + spec + "': expected " + form);
+  for (size_t p = 0; p < rest.size();) {
+    const size_t q = std::min(rest.find(',', p), rest.size());
+    if (q > p) c.options.push_back(rest.substr(p, q - p));
+    p = q + 1;
+  }
+  return c;
+}
+
 /// One line naming the machine a table was measured on, for the drivers' headers: absolute
 /// times and even side-by-side ratios move between CPUs (docs/history/performance.md, session 22).
 /// "AMD EPYC (family 26, model 2), 2 logical CPUs, AVX-512, g++ 12.2.0"; on a system

@@ -1,4 +1,6 @@
-// bench_support.h's interleaved_medians: the call order every driver's timing relies on.
+// bench_support.h: interleaved_medians' call order, which every driver's timing relies on, and
+// parse_column, the form of core_bench --column and dacrt_bench --variants.
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -36,6 +38,39 @@ TEST(InterleavedMedians, AlternateReversesOddRounds) {
     return 0.0;
   });
   EXPECT_EQ(calls, (std::vector<size_t>{0, 1, 2, /* rounds: */ 0, 1, 2, 2, 1, 0, 0, 1, 2}));
+}
+
+void expect_column(const ColumnSpec& c, const std::string& label, const std::string& accel,
+                   const std::vector<std::string>& options) {
+  EXPECT_EQ(c.label, label);
+  EXPECT_EQ(c.accel, accel);
+  EXPECT_EQ(c.options, options);
+}
+
+TEST(ParseColumn, LabelAccelOptions) {
+  expect_column(parse_column("--column", "p1:bvh:presplit=0.1"), "p1", "bvh", {"presplit=0.1"});
+  expect_column(parse_column("--column", "e:embree:robust=off,packet=16"), "e", "embree", {"robust=off", "packet=16"});
+  expect_column(parse_column("--column", "b:bvh"), "b", "bvh", {});
+  expect_column(parse_column("--column", "b:bvh:"), "b", "bvh", {});
+}
+
+TEST(ParseColumn, AccelMayBeLeftOutOnlyWithADefault) {
+  expect_column(parse_column("--variants", "cs:cost=sampled,skip=on", "dacrt-rs"), "cs", "dacrt-rs",
+                {"cost=sampled", "skip=on"});
+  expect_column(parse_column("--variants", "plain", "dacrt-rs"), "plain", "dacrt-rs", {});
+  expect_column(parse_column("--variants", "a:dacrt:cost=sampled", "dacrt-rs"), "a", "dacrt", {"cost=sampled"});
+  EXPECT_THROW(parse_column("--column", "p1:presplit=0.1"), InputError);
+  EXPECT_THROW(parse_column("--column", "p1"), InputError);
+  EXPECT_THROW(parse_column("--column", ":bvh"), InputError);
+}
+
+TEST(ParseColumn, OlderVariantFormIsAnErrorNamingTheForm) {
+  try {
+    parse_column("--variants", "cs=cost:sampled;skip:on", "dacrt-rs");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--variants 'cs=cost:sampled;skip:on': expected label[:accel][:key=value,...]");
+  }
 }
 
 }  // namespace
