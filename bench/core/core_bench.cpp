@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
       "the rounds is printed, in Mrays/s of wall-clock time (--cpu-time: process CPU time). Builds: --build-repeat "
       "interleaved rounds, median of each accelerator's own wall-clock build time. Work counts: one untimed trace "
       "at the last thread count."};
-  app.add_option("--scene", opt.scenes, "Scene files (repeatable)")->capture_default_str();
+  app.add_option("--scene", opt.scenes, "Scene or mesh files, or cornell for the built-in box (repeatable)")->capture_default_str();
   app.add_option("--workload", opt.workloads, "primary, shadow, ao, diffuse (repeatable or comma-separated)")
       ->delimiter(',')
       ->capture_default_str();
@@ -241,7 +241,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-embree-variants", no_variants, "Leave out the embree robust=off and packet=16 columns");
   bool no_bvh2 = false;
   app.add_flag("--no-bvh2", no_bvh2, "Skip bvh2: no build or trace (its columns print 0)");
-  app.add_option("--column", opt.extra, "Extra column label:accel[:key=value,...] (repeatable), e.g. bvh-p1:bvh:presplit=0.1");
+  app.add_option("--column", opt.extra,
+                 "Extra column label:accel[:key=value,...] (repeatable), e.g. bvh-p1:bvh:presplit=0.1; an embree column "
+                 "counts in 'best embree', a bvh column's tree shape and counters go to stderr");
   bool cpu_time = false;
   app.add_flag("--cpu-time", cpu_time,
                "Time traces by process CPU time (all threads summed; for 1 thread on a loaded machine)");

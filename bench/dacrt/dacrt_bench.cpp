@@ -472,7 +472,7 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{
       "Experiments of the ray-sampling DACRT paper. Times are medians of --reps traces, after one untimed warm-up "
-      "trace; 1 thread is timed by process CPU time, more by the wall clock. dacrt and dacrt-rs (and --variants) "
+      "trace of the largest batch; 1 thread is timed by process CPU time, more by the wall clock. dacrt and dacrt-rs (and --variants) "
       "are interleaved in resolution, variants and peers; ablation and sampling time one configuration after another; "
       "peers builds bvh and embree afresh for each repetition, without a warm-up."};
   std::string view_list;

@@ -264,7 +264,8 @@ void run_scene(const Scene& scene, const std::string& sname, const Options& o, s
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Ray classification (shafts) vs plain traversal of the same BVH"};
+  CLI::App app{"Ray classification (shafts, shafts-wide) vs plain traversal of the same BVH, side by side: exact steps and "
+               "tests per ray, trace times (--reps) and build times (--build-reps)"};
   const std::string dir = RAYSCOUT_BENCH_SCENES;
   Options o;
   o.scenes = dir + "/sibenik-a.json," + dir + "/sponza.json," + dir + "/conference.json";
@@ -275,8 +276,9 @@ int main(int argc, char** argv) {
                                    "primary,shadow,ao,diffuse,path (bounces 1-3 of a path-traced frame at half the width and height), "
                                    "or none (builds only, for build times); with --sweep the default is shadow,ao,diffuse")
                         ->capture_default_str();
-  app.add_option("--base", o.bases, "binary,wide")->capture_default_str();
-  app.add_option("--accel-opt", o.accel_opts, "shafts or BVH build option key=value (docs/shafts.md)");
+  app.add_option("--base", o.bases, "binary (shafts over Bvh2), wide (shafts-wide over WideBvh), comma-separated")
+      ->capture_default_str();
+  app.add_option("--accel-opt", o.accel_opts, "shafts or BVH build option key=value, repeatable, as rayscout's (docs/shafts.md)");
   app.add_option("--width", o.width)->capture_default_str()->check(CLI::Range(1, 32768));
   app.add_option("--height", o.height)->capture_default_str()->check(CLI::Range(1, 32768));
   app.add_option("--reps", o.reps, "timed repetitions of each side, plain and shafts alternated after an untimed warm-up (median); "

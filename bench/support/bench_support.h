@@ -1,5 +1,6 @@
-// What the benchmark drivers share: clocks, ray sets and their tracing, medians of repetitions,
-// checks of name lists, the machine line, skipping scenes that are missing, error exits.
+// What the benchmark drivers share: clocks, ray sets and their tracing, interleaved medians of
+// repetitions, labelled accelerator columns, checks of name lists, the machine line, skipping
+// scenes that are missing, error exits.
 #pragma once
 
 #include <algorithm>
