@@ -309,6 +309,9 @@ int main(int argc, char** argv) {
     // A bad --accel-opt ends the run before the first scene loads, not after it.
     for (const std::string& b : split(o.bases))
       check_accelerator(b == "wide" ? "shafts-wide" : "shafts", AcceleratorOptions::from_list(o.accel_opts));
+    // budget_mib overrides budget_rel (ShaftConfig): every budget row of the sweep would be the same.
+    if (o.sweep && AcceleratorOptions::from_list(o.accel_opts).has("budget_mib"))
+      throw InputError("--sweep varies budget_rel, which --accel-opt budget_mib overrides: give budget_rel or no budget");
 
     const int nthreads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
