@@ -94,7 +94,9 @@ struct DacrtAccelerator::Arena {
 
 DacrtAccelerator::DacrtAccelerator(std::span<const Triangle> triangles, const DacrtConfig& config,
                                    std::string name)
-    : triangles_(triangles), config_(config), name_(std::move(name)), arena_(std::make_unique<Arena>()) {}
+    : triangles_(triangles), config_(config), name_(std::move(name)), arena_(std::make_unique<Arena>()) {
+  config_.validate();
+}
 
 DacrtAccelerator::~DacrtAccelerator() = default;
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <utility>
 
 namespace rayscout {
@@ -60,10 +61,20 @@ DacrtConfig DacrtConfig::from_options(const AcceleratorOptions& o, DacrtConfig c
   c.c_bv = o.get_double("C_bv", c.c_bv);
   c.c_tri = o.get_double("C_tri", c.c_tri);
   c.parallel = o.get_bool("parallel", c.parallel);
-  require(c.sample_budget >= 0.0, "sample_budget: must be >= 0");
-  require(c.midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
-  require(c.c_bv > 0 && c.c_tri > 0, "C_bv, C_tri > 0 required");
+  c.validate();
   return c;
+}
+
+void DacrtConfig::validate() const {
+  // Each written so that NaN fails too.
+  require(bins >= 2 && bins <= 256, "bins: must be in [2, 256] (got " + std::to_string(bins) + ")");
+  require(samples >= 1, "samples: must be >= 1 (got " + std::to_string(samples) + ")");
+  require(fraction >= 0.0 && fraction <= 1.0, "fraction: must be in [0, 1]");
+  require(delta_r >= 1, "delta_r: must be >= 1");
+  require(delta_t >= 2, "delta_t: must be >= 2");
+  require(sample_budget >= 0.0, "sample_budget: must be >= 0");
+  require(midpoint_ratio >= 0.0, "midpoint_ratio: must be >= 0");
+  require(c_bv > 0 && c_tri > 0, "C_bv, C_tri > 0 required");
 }
 
 std::string DacrtConfig::order_name() const {

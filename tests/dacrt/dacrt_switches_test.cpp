@@ -1,6 +1,10 @@
 // Every switch combination of dacrt gives brute force's hits, closest and any, ray by ray.
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <limits>
+#include <vector>
+
 #include "dacrt_rays.h"
 #include "generated_scenes.h"
 #include "rayscout/accelerators.h"
@@ -46,6 +50,28 @@ TEST(DacrtOptions, BadValuesAreInputErrors) {
                           "bins=1000", "samples=0", "fraction=2", "delta_t=0", "C_bv=0", "sample_budget=-1", "resample=maybe",
                           "order=votes", "vote_weight=size", "unknown=1"})
     EXPECT_THROW(make_accelerator("dacrt-rs", scene, testing::options_of({bad})), InputError) << bad;
+}
+
+// A config built in code, not read from options, is checked by the constructor: 257 bins
+// overran the tracer's 256-bin buffers (and wrapped its byte-sized bin indices) at the first
+// trace, and 1 or 0 bins left no split candidate or clamped to [0, -1].
+TEST(DacrtOptions, TheConstructorRefusesAConfigOutOfRange) {
+  const Scene scene = testing::scene_from_triangles(testing::grid(2));
+  const std::vector<std::function<void(DacrtConfig&)>> bad = {
+      [](DacrtConfig& c) { c.bins = 257; },  [](DacrtConfig& c) { c.bins = 1; },
+      [](DacrtConfig& c) { c.bins = 0; },    [](DacrtConfig& c) { c.samples = 0; },
+      [](DacrtConfig& c) { c.fraction = 2; }, [](DacrtConfig& c) { c.delta_r = 0; },
+      [](DacrtConfig& c) { c.delta_t = 1; }, [](DacrtConfig& c) { c.c_tri = 0; },
+      [](DacrtConfig& c) { c.midpoint_ratio = std::numeric_limits<double>::quiet_NaN(); }};
+  for (size_t k = 0; k < bad.size(); ++k) {
+    DacrtConfig c = DacrtConfig::ray_sampled();
+    bad[k](c);
+    EXPECT_THROW(c.validate(), InputError) << k;
+    EXPECT_THROW(DacrtAccelerator(scene.triangles, c), InputError) << k;
+  }
+  DacrtConfig c = DacrtConfig::ray_sampled();
+  c.bins = 256;
+  EXPECT_NO_THROW(DacrtAccelerator(scene.triangles, c));
 }
 
 TEST(DacrtOptions, DefaultsAreThePapersWithTheDocumentedDeviations) {

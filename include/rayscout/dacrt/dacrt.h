@@ -36,6 +36,7 @@ struct DacrtStats {
 class DacrtAccelerator final : public Accelerator {
  public:
   /// Keeps a view of triangles (they must outlive the accelerator). name: registry name.
+  /// Throws InputError for a config out of range (DacrtConfig::validate).
   DacrtAccelerator(std::span<const Triangle> triangles, const DacrtConfig& config,
                    std::string name = "dacrt");
   ~DacrtAccelerator() override;

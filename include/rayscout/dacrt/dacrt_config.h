@@ -119,6 +119,11 @@ struct DacrtConfig {
   /// (< delta_t triangles) has C_child = C_tri, n_child = child_tris; an inner child has
   /// C_child = C_bv, n_child = 2, i.e. eq. (6): alpha > 0.5.
   double skip_threshold(size_t child_tris) const;
+  /// Throws InputError naming the first value out of range (bins in [2, 256], samples >= 1,
+  /// fraction in [0, 1], delta_r >= 1, delta_t >= 2, sample_budget and midpoint_ratio >= 0,
+  /// C_bv and C_tri > 0): from_options and DacrtAccelerator's constructor both check with it,
+  /// so that a config built in code cannot overrun the tracer's 256-bin buffers.
+  void validate() const;
   /// Reads the keys above from options over `defaults`; throws InputError on bad values.
   static DacrtConfig from_options(const AcceleratorOptions& options, DacrtConfig defaults);
   /// One line naming every setting, for benchmark logs.
