@@ -99,17 +99,27 @@ RayBatch adjusted(const RayBatch& rays, const std::vector<Irregular>& found) {
 }  // namespace
 
 void Accelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
+  intersect_with(rays, hits, [&](const RayBatch& r, HitBatch& h) { intersect_batch(r, h, stats); });
+}
+
+void Accelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+  occluded_with(rays, occluded, [&](const RayBatch& r, std::vector<uint8_t>& o) { occluded_batch(r, o, stats); });
+}
+
+void Accelerator::intersect_with(const RayBatch& rays, HitBatch& hits,
+                                 const std::function<void(const RayBatch&, HitBatch&)>& trace) {
   const auto found = irregular_rays(rays);
-  if (found.empty()) return intersect_batch(rays, hits, stats);
-  intersect_batch(adjusted(rays, found), hits, stats);
+  if (found.empty()) return trace(rays, hits);
+  trace(adjusted(rays, found), hits);
   for (const auto& [i, k, miss] : found)
     if (k != 0 && hits.prim[i] != kInvalidId) hits.t[i] = std::ldexp(hits.t[i], k);
 }
 
-void Accelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
+void Accelerator::occluded_with(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                                const std::function<void(const RayBatch&, std::vector<uint8_t>&)>& trace) {
   const auto found = irregular_rays(rays);
-  if (found.empty()) return occluded_batch(rays, occluded, stats);
-  occluded_batch(adjusted(rays, found), occluded, stats);
+  if (found.empty()) return trace(rays, occluded);
+  trace(adjusted(rays, found), occluded);
 }
 
 }  // namespace rayscout

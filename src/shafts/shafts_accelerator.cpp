@@ -204,26 +204,36 @@ void trace(const ShaftCollection& collection, const Seeded& bvh, const RayBatch&
 
 }  // namespace
 
+// Both public variants go through the base's handling of irregular rays (intersect_with).
 void ShaftsAccelerator::intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats,
                                   bool use_lists) const {
+  intersect_with(rays, hits, [&](const RayBatch& r, HitBatch& h) { trace_batch(r, h, stats, use_lists); });
+}
+
+void ShaftsAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
+                                 bool use_lists) const {
+  occluded_with(rays, occluded, [&](const RayBatch& r, std::vector<uint8_t>& o) { trace_batch(r, o, stats, use_lists); });
+}
+
+void ShaftsAccelerator::trace_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats, bool use_lists) const {
   hits.reset(rays.size());
   if (base_ == Base::Binary) trace<false>(collection_, SeededBvh2(bvh2_), rays, &hits, nullptr, stats, use_lists);
   else trace<false>(collection_, SeededWide(wide_), rays, &hits, nullptr, stats, use_lists);
 }
 
-void ShaftsAccelerator::occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
-                                 bool use_lists) const {
+void ShaftsAccelerator::trace_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
+                                    bool use_lists) const {
   occluded.assign(rays.size(), 0);
   if (base_ == Base::Binary) trace<true>(collection_, SeededBvh2(bvh2_), rays, nullptr, &occluded, stats, use_lists);
   else trace<true>(collection_, SeededWide(wide_), rays, nullptr, &occluded, stats, use_lists);
 }
 
 void ShaftsAccelerator::intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const {
-  intersect(rays, hits, stats, true);
+  trace_batch(rays, hits, stats, true);
 }
 
 void ShaftsAccelerator::occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const {
-  this->occluded(rays, occluded, stats, true);
+  trace_batch(rays, occluded, stats, true);
 }
 
 }  // namespace rayscout

@@ -446,6 +446,40 @@ TEST(ShaftsBinary, CullingHoldsFarFromTheWorldOrigin) {
   EXPECT_GT(saved[1], 0.85 * saved[0]) << "at the origin " << saved[0] << ", at 1e5 " << saved[1];
 }
 
+// The public use_lists variants keep the Accelerator contract for irregular rays, as the
+// plain calls do: an infinite direction component misses (traced as is, the kernels hit a
+// triangle behind the origin at t = -0), a direction 2^-100 or 2^100 long gets its unit
+// ray's answer (as is, one hit another triangle or missed), a subnormal component is zero.
+TEST_P(ShaftsBoth, UseListsVariantsHandleIrregularRaysAsThePlainCalls) {
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(400, 8));
+  const ShaftsAccelerator acc(scene, GetParam(), fine_config(200, 2));
+  const float inf = kInfinity, tiny = std::numeric_limits<float>::denorm_min();
+  RayBatch rays;
+  for (size_t p = 0; p < scene.triangles.size(); p += 4) {
+    const Vec3 aim = scene.triangles[p].centroid(), o = aim + Vec3(5.0f, 0.5f, -0.25f), d = aim - o;
+    rays.push_back({aim + Vec3(5.0f, 0.0f, 0.0f), 0.0f, {inf, 0.5f, 0.25f}, inf});
+    rays.push_back({o, 0.0f, d * 0x1p-100f, inf});
+    rays.push_back({o, 0.0f, d * 0x1p100f, inf});
+    rays.push_back({o, 0.0f, {d.x, d.y, tiny}, inf});
+  }
+  HitBatch ref;
+  std::vector<uint8_t> ref_occ;
+  acc.intersect(rays, ref);
+  acc.occluded(rays, ref_occ);
+  size_t hits = 0;
+  for (const uint32_t prim : ref.prim) hits += prim != kInvalidId;
+  EXPECT_GT(hits, rays.size() / 4);
+  for (const bool use_lists : {true, false}) {
+    HitBatch got;
+    std::vector<uint8_t> got_occ;
+    acc.intersect(rays, got, nullptr, use_lists);
+    acc.occluded(rays, got_occ, nullptr, use_lists);
+    const HitDiff d = compare_hits(ref, got, 0.0f);
+    EXPECT_TRUE(d.ok()) << "use_lists " << use_lists << ": " << d.first;
+    EXPECT_EQ(got_occ, ref_occ) << "use_lists " << use_lists;
+  }
+}
+
 // A tree without nodes has no geometry: the selected shafts (here by pre-pass rays, which an
 // empty tree does not stop) are listed as reaching nothing, and their rays miss at once.
 TEST(ShaftCollection, EmptyTreeListsReachNothing) {

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -66,6 +67,14 @@ class Accelerator {
   /// [2^-32, 2^32] or zero (or whose direction is NaN, to miss).
   virtual void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const = 0;
   virtual void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const = 0;
+
+  /// intersect() and occluded() with `trace` in place of the *_batch call: for a subclass's
+  /// public variant of them (ShaftsAccelerator's use_lists), which must handle irregular
+  /// values as the contract says.
+  static void intersect_with(const RayBatch& rays, HitBatch& hits,
+                             const std::function<void(const RayBatch&, HitBatch&)>& trace);
+  static void occluded_with(const RayBatch& rays, std::vector<uint8_t>& occluded,
+                            const std::function<void(const RayBatch&, std::vector<uint8_t>&)>& trace);
 };
 
 /// The reference: tests every ray against every triangle. Single source of truth in tests.

@@ -43,6 +43,7 @@ class ShaftsAccelerator final : public Accelerator {
   using Accelerator::intersect;
   using Accelerator::occluded;
   /// use_lists = false traces the very same BVH from the root: the side-by-side baseline.
+  /// Irregular rays are handled as by Accelerator::intersect and occluded.
   void intersect(const RayBatch& rays, HitBatch& hits, TraceStats* stats, bool use_lists) const;
   void occluded(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats,
                 bool use_lists) const;
@@ -59,6 +60,9 @@ class ShaftsAccelerator final : public Accelerator {
  private:
   void intersect_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats) const override;
   void occluded_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats) const override;
+  /// The batch loops behind both, on rays the base class has made regular.
+  void trace_batch(const RayBatch& rays, HitBatch& hits, TraceStats* stats, bool use_lists) const;
+  void trace_batch(const RayBatch& rays, std::vector<uint8_t>& occluded, TraceStats* stats, bool use_lists) const;
 
   Base base_;
   Bvh2 bvh2_;
