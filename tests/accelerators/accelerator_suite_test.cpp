@@ -451,6 +451,50 @@ TEST(Watertight, RaysFromInsideAClosedSphereAllHit) {
   }
 }
 
+// A library caller may build over no triangles, or over degenerate ones only (the scene loader
+// refuses the first and drops the second): every accelerator builds; with no triangles every
+// ray misses, and over points and segments (collinear vertices) ours answer as brute force
+// does, also for rays aimed exactly at them. (Brute force hits some: translated to the ray's
+// origin and sheared, collinear vertices round off their line, so det is not 0.)
+TEST(DegenerateScenes, NoTrianglesMissAndZeroAreaTrianglesMatchBruteForce) {
+  const Vec3 p(0.25f, 0.5f, 0.75f), q(1.25f, 2.5f, 3.75f), mid(0.75f, 1.5f, 2.25f);  // mid: exactly (p + q) / 2
+  const std::vector<std::vector<Triangle>> sets = {{}, {{p, p, p}, {p, q, p}, {p, mid, q}, {q, q, p}, {mid, p, q}}};
+  for (size_t k = 0; k < sets.size(); ++k) {
+    const Scene scene = testing::scene_from_triangles(sets[k]);
+    RayBatch rays;
+    for (const Vec3& target : {p, q, mid, Vec3(0.0f)})
+      for (const Vec3& from : {Vec3(-1.0f, 0.3f, 0.2f), Vec3(2.0f, -1.0f, 5.0f), p + Vec3(0.0f, 0.0f, -1.0f)}) {
+        rays.push_back({from, 0.0f, target - from, kInfinity});
+        rays.push_back({from, -kInfinity, target - from, kInfinity});
+      }
+    HitBatch ref;
+    std::vector<uint8_t> ref_occ;
+    BruteForce(scene.triangles).intersect(rays, ref);
+    BruteForce(scene.triangles).occluded(rays, ref_occ);
+    for (const auto& a : accelerators()) {
+      const auto accel = make_accelerator(a.name, scene);
+      HitBatch hits;
+      std::vector<uint8_t> occ;
+      TraceStats stats;
+      accel->intersect(rays, hits, &stats);
+      accel->occluded(rays, occ, &stats);
+      EXPECT_EQ(stats.rays, 2 * rays.size()) << a.name;
+      ASSERT_EQ(hits.size(), rays.size()) << a.name;
+      ASSERT_EQ(occ.size(), rays.size()) << a.name;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        if (k == 0) {
+          EXPECT_EQ(hits.prim[i], kInvalidId) << a.name << ", ray " << i;
+          EXPECT_EQ(occ[i], 0) << a.name << ", ray " << i;
+        } else if (a.name != "embree") {  // Embree's own triangle test decides these its way
+          EXPECT_EQ(hits.prim[i], ref.prim[i]) << a.name << ", ray " << i;
+          EXPECT_EQ(hits.t[i], ref.t[i]) << a.name << ", ray " << i;
+          EXPECT_EQ(occ[i], ref_occ[i]) << a.name << ", ray " << i;
+        }
+      }
+    }
+  }
+}
+
 // A hit at t = -inf (tmin = -inf) or +inf (tmin = +inf): Woop's t numerator eu * az overflows for large triangles far
 // behind the origin although their true t (~ -1e19 here) and box distances are finite, so every
 // triangle the ray meets ties at -inf and the smallest id wins. The culled box interval must not
