@@ -87,12 +87,14 @@ const std::vector<AcceleratorInfo>& accelerators() {
 namespace {
 
 // The options read into a build that has not run yet; throws InputError for an unknown name
-// or an option the accelerator does not have.
+// or an option the accelerator does not have. Read from a copy that has read nothing yet:
+// keys another accelerator read from the caller's object would otherwise pass as this one's.
 Build prepare(const std::string& name, const Scene& scene, const AcceleratorOptions& options) {
   for (const auto& e : registry()) {
     if (e.info.name != name) continue;
-    Build build = e.make(scene, options);
-    options.check_all_used(name);
+    const AcceleratorOptions unread = options.unread();
+    Build build = e.make(scene, unread);
+    unread.check_all_used(name);
     return build;
   }
   std::string known;

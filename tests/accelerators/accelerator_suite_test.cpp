@@ -362,6 +362,19 @@ TEST(Registry, EveryAcceleratorBuildsUnderItsOwnName) {
   }
 }
 
+// One options object handed to several accelerators: each is judged by its own reads. A key
+// one accelerator read (bvh's collapse) passed as read for the next (dacrt, which has no such
+// option) and was silently ignored there.
+TEST(Registry, AKeyAnotherAcceleratorReadIsStillUnknown) {
+  const Scene scene = testing::scene_from_triangles(testing::grid(2));
+  AcceleratorOptions o;
+  o.set("collapse=sah");
+  EXPECT_NO_THROW(make_accelerator("bvh", scene, o));
+  EXPECT_THROW(make_accelerator("dacrt", scene, o), InputError);
+  EXPECT_THROW(check_accelerator("bvh2", o), InputError);
+  EXPECT_NO_THROW(check_accelerator("bvh", o));
+}
+
 // `rayscout accelerators` prints each description; those that list their options ("options
 // bins, ...", "plus collapse=greedy|sah, ...") must list keys the accelerator reads, or the
 // help goes stale when a key is renamed. An unknown key says "has no option(s)"; a known one

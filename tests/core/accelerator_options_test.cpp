@@ -58,5 +58,17 @@ TEST(AcceleratorOptions, UnusedKeyErrorNamesTheKeysRead) {
   }
 }
 
+// unread(): the same values, none of them asked for yet (what make_accelerator reads from).
+TEST(AcceleratorOptions, UnreadKeepsTheValuesAndForgetsTheReads) {
+  AcceleratorOptions o;
+  o.set("bins=8");
+  EXPECT_EQ(o.get_int("bins", 32), 8);
+  EXPECT_NO_THROW(o.check_all_used("bvh"));
+  const AcceleratorOptions fresh = o.unread();
+  EXPECT_THROW(fresh.check_all_used("brute"), InputError);
+  EXPECT_EQ(fresh.get_int("bins", 32), 8);
+  EXPECT_NO_THROW(fresh.check_all_used("bvh"));
+}
+
 }  // namespace
 }  // namespace rayscout

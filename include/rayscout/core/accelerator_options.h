@@ -57,6 +57,13 @@ class AcceleratorOptions {
   bool has(const std::string& key) const { return values_.count(key) != 0; }
   /// Throws InputError naming every key that no get_* call asked for.
   void check_all_used(const std::string& accelerator) const;
+  /// The same keys and values with none asked for yet: what one accelerator's reading starts
+  /// from, so that check_all_used() judges its reads alone.
+  AcceleratorOptions unread() const {
+    AcceleratorOptions o;
+    o.values_ = values_;
+    return o;
+  }
 
  private:
   /// "key=value" split at the first '='; throws InputError on a missing '=' or key.
