@@ -61,8 +61,8 @@ inline float filter_tmin(float tmin) { return tmin == kInfinity ? -kInfinity : t
 
 #if defined(__AVX512F__)
 /// filter_tmin and filter_tmax in 16 lanes, one fixupimm each (token +inf -> -inf, token -inf
-/// -> +inf; every other token keeps the first operand), so the filter costs one instruction
-/// more than before the infinite cases: t + |t| kHitSlack >= t for every other t.
+/// -> +inf; every other token keeps the first operand): the infinite cases cost one
+/// instruction per limit. No max with t is needed: t + |t| kHitSlack >= t for every other t.
 inline __m512 filter_tmin16(__m512 tmin) { return _mm512_fixupimm_ps(tmin, tmin, _mm512_set1_epi32(0x4 << 20), 0); }
 inline __m512 filter_tmax16(__m512 t) {
   const __m512 grown = _mm512_add_ps(t, _mm512_mul_ps(_mm512_abs_ps(t), _mm512_set1_ps(kHitSlack)));
