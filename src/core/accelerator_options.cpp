@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 namespace rayscout {
 namespace {
@@ -13,9 +14,16 @@ T parse_number(const std::string& key, const std::string& text) {
   T value{};
   const char* end = text.data() + text.size();
   auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  if (ec != std::errc() || ptr != end)
-    throw InputError("option '" + key + "': '" + text + "' is not a number");
-  return value;
+  if (ec == std::errc() && ptr == end) return value;
+  const std::string said = "option '" + key + "': '" + text + "' ";
+  if (ec == std::errc::result_out_of_range && ptr == end) throw InputError(said + "is out of range");
+  // Say which rule the text broke: bins=1e9 is a number, just not an integer.
+  if constexpr (std::is_integral_v<T>) {
+    double d = 0;
+    const auto r = std::from_chars(text.data(), end, d);
+    if (!text.empty() && r.ptr == end && r.ec != std::errc::invalid_argument) throw InputError(said + "is not an integer");
+  }
+  throw InputError(said + "is not a number");
 }
 
 // The shortest text that reads back as x: 1.0000001 must not print as 1 next to a bound of 1.

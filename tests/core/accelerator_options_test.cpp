@@ -26,6 +26,28 @@ TEST(AcceleratorOptions, OutOfRangeDoubleIsPrintedAsGiven) {
   EXPECT_EQ(error_of(o, 1e-6, 4096.0), "option 'fraction': 5e-07 is not in [1e-06, 4096]");
 }
 
+// Each malformed value names the rule it broke: bins=1e9 said "'1e9' is not a number".
+TEST(AcceleratorOptions, MalformedValuesSayWhatIsWrong) {
+  auto error = [](const std::string& kv, bool integer) {
+    AcceleratorOptions o;
+    o.set(kv);
+    try {
+      if (integer) (void)o.get_int("k", 0);
+      else (void)o.get_double("k", 0.0);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("k=1e9", true), "option 'k': '1e9' is not an integer");
+  EXPECT_EQ(error("k=16.5", true), "option 'k': '16.5' is not an integer");
+  EXPECT_EQ(error("k=99999999999999999999", true), "option 'k': '99999999999999999999' is out of range");
+  EXPECT_EQ(error("k=1e999", false), "option 'k': '1e999' is out of range");
+  EXPECT_EQ(error("k=8x", true), "option 'k': '8x' is not a number");
+  EXPECT_EQ(error("k=", true), "option 'k': '' is not a number");
+  EXPECT_EQ(error("k=x", false), "option 'k': 'x' is not a number");
+}
+
 TEST(AcceleratorOptions, RepeatedKeyAndUnusedKeyAreErrors) {
   const std::string list[] = {"skip=on", "skip=off"};
   EXPECT_THROW(AcceleratorOptions::from_list(list), InputError);
