@@ -337,3 +337,59 @@ TEST(ManylightVisibilityClusters, MorePairsThan32BitIdsAreAnInputError) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// Fig. 1(c) with rayscout's floor (docs/manylight.md, pmf): a pair's sampling weight is
+// C max(r, r_floor). With refinement off, r and C do not depend on r_floor, so the weights C
+// read from an r_floor = 1 run (visibility ignored) predict every other floor's pmf; and an
+// occluded pair (r = 0, its C seen > 0) keeps more than the uniform share. Weighting by C r
+// (the floor dropped) passed every other test.
+TEST(ManylightVisibilityClusters, RFloorKeepsOccludedPairsAboveTheUniformShare) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.width = 32;
+  config.height = 24;
+  config.vpl_count = 500;
+  config.shading_clusters = config.vpl_clusters = 16;
+  config.refine_samples = 0;
+  config.uniform_mix = 0.1f;
+  auto clusters_with_floor = [&](float r_floor) {
+    ManylightConfig c = config;
+    c.r_floor = r_floor;
+    return ManylightRenderer(scene, *accel, c).clusters();
+  };
+  const VisibilityClusters ones = clusters_with_floor(1.0f), floored = clusters_with_floor(0.25f);
+  ASSERT_EQ(ones.r, floored.r);
+  const size_t nl = ones.vpl_cluster_count();
+  const double n = double(ManylightRenderer(scene, *accel, config).vpls().vpls.size());
+  const double mix = config.uniform_mix;
+  size_t occluded = 0, predicted = 0;
+  for (size_t s = 0; s < ones.shading.size(); ++s) {
+    std::vector<double> c(nl), w(nl);
+    double row = 0;
+    for (size_t l = 0; l < nl; ++l) {
+      const double uniform = mix * double(ones.lights.count(l)) / n;
+      c[l] = std::max(0.0, ones.vpl_cluster_choice[s].probability(l) - uniform) / (1.0 - mix);  // C / sum C
+      w[l] = c[l] * std::max(double(ones.r[s * nl + l]), 0.25);
+      row += w[l];
+      if (ones.r[s * nl + l] == 0.0f) {
+        EXPECT_GT(ones.vpl_cluster_choice[s].probability(l), uniform + 1e-9) << "pair " << s << ", " << l;
+        ++occluded;
+      }
+    }
+    if (!(row > 0)) continue;
+    for (size_t l = 0; l < nl; ++l) {
+      const double expect = (1.0 - mix) * w[l] / row + mix * double(ones.lights.count(l)) / n;
+      EXPECT_NEAR(floored.vpl_cluster_choice[s].probability(l), expect, 1e-6) << "pair " << s << ", " << l;
+      ++predicted;
+    }
+  }
+  EXPECT_GT(occluded, 0u);
+  EXPECT_GT(predicted, 0u);
+}
+
+}  // namespace
+}  // namespace rayscout
