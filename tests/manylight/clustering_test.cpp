@@ -391,5 +391,100 @@ TEST(ManylightVisibilityClusters, RFloorKeepsOccludedPairsAboveTheUniformShare) 
   EXPECT_GT(predicted, 0u);
 }
 
+// A light path from a point light carries its whole power 4 pi I / pdf (start_path); its first
+// surface vertex keeps that flux. The path starts alone were checked: a flux of I / pdf passed
+// every test (the default scene's indirect light comes mostly from its area light).
+TEST(ManylightVpls, APointLightsPathCarriesItsWholePower) {
+  Scene scene = default_scene();
+  scene.emissive_triangles.clear();  // the point light alone: pdf = 1
+  for (Material& m : scene.materials) m.emission = Vec3(0.0f);
+  ASSERT_EQ(scene.point_lights.size(), 1u);
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.vpl_count = 400;
+  config.max_vpl_bounces = 1;  // every surface VPL is the first vertex of its path
+  const VplSet set = generate_vpls(scene, *accel, config);
+  const Vec3 start = scene.point_lights[0].intensity * (1.0f / float(set.light_paths));
+  size_t surface = 0;
+  for (const Vpl& v : set.vpls) {
+    if (v.kind == Vpl::Kind::Point) {
+      EXPECT_NEAR(v.power.x, start.x, 1e-6 * start.x);
+      continue;
+    }
+    ASSERT_EQ(v.kind, Vpl::Kind::Surface);
+    ++surface;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(v.power[c], 4 * std::numbers::pi_v<float> * start[c], 1e-5 * 4 * std::numbers::pi_v<float> * start[c]);
+  }
+  EXPECT_GT(surface, set.light_paths / 2);
+}
+
+// Fig. 1(c): a VPL cluster's weight is its members' summed contribution, the mean of the sampled
+// pairs times the member count. Three equal VPLs, clustered {A} and {B, C}: cluster A has
+// probability 1/3, not 1/2 as the mean alone gives (which passed every other test; balanced
+// clusters hide it).
+TEST(ManylightVisibilityClusters, AClustersWeightSumsItsMembers) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  std::vector<ShadingPoint> points(1);
+  points[0].position = Vec3(0.0f, 0.01f, 0.0f);
+  points[0].normal = points[0].wo = Vec3(0.0f, 1.0f, 0.0f);
+  points[0].weight = Vec3(1.0f);
+  VplSet vpls;
+  vpls.light_paths = 1;
+  for (float x : {-0.5f, 0.5f, 0.5f}) {  // mirror images: equal contributions
+    Vpl v;
+    v.position = Vec3(x, 1.0f, 0.0f);
+    v.power = Vec3(1.0f);
+    vpls.vpls.push_back(v);
+  }
+  ManylightConfig config;
+  config.shading_clusters = 1;
+  config.vpl_clusters = 2;
+  config.r_floor = 1.0f;  // weights by contribution alone, whatever the visibility
+  const VisibilityClusters vc = build_visibility_clusters(scene, *accel, points, vpls, config);
+  ASSERT_EQ(vc.vpl_cluster_count(), 2u);
+  for (size_t l = 0; l < 2; ++l) {
+    const double share = double(vc.lights.count(l)) / 3.0;
+    EXPECT_NEAR(vc.vpl_cluster_choice[0].probability(l), share, 1e-12) << "cluster " << l;
+  }
+  EXPECT_NE(vc.lights.count(0), vc.lights.count(1));
+}
+
+// Refinement (docs/manylight.md): extra rays go to the pairs whose visibility is mixed
+// (0 < r < 1) and whose weight is at least their row's mean. The weights of the first estimate
+// are read back from a run without refinement (pmf = (1 - mix) w / row + mix |V| / N); the
+// other run must refine exactly those pairs. Refining the light pairs instead passed every test.
+TEST(ManylightVisibilityClusters, RefinementPicksTheMixedPairsOfAboveMeanWeight) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("bvh", scene);
+  ManylightConfig config;
+  config.width = 32;
+  config.height = 24;
+  config.vpl_count = 500;
+  config.shading_clusters = config.vpl_clusters = 16;
+  config.uniform_mix = 0.1f;
+  config.refine_samples = 0;
+  ManylightRenderer plain(scene, *accel, config);
+  config.refine_samples = 8;
+  ManylightRenderer refined(scene, *accel, config);
+  const VisibilityClusters& vc = plain.clusters();
+  const size_t nl = vc.vpl_cluster_count();
+  const double n = double(plain.vpls().vpls.size()), mix = config.uniform_mix;
+  size_t surely = 0, maybe = 0;  // above the mean by a margin, or within it
+  for (size_t s = 0; s < vc.shading.size(); ++s)
+    for (size_t l = 0; l < nl; ++l) {
+      const float r = vc.r[s * nl + l];
+      if (!(r > 0.0f && r < 1.0f)) continue;
+      const double share = (vc.vpl_cluster_choice[s].probability(l) - mix * double(vc.lights.count(l)) / n) / (1 - mix);
+      if (share >= 1.0 / double(nl) + 1e-9) ++surely;
+      else if (share >= 1.0 / double(nl) - 1e-9) ++maybe;
+    }
+  EXPECT_GT(surely, 0u);
+  EXPECT_GE(refined.clusters().refined_pairs, surely);
+  EXPECT_LE(refined.clusters().refined_pairs, surely + maybe);
+  EXPECT_EQ(plain.clusters().refined_pairs, 0u);
+}
+
 }  // namespace
 }  // namespace rayscout
