@@ -108,3 +108,24 @@ TEST(DiscreteDistribution, RejectsBadWeights) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// The rounding remainder goes to the largest item (the first of equal ones), where it changes
+// the share least: the smallest absorbing it passed the other tests (their shares round to
+// exactly 2^bits, or they skip item 0).
+TEST(DiscreteDistribution, TheLargestItemAbsorbsTheRoundingRemainder) {
+  const auto units = [](const DiscreteDistribution& d, size_t k) { return d.cdf(k) - (k ? d.cdf(k - 1) : 0); };
+  const DiscreteDistribution short_of(std::vector<double>{3, 5, 7}, 4);  // 3.2, 5.33, 7.47 -> 3 + 5 + 7 = 15
+  EXPECT_EQ(units(short_of, 0), 3u);
+  EXPECT_EQ(units(short_of, 1), 5u);
+  EXPECT_EQ(units(short_of, 2), 8u);
+  const DiscreteDistribution over(std::vector<double>{1, 2.6, 2.6}, 4);  // 2.58, 6.71, 6.71 -> 3 + 7 + 7 = 17
+  EXPECT_EQ(units(over, 0), 3u);
+  EXPECT_EQ(units(over, 1), 6u);
+  EXPECT_EQ(units(over, 2), 7u);
+}
+
+}  // namespace
+}  // namespace rayscout
