@@ -430,3 +430,25 @@ TEST(Bsdf, GlossyAlbedoStaysWithinKdAndKdPlusKsAtEveryIncidence) {
 
 }  // namespace
 }  // namespace rayscout
+
+#include "direct_lighting.h"  // src/render (private): the MIS weight of next-event estimation
+
+namespace rayscout {
+namespace {
+
+// Veach 1997 eq. 9.13 with beta = 2, as the path integrator's comment says: a sample of density
+// f (nf samples) against g (ng samples) weighs (nf f)^2 / ((nf f)^2 + (ng g)^2). The balance
+// heuristic (beta = 1) is as unbiased, so no image test saw it replace the power heuristic.
+TEST(MisWeight, PowerHeuristicIsVeachsBetaTwo) {
+  EXPECT_FLOAT_EQ(detail::power_heuristic(1.0f, 2.0f, 1.0f, 1.0f), 0.8f);   // 4 / (4 + 1)
+  EXPECT_FLOAT_EQ(detail::power_heuristic(4.0f, 1.0f, 1.0f, 2.0f), 0.8f);   // 16 / (16 + 4)
+  EXPECT_FLOAT_EQ(detail::power_heuristic(1.0f, 1.0f, 1.0f, 3.0f), 0.1f);   // 1 / (1 + 9)
+  // The two strategies' weights of one sample add up to 1.
+  EXPECT_FLOAT_EQ(detail::power_heuristic(2.0f, 0.7f, 1.0f, 1.9f) + detail::power_heuristic(1.0f, 1.9f, 2.0f, 0.7f), 1.0f);
+  EXPECT_EQ(detail::power_heuristic(1.0f, 0.0f, 1.0f, 1.0f), 0.0f);
+  EXPECT_EQ(detail::power_heuristic(1.0f, 1.0f, 1.0f, 0.0f), 1.0f);
+  EXPECT_EQ(detail::power_heuristic(1.0f, INFINITY, 1.0f, 1.0f), 1.0f);
+}
+
+}  // namespace
+}  // namespace rayscout
