@@ -390,3 +390,55 @@ TEST(DacrtParallel, SameOcclusionForAnyThreadCount) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+/// n rays from far outside the scene's box, all aimed into it (each hits the root box).
+RayBatch rays_into(const Bounds3& box, size_t n) {
+  RayBatch rays;
+  const Vec3 c = box.center(), d = box.diagonal();
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 target = c + Vec3(d.x * (float(i % 4) - 1.5f) * 0.1f, d.y * (float(i / 4 % 4) - 1.5f) * 0.1f, 0.0f);
+    const Vec3 org = c - Vec3(0.0f, 0.0f, 10.0f * length(d));
+    rays.push_back({org, 0.0f, target - org, kInfinity});
+  }
+  return rays;
+}
+
+// Algorithm 1, line 2: a node is a NaiveRT leaf when |R| < delta_R or |T| < delta_T, strictly;
+// and rays are sampled from min_rays on (>=). A node of exactly delta_R rays (delta_T
+// triangles) is split; one fewer is a leaf. The off-by-one in either (<=, or > for min_rays)
+// passed every other test.
+TEST(DacrtCounters, LeafAndSamplingThresholdsAreExact) {
+  const Scene scene = testing::scene_from_triangles(testing::random_soup(300, 6));
+  const Bounds3 box = scene.bounds();
+  auto leaves = [&](size_t nr, size_t nt, const std::vector<std::string>& opts) {
+    std::vector<Triangle> tris(scene.triangles.begin(), scene.triangles.begin() + nt);
+    std::vector<std::string> all = opts;
+    all.push_back("parallel=off");
+    DacrtAccelerator accel(tris, DacrtConfig::from_options(testing::options_of(all), DacrtConfig::afra()));
+    HitBatch hits;
+    TraceStats stats;
+    accel.intersect(rays_into(box, nr), hits, &stats);
+    return accel.last_stats().leaves;
+  };
+  EXPECT_EQ(leaves(7, 300, {"delta_r=8"}), 1u);
+  EXPECT_GT(leaves(8, 300, {"delta_r=8"}), 1u);
+  EXPECT_EQ(leaves(16, 7, {"delta_r=8", "delta_t=8"}), 1u);
+  EXPECT_GT(leaves(16, 8, {"delta_r=8", "delta_t=8"}), 1u);
+
+  auto sampled = [&](size_t nr, const std::string& min_rays) {
+    DacrtAccelerator accel(scene.triangles,
+                           DacrtConfig::from_options(testing::options_of({min_rays, "parallel=off"}), DacrtConfig::ray_sampled()));
+    HitBatch hits;
+    TraceStats stats;
+    accel.intersect(rays_into(box, nr), hits, &stats);
+    return accel.last_stats().sampled_nodes;
+  };
+  EXPECT_GT(sampled(16, "min_rays=16"), 0u);
+  EXPECT_EQ(sampled(16, "min_rays=17"), 0u);
+}
+
+}  // namespace
+}  // namespace rayscout
