@@ -808,3 +808,42 @@ TEST(ShaftsPresplit, WideDefaultBuildIsCoveredAndExact) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// A shaft whose list proves it reaches no geometry answers a miss without traversal (not even
+// the root's box test). Tracing such rays from the root instead kept every hit and passed the
+// other tests (Candidates::reaches_nothing). Such shafts start in empty voxels, which only the
+// pre-pass selections list: here the camera's voxel, under a floor-wide view, looking up.
+TEST(ShaftsBinary, RaysOfShaftsReachingNothingCostNoTraversal) {
+  std::vector<Triangle> tris;
+  tris.push_back({{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}});
+  tris.push_back({{-1, 0, -1}, {1, 0, 1}, {-1, 0, 1}});
+  tris.push_back({{0.9f, 2, 0.9f}, {1, 2, 0.9f}, {1, 2, 1}});  // stretches the box up to y = 2
+  Scene scene = testing::scene_from_triangles(tris);
+  scene.camera.eye = Vec3(0.0f, 1.0f, 0.0f);
+  scene.camera.look_at = Vec3(0.0f, 0.0f, 0.3f);
+  ShaftConfig c = fine_config(512, 3);
+  c.select = ShaftSelect::CameraVoxels;
+  c.prepass_width = 16;
+  const ShaftsAccelerator acc(scene, Base::Binary, c);
+  RayBatch up;
+  for (int i = 0; i < 16; ++i)
+    up.push_back({Vec3(0.0f, 1.0f, 0.0f), 0.0f, Vec3(0.02f * float(i % 4) - 0.03f, 1.0f, 0.02f * float(i / 4) - 0.03f), kInfinity});
+  for (size_t i = 0; i < up.size(); ++i) ASSERT_TRUE(acc.collection().lookup(up[i]).reaches_nothing) << i;
+  TraceStats stats;
+  HitBatch hits;
+  acc.intersect(up, hits, &stats, true);
+  for (size_t i = 0; i < up.size(); ++i) EXPECT_EQ(hits.prim[i], kInvalidId) << i;
+  EXPECT_EQ(stats.traversal_steps, 0u);
+  EXPECT_EQ(stats.ray_box_tests, 0u);
+  std::vector<uint8_t> occ;
+  TraceStats occ_stats;
+  acc.occluded(up, occ, &occ_stats, true);
+  EXPECT_EQ(std::count(occ.begin(), occ.end(), uint8_t(1)), 0);
+  EXPECT_EQ(occ_stats.traversal_steps, 0u);
+}
+
+}  // namespace
+}  // namespace rayscout
