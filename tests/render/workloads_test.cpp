@@ -147,3 +147,27 @@ TEST(Workloads, SampleCountBeyond32BitsNamesTheValues) {
 
 }  // namespace
 }  // namespace rayscout
+
+namespace rayscout {
+namespace {
+
+// A point light within 2 eps of the hit still gets its shadow ray (a fixed count per hit), one
+// that tests nothing: tmax < tmin. Its end dropped (tmax = inf along the normal) passed the
+// other tests, and would test the whole scene above the point.
+TEST(Workloads, ALightAtTheHitPointGetsARayThatTestsNothing) {
+  Scene scene = testing::scene_from_triangles(testing::grid(4));
+  scene.camera.eye = {0.5f, 0.5f, 1.0f};
+  scene.camera.look_at = {0.5f, 0.5f, 0.0f};
+  scene.camera.fov_deg = 1e-3f;  // the one pixel sees (0.5, 0.5, 0), where the light is
+  scene.point_lights = {{Vec3{0.5f, 0.5f, 0.0f}, Vec3{1.0f}}};
+  const auto accel = make_accelerator("brute", scene);
+  const RayBatch rays = make_workload(scene, *accel, Workload::Shadow, {.width = 1, .height = 1});
+  ASSERT_EQ(rays.size(), 1u);
+  EXPECT_LT(rays[0].tmax, rays[0].tmin);
+  std::vector<uint8_t> occ;
+  accel->occluded(rays, occ);
+  EXPECT_EQ(occ[0], 0);
+}
+
+}  // namespace
+}  // namespace rayscout
