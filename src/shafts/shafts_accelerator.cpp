@@ -74,10 +74,8 @@ namespace {
 class SeededBvh2 {
  public:
   explicit SeededBvh2(const Bvh2& bvh) : bvh_(bvh) {}
-  // Bvh2 makes its own RayPrecomp, and box-tests the start entries itself (no start_dist).
-  template <bool Stats>
-  Hit intersect(const Ray& ray, const RayPrecomp*, std::span<const uint32_t> start, TraceStats* stats,
-                std::span<const float> = {}) const {
+  template <bool Stats>  // Bvh2 makes its own RayPrecomp
+  Hit intersect(const Ray& ray, const RayPrecomp*, std::span<const uint32_t> start, TraceStats* stats) const {
     return bvh_.intersect<Stats>(ray, start, stats);
   }
   template <bool Stats>
@@ -94,9 +92,8 @@ class SeededWide {
  public:
   explicit SeededWide(const WideBvh& bvh) : bvh_(bvh) {}
   template <bool Stats>
-  Hit intersect(const Ray& ray, const RayPrecomp* rp, std::span<const uint32_t> start, TraceStats* stats,
-                std::span<const float> start_dist = {}) const {
-    return rp ? bvh_.intersect<Stats>(ray, *rp, start, stats, start_dist) : bvh_.intersect<Stats>(ray, start, stats);
+  Hit intersect(const Ray& ray, const RayPrecomp* rp, std::span<const uint32_t> start, TraceStats* stats) const {
+    return rp ? bvh_.intersect<Stats>(ray, *rp, start, stats) : bvh_.intersect<Stats>(ray, start, stats);
   }
   template <bool Stats>
   bool occluded(const Ray& ray, const RayPrecomp* rp, std::span<const uint32_t> start, TraceStats* stats) const {
@@ -126,14 +123,13 @@ void trace_boxed(const detail::EntryBoxCodec& codec, const Seeded& bvh, const Ra
                                        refs, dist);
   if constexpr (Stats) local.ray_box_tests += c.list.size();
   if (n == 0) return;
-  // One traversal seeded with the surviving entries, nearest first, and for a closest hit their
-  // entry distances, so that it pops an entry beyond the current hit without a step. (Seeding
-  // one subtree per call instead was measured slower: per-call overhead.)
+  // One traversal seeded with the surviving entries, nearest first. (Seeding one subtree at a
+  // time and skipping entries beyond the current hit was measured slower: per-call overhead.)
   const std::span<const uint32_t> start(refs, size_t(n));
   if constexpr (Any) {
     (*occ)[i] = bvh.template occluded<Stats>(ray, &rp, start, &local) ? 1 : 0;
   } else {
-    const Hit h = bvh.template intersect<Stats>(ray, &rp, start, &local, std::span<const float>(dist, size_t(n)));
+    const Hit h = bvh.template intersect<Stats>(ray, &rp, start, &local);
     if (h.hit()) hits->set(i, h);
   }
 }

@@ -229,40 +229,6 @@ TEST(BvhTraversal, StartingFromNodesThatMissTheGeometryGivesAMiss) {
   EXPECT_TRUE(wide.intersect<false>(near_ray, near_refs, nullptr).hit());
 }
 
-// A seeded wide traversal given its start entries' entry distances (shafts-wide hands in
-// those of its entry boxes) leaves an entry that lies beyond the hit found so far without a
-// step; without them it visits it. Two stacked quads, a ray down onto the top one at t = 1,
-// seeded with both leaves, near first: the bottom leaf is entered at t = 2.
-TEST(BvhTraversal, WideStartEntriesBeyondTheHitAreLeftWhenTheirDistancesAreGiven) {
-  const auto two = stacked_quads(2);
-  const WideBvh wide = WideBvh::from_bvh2(Bvh2::build(two), two);
-  ASSERT_EQ(wide.nodes.size(), 1u);
-  ASSERT_EQ(wide.nodes[0].count, 2u);
-  const bool top_first = wide.nodes[0].child_bounds(0).lo.z == 1.0f;
-  const uint32_t start[2] = {wide.nodes[0].child[top_first ? 0 : 1], wide.nodes[0].child[top_first ? 1 : 0]};
-  const float dist[2] = {1.0f, 2.0f};
-  const Ray ray = through_stack(2, true);
-  const RayPrecomp rp(ray.dir);
-  TraceStats without, with;
-  const Hit a = wide.intersect<true>(ray, rp, start, &without);
-  const Hit b = wide.intersect<true>(ray, rp, start, &with, dist);
-  EXPECT_EQ(a.prim, 2u);
-  EXPECT_EQ(a.t, 1.0f);
-  EXPECT_EQ(b.prim, 2u);
-  EXPECT_EQ(b.t, 1.0f);
-  EXPECT_EQ(without.traversal_steps, 2u);  // both leaves
-  EXPECT_EQ(without.ray_tri_tests, 4u);
-  EXPECT_EQ(with.traversal_steps, 1u);  // the top leaf alone
-  EXPECT_EQ(with.ray_tri_tests, 2u);
-  // With tmin past the top quad the bottom leaf, no longer beyond a hit, is still traversed.
-  Ray past = ray;
-  past.tmin = 1.5f;
-  const float past_dist[2] = {1.5f, 2.0f};
-  const Hit c = wide.intersect<false>(past, rp, start, nullptr, past_dist);
-  EXPECT_EQ(c.prim, 0u);
-  EXPECT_EQ(c.t, 2.0f);
-}
-
 TEST(BvhTraversal, EmptyTreeMisses) {
   const Bvh2 bvh = Bvh2::build({});
   const WideBvh wide = WideBvh::build({});

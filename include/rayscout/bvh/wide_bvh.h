@@ -120,11 +120,8 @@ class WideBvh {
   template <bool CaptureStats>
   bool occluded(const Ray& ray, std::span<const uint32_t> start, TraceStats* stats) const;
   /// The same two, for a caller that already holds the ray's precomputed RayPrecomp(ray.dir).
-  /// start_dist, when given (one per start entry), bounds from below where the ray enters each
-  /// start entry's box: an entry beyond the closest hit found so far is then left without a step.
   template <bool CaptureStats>
-  Hit intersect(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats,
-                std::span<const float> start_dist = {}) const;
+  Hit intersect(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   template <bool CaptureStats>
   bool occluded(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   /// The widened interval the traversal box-tests with for this ray (over `bounds`).
@@ -155,8 +152,7 @@ class WideBvh {
   // The traversals; Finite: the ray's origin and inverse direction are finite, so no slab
   // distance is NaN and the box test may combine axes in any order (same result, shorter chain).
   template <bool CaptureStats, bool Finite>
-  Hit intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats,
-                     std::span<const float> start_dist) const;
+  Hit intersect_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   template <bool CaptureStats, bool Finite>
   bool occluded_impl(const Ray& ray, const RayPrecomp& rp, std::span<const uint32_t> start, TraceStats* stats) const;
   int depth_ = 0;
