@@ -194,15 +194,20 @@ TEST(ManylightVpls, PowerBeyondTheFloatRangeIsAnInputError) {
   EXPECT_EQ(error_of(), "manylight: the lights' total power overflows float (intensities or emissions too large)");
 }
 
-TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
-  const Scene scene = default_scene();
-  auto accel = make_accelerator("brute", scene);
+// The Cornell box's clustering at a small size: 32x24 shading points, 500 VPLs, 16 x 16 clusters.
+ManylightConfig small_clustered_config() {
   ManylightConfig config;
   config.width = 32;
   config.height = 24;
   config.vpl_count = 500;
-  config.shading_clusters = 16;
-  config.vpl_clusters = 16;
+  config.shading_clusters = config.vpl_clusters = 16;
+  return config;
+}
+
+TEST(ManylightVisibilityClusters, PmfsArePositiveAndNormalised) {
+  const Scene scene = default_scene();
+  auto accel = make_accelerator("brute", scene);
+  ManylightConfig config = small_clustered_config();
   ManylightRenderer renderer(scene, *accel, config);
   const VisibilityClusters& vc = renderer.clusters();
   const size_t nl = vc.vpl_cluster_count();
@@ -283,11 +288,7 @@ TEST(ManylightVisibilityClusters, RIsTheVisibleFractionOfTheFacingMemberPairs) {
 TEST(ManylightVisibilityClusters, AnOccludedClusterGetsOnlyTheUniformShare) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("bvh", scene);
-  ManylightConfig config;
-  config.width = 32;
-  config.height = 24;
-  config.vpl_count = 500;
-  config.shading_clusters = config.vpl_clusters = 16;
+  ManylightConfig config = small_clustered_config();
   config.r_floor = 0.0f;
   config.uniform_mix = 0.1f;
   ManylightRenderer renderer(scene, *accel, config);
@@ -335,12 +336,6 @@ TEST(ManylightVisibilityClusters, MorePairsThan32BitIdsAreAnInputError) {
   }
 }
 
-}  // namespace
-}  // namespace rayscout
-
-namespace rayscout {
-namespace {
-
 // Fig. 1(c) with rayscout's floor (docs/manylight.md, pmf): a pair's sampling weight is
 // C max(r, r_floor). With refinement off, r and C do not depend on r_floor, so the weights C
 // read from an r_floor = 1 run (visibility ignored) predict every other floor's pmf; and an
@@ -349,11 +344,7 @@ namespace {
 TEST(ManylightVisibilityClusters, RFloorKeepsOccludedPairsAboveTheUniformShare) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("bvh", scene);
-  ManylightConfig config;
-  config.width = 32;
-  config.height = 24;
-  config.vpl_count = 500;
-  config.shading_clusters = config.vpl_clusters = 16;
+  ManylightConfig config = small_clustered_config();
   config.refine_samples = 0;
   config.uniform_mix = 0.1f;
   auto clusters_with_floor = [&](float r_floor) {
@@ -458,11 +449,7 @@ TEST(ManylightVisibilityClusters, AClustersWeightSumsItsMembers) {
 TEST(ManylightVisibilityClusters, RefinementPicksTheMixedPairsOfAboveMeanWeight) {
   const Scene scene = default_scene();
   auto accel = make_accelerator("bvh", scene);
-  ManylightConfig config;
-  config.width = 32;
-  config.height = 24;
-  config.vpl_count = 500;
-  config.shading_clusters = config.vpl_clusters = 16;
+  ManylightConfig config = small_clustered_config();
   config.uniform_mix = 0.1f;
   config.refine_samples = 0;
   ManylightRenderer plain(scene, *accel, config);
