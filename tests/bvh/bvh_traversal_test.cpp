@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <string>
 
 #include "generated_scenes.h"
 #include "rayscout/bvh/bvh_accelerators.h"
@@ -227,6 +228,123 @@ TEST(BvhTraversal, StartingFromNodesThatMissTheGeometryGivesAMiss) {
             bvh.intersect<false>(near_ray, {}, nullptr).prim);
   EXPECT_EQ(wide.intersect<false>(near_ray, near_refs, nullptr).prim, bvh.intersect<false>(near_ray, {}, nullptr).prim);
   EXPECT_TRUE(wide.intersect<false>(near_ray, near_refs, nullptr).hit());
+}
+
+// k copies of a slanted triangle, 0.01 apart in x, that a ray down from (0.5, 0.375, 10)
+// crosses at z = 8.5 (t = 1.5) while their boxes reach z = 0 (t = 10): with tmin = 5 every box
+// test passes and only the triangle tests' tmin leaves them out.
+std::vector<Triangle> slanted_blockers(int k) {
+  std::vector<Triangle> tris;
+  for (int i = 0; i < k; ++i) {
+    const float dx = 0.01f * float(i);
+    tris.push_back({{-2 + dx, 0.25f, 9}, {3 + dx, 0.25f, 9}, {0.5f + dx, 2.5f, 0}});
+  }
+  return tris;
+}
+
+// The segment [tmin, tmax] is where a hit counts: a triangle before tmin neither occludes nor
+// is the closest hit (the accelerator suite in tests/accelerators checks it against brute only
+// in bulk). One blocker and six; built by default, and as one leaf (for the wide BVH, over two
+// 4-triangle blocks); the ray straight down (infinite inverse direction: the general child
+// test) and tilted (the finite one); the trees' single rays and the accelerators' batches.
+TEST(BvhTraversal, ABlockerBeforeTminNeitherOccludesNorIsHit) {
+  const Ray straight{{0.5f, 0.375f, 10.0f}, 5.0f, {0, 0, -1}, kInfinity};
+  const Ray tilted{{0.5f, 0.375f, 10.0f}, 5.0f, {0.03125f, 0.0625f, -1}, 20.0f};  // blockers at t = 2
+  BvhBuildConfig one_leaf = wide_bvh_default_config();
+  one_leaf.max_leaf_size = one_leaf.collapse_max_leaf = 8;
+  one_leaf.traversal_cost = 100.0f;  // any split costs more than the leaf
+  for (const int k : {1, 6}) {
+    std::vector<Triangle> tris = slanted_blockers(k);
+    const uint32_t target = uint32_t(tris.size());  // a quad [-1, 2]^2 beyond tmin, at z = 0 (t = 10)
+    for (Triangle t : quad_at(-1.0f)) {
+      for (Vec3* v : {&t.v0, &t.v1, &t.v2}) v->y = 3.0f * v->y - 1.0f, v->x = 3.0f * v->x + 2.0f;
+      tris.push_back(t);
+    }
+    for (const bool with_target : {false, true}) {
+      const std::vector<Triangle> scene_tris(tris.begin(), with_target ? tris.end() : tris.begin() + k);
+      const Scene scene = testing::scene_from_triangles(scene_tris);
+      const Bvh2Accelerator bvh_accel(scene.triangles);
+      const WideBvhAccelerator wide_accel(scene.triangles);
+      for (const bool leaf : {false, true}) {
+        const BvhBuildConfig c = leaf ? one_leaf : BvhBuildConfig{};
+        const Bvh2 bvh = Bvh2::build(scene_tris, c);
+        const WideBvh wide = WideBvh::from_bvh2(bvh, scene_tris, c);
+        if (leaf) {
+          ASSERT_EQ(bvh.nodes.size(), 1u);
+        }
+        for (const Ray& ray : {straight, tilted}) {
+          const std::string at = "k " + std::to_string(k) + (with_target ? " target" : "") + (leaf ? " one leaf" : "") +
+                                 (ray.dir.x == 0.0f ? " straight" : " tilted");
+          // The quad's triangle below the diagonal y = x for the straight ray, above it for the tilted one.
+          const uint32_t expected = !with_target ? kInvalidId : ray.dir.x == 0.0f ? target : target + 1;
+          Ray from_zero = ray;
+          from_zero.tmin = 0.0f;  // the blockers are hit at t < 5
+          ASSERT_TRUE(bvh.occluded<false>(from_zero, {}, nullptr)) << at;
+          const Hit blocker = bvh.intersect<false>(from_zero, {}, nullptr);
+          ASSERT_LT(blocker.prim, uint32_t(k)) << at;
+          ASSERT_LT(blocker.t, ray.tmin) << at;
+
+          TraceStats s;
+          for (const Hit& h : {bvh.intersect<false>(ray, {}, nullptr), bvh.intersect<true>(ray, {}, &s),
+                               wide.intersect<false>(ray, {}, nullptr), wide.intersect<true>(ray, {}, &s)}) {
+            EXPECT_EQ(h.prim, expected) << at;
+            if (with_target) {
+              EXPECT_GT(h.t, ray.tmin) << at;
+            }
+          }
+          EXPECT_EQ(bvh.occluded<false>(ray, {}, nullptr), with_target) << at;
+          EXPECT_EQ(bvh.occluded<true>(ray, {}, &s), with_target) << at;
+          EXPECT_EQ(wide.occluded<false>(ray, {}, nullptr), with_target) << at;
+          EXPECT_EQ(wide.occluded<true>(ray, {}, &s), with_target) << at;
+          if (leaf) continue;
+          RayBatch batch;
+          batch.push_back(ray);
+          HitBatch hits;
+          std::vector<uint8_t> occ;
+          for (const Accelerator* accel : {static_cast<const Accelerator*>(&bvh_accel), static_cast<const Accelerator*>(&wide_accel)}) {
+            accel->intersect(batch, hits);
+            accel->occluded(batch, occ);
+            EXPECT_EQ(hits.prim[0], expected) << at << " " << accel->name();
+            EXPECT_EQ(occ[0], with_target ? 1 : 0) << at << " " << accel->name();
+          }
+        }
+      }
+    }
+  }
+}
+
+// A box that ends before tmin is culled by the box test: the leaf of a blocker quad at t = 2
+// costs no visit to a ray with tmin = 5 that reaches the other quad at t = 10, from above and
+// from below (without that cull the triangle tests would still give the right answer, after a
+// visit and two more tests, or none when the other leaf is visited first and is hit).
+TEST(BvhTraversal, ABoxBeforeTminIsNotEntered) {
+  std::vector<Triangle> tris = stacked_quads(2);
+  for (Triangle& t : tris)
+    if (t.v0.z > 0.0f) t.v0.z = t.v1.z = t.v2.z = 8.0f;  // quads at z = 0 and z = 8
+  const Bvh2 bvh = Bvh2::build(tris);
+  ASSERT_EQ(bvh.nodes.size(), 3u);
+  const WideBvh wide = WideBvh::from_bvh2(bvh, tris);
+  ASSERT_EQ(wide.nodes.size(), 1u);
+  for (const bool down : {true, false}) {
+    const char* dir = down ? "down" : "up";
+    const Ray ray = down ? Ray{{0.75f, 0.25f, 10.0f}, 5.0f, {0, 0, -1}, kInfinity}
+                         : Ray{{0.75f, 0.25f, -2.0f}, 5.0f, {0, 0, 1}, kInfinity};
+    TraceStats s;
+    EXPECT_EQ(bvh.intersect<true>(ray, {}, &s).prim, down ? 0u : 2u) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;  // root, the far leaf
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+    s = {};
+    EXPECT_TRUE(bvh.occluded<true>(ray, {}, &s)) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;
+    s = {};
+    EXPECT_EQ(wide.intersect<true>(ray, {}, &s).prim, down ? 0u : 2u) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+    s = {};
+    EXPECT_TRUE(wide.occluded<true>(ray, {}, &s)) << dir;
+    EXPECT_EQ(s.traversal_steps, 2u) << dir;
+    EXPECT_EQ(s.ray_tri_tests, 2u) << dir;
+  }
 }
 
 TEST(BvhTraversal, EmptyTreeMisses) {
