@@ -168,6 +168,14 @@ double budget_scale(const std::vector<float>& priority, double priority_sum, dou
 
 }  // namespace
 
+std::vector<uint32_t> reference_offsets(std::span<const float> priority, double scale, double max_extra) {
+  const size_t n = priority.size();
+  std::vector<uint32_t> offset(n + 1, 0);
+  for (size_t i = 0; i < n; ++i)
+    offset[i + 1] = offset[i] + 1 + uint32_t(std::min(max_extra, std::floor(double(priority[i]) * scale)));
+  return offset;
+}
+
 PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces) {
   check_finite(tris);
   const size_t n = tris.size();
@@ -184,18 +192,13 @@ PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, 
       [](Sum a, const Sum& b) { a.p += b.p; a.scene.extend(b.scene); return a; });
   const double max_extra = double(std::clamp(max_pieces, 1, kBvhMaxPresplitPieces) - 1);
   const double scale = budget_scale(priority, total.p, double(budget) * double(n), max_extra);
-  // Triangle i's references are offset[i] .. offset[i + 1] - 1.
-  std::vector<uint32_t> count(n), offset(n + 1, 0);
-  for (size_t i = 0; i < n; ++i) {
-    count[i] = 1 + uint32_t(std::min(max_extra, std::floor(double(priority[i]) * scale)));
-    offset[i + 1] = offset[i] + count[i];
-  }
+  const std::vector<uint32_t> offset = reference_offsets(priority, scale, max_extra);
   PrimReferences refs;
   refs.boxes.resize(offset[n]);
   refs.ref_tri.resize(offset[n]);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      split_into(tris[i], tris[i].bounds(), count[i], total.scene, &refs.boxes[offset[i]]);
+      split_into(tris[i], tris[i].bounds(), offset[i + 1] - offset[i], total.scene, &refs.boxes[offset[i]]);
       for (uint32_t k = offset[i]; k < offset[i + 1]; ++k) refs.ref_tri[k] = uint32_t(i);
     }
   });

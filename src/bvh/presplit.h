@@ -27,4 +27,9 @@ struct PrimReferences {
 /// max_pieces references (clamped to [1, kBvhMaxPresplitPieces]).
 PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces);
 
+/// Where each triangle's references start when triangle i gets 1 + min(max_extra,
+/// floor(priority[i] * scale)) of them: triangle i's are offset[i] .. offset[i + 1] - 1, and
+/// offset[priority.size()] is their total.
+std::vector<uint32_t> reference_offsets(std::span<const float> priority, double scale, double max_extra);
+
 }  // namespace rayscout::detail
