@@ -342,6 +342,12 @@ class Builder {
 
 }  // namespace
 
+void check_primitive_count(uint64_t count) {
+  if (count >= (uint64_t(1) << 27))
+    throw InputError("BVH: " + std::to_string(count) +
+                     " primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+}
+
 int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& config,
                      std::vector<Bvh2Node>& nodes, std::vector<uint32_t>& prim_ids) {
   if (config.bins < 2 || config.bins > kBvhMaxBins)
@@ -352,10 +358,7 @@ int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& confi
                      std::to_string(kBvhMaxLeafSize) + "]");
   if (config.leaf_block < 1)
     throw InputError("BvhBuildConfig.leaf_block = " + std::to_string(config.leaf_block) + ": must be >= 1");
-  // The wide BVH's leaf references address 2^27 slots (WideRef::kMaxFirst); the Bvh2 shares the limit.
-  if (boxes.size() >= (1u << 27))
-    throw InputError("BVH: " + std::to_string(boxes.size()) +
-                     " primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+  check_primitive_count(boxes.size());
   const uint32_t n = uint32_t(boxes.size());
   nodes.clear();
   prim_ids.resize(n);

@@ -10,6 +10,10 @@
 
 namespace rayscout::detail {
 
+/// Throws InputError unless count is below 2^27, the most primitives a build takes: the wide
+/// BVH's leaf references address 2^27 slots (WideRef::kMaxFirst), and the Bvh2 shares the limit.
+void check_primitive_count(uint64_t count);
+
 /// Builds a binary BVH over primitives known only by their boxes, binned by box centre
 /// (binned SAH, Wald 2007, all three axes; parallel binning of large nodes and
 /// task-parallel recursion with oneTBB). Fills nodes (root first, siblings adjacent,

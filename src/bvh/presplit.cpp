@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "binned_sah_builder.h"
 #include "rayscout/core/input_error.h"
 
 namespace rayscout::detail {
@@ -170,9 +171,14 @@ double budget_scale(const std::vector<float>& priority, double priority_sum, dou
 
 std::vector<uint32_t> reference_offsets(std::span<const float> priority, double scale, double max_extra) {
   const size_t n = priority.size();
+  auto count = [&](size_t i) { return 1 + uint64_t(std::min(max_extra, std::floor(double(priority[i]) * scale))); };
+  // The total first, in 64 bits: 65 pieces of 66 million triangles wrapped a 32-bit sum (and
+  // the references were written past what it allocated); 2^27 or more the builder refuses.
+  uint64_t total = 0;
+  for (size_t i = 0; i < n; ++i) total += count(i);
+  check_primitive_count(total);
   std::vector<uint32_t> offset(n + 1, 0);
-  for (size_t i = 0; i < n; ++i)
-    offset[i + 1] = offset[i] + 1 + uint32_t(std::min(max_extra, std::floor(double(priority[i]) * scale)));
+  for (size_t i = 0; i < n; ++i) offset[i + 1] = offset[i] + uint32_t(count(i));
   return offset;
 }
 

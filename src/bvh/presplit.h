@@ -28,8 +28,9 @@ struct PrimReferences {
 PrimReferences presplit_triangles(std::span<const Triangle> tris, float budget, int max_pieces);
 
 /// Where each triangle's references start when triangle i gets 1 + min(max_extra,
-/// floor(priority[i] * scale)) of them: triangle i's are offset[i] .. offset[i + 1] - 1, and
-/// offset[priority.size()] is their total.
+/// floor(priority[i] * scale)) of them (max_extra < 2^32): triangle i's are offset[i] ..
+/// offset[i + 1] - 1, and offset[priority.size()] is their total. Throws InputError, as the
+/// builder does, for a total of 2^27 or more, before anything is allocated.
 std::vector<uint32_t> reference_offsets(std::span<const float> priority, double scale, double max_extra);
 
 }  // namespace rayscout::detail

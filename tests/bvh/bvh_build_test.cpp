@@ -9,6 +9,7 @@
 #include <tbb/global_control.h>
 
 #include "generated_scenes.h"
+#include "presplit.h"  // private: src/bvh
 #include "rayscout/bvh/bvh2.h"
 #include "rayscout/bvh/wide_bvh.h"
 #include "rayscout/core/input_error.h"
@@ -212,6 +213,30 @@ TEST(BvhBuild, PresplitMeetsTheReferenceBudget) {
     EXPECT_LE(extra, double(budget) * double(tris.size())) << budget;
     EXPECT_GE(extra, 0.95 * double(budget) * double(tris.size())) << budget;
   }
+}
+
+// Pre-splitting sums its reference counts in 64 bits and refuses a total the builder would
+// refuse (2^27 or more) before allocating the references, with the builder's message. In 32
+// bits, 65 references for each of 66 million triangles wrapped around; here two triangles of
+// 2^31 references each wrap to 0 (max_extra is at most 64 in a build, but the sum is the same).
+TEST(BvhBuild, PresplitRefusesMoreReferencesThanTheBuilderTakesBeforeAllocatingThem) {
+  const double all = 1e30;  // a scale at which every triangle gets max_extra extra references
+  const std::vector<float> one = {1.0f}, two = {1.0f, 1.0f};
+  EXPECT_EQ(detail::reference_offsets(two, all, 2.0), (std::vector<uint32_t>{0, 3, 6}));
+  EXPECT_EQ(detail::reference_offsets(two, 0.0, 64.0), (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(detail::reference_offsets(one, all, double((1u << 27) - 2)).back(), (1u << 27) - 1);
+  auto refusal = [&](const std::vector<float>& priority, double max_extra) -> std::string {
+    try {
+      detail::reference_offsets(priority, all, max_extra);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(refusal(one, double((1u << 27) - 1)),
+            "BVH: 134217728 primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+  EXPECT_EQ(refusal(two, double((1u << 31) - 1)),
+            "BVH: 4294967296 primitives (triangles, or their pieces with presplit), at most 2^27 supported");
 }
 
 TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
