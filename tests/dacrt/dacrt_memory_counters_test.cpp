@@ -333,6 +333,39 @@ TEST(DacrtCounters, CostOnlySamplesNothingWhereTheCostIsNotEvaluated) {
   EXPECT_GT(dynamic_cast<const DacrtAccelerator&>(*skipping).last_stats().sampling_box_tests, 0u);
 }
 
+// Algorithm 1, line 14 keeps the last candidate of least cost (C_j <= C_min, scanning
+// j = 0 .. K - 2). Both minima of a tie are valid splits; the test pins the one taken so that
+// the recursion, its counts and its speed stay deterministic. Three clusters of 4 triangles at
+// x = -1, 0, 1, mirror images of each other, in 3 bins: candidate 0 cuts off the left cluster,
+// candidate 1 the right one, at exactly equal cost, by eq. (1) (mirrored surface areas) and by
+// eq. (2) (half the sample rays hit each side's box). delta_t = 9 makes both children leaves,
+// so the split shows in the triangle tests: 950 of the 1000 rays aim at the left cluster and
+// test the 8 triangles of candidate 1's left child, the other 50 the 4 of its right child
+// (7800 tests); candidate 0 would give 950 x 4 + 50 x 8 = 4200.
+TEST(DacrtCounters, TiedSplitCostsTakeTheLastCandidate) {
+  std::vector<Triangle> tris;
+  for (const float cx : {-1.0f, 0.0f, 1.0f})
+    for (const float y0 : {0.0f, 0.5f, 1.0f, 1.5f}) tris.push_back({{cx - 0.25f, y0, 0}, {cx + 0.25f, y0, 0}, {cx, y0 + 0.5f, 0}});
+  const Scene scene = testing::scene_from_triangles(tris);
+  // Every 20th ray, from the 10th on, aims at the right cluster: the stride-10 sample rays
+  // (0, 10, 20, ...) are half left, half right.
+  RayBatch rays;
+  for (int i = 0; i < 1000; ++i)
+    rays.push_back({{i % 20 == 10 ? 1.0f : -1.0f, 0.125f + 0.25f * float(i % 8), 1.0f}, 0.0f, {0, 0, -1}, kInfinity});
+  for (const char* cost : {"cost=sah", "cost=sampled"}) {
+    auto accel = make_accelerator("dacrt-rs", scene, testing::options_of({"parallel=off", "bins=3", "delta_t=9", cost,
+                                                                          "order=one-ray", "skip=off"}));
+    HitBatch hits;
+    TraceStats stats;
+    accel->intersect(rays, hits, &stats);
+    ASSERT_EQ(std::count(hits.prim.begin(), hits.prim.end(), kInvalidId), 0) << cost;
+    const DacrtStats d = dynamic_cast<const DacrtAccelerator&>(*accel).last_stats();
+    EXPECT_EQ(d.sampled_nodes, std::string(cost) == "cost=sampled" ? 1u : 0u) << cost;
+    EXPECT_EQ(d.leaves, 2u) << cost;
+    EXPECT_EQ(stats.ray_tri_tests, 950u * 8u + 50u * 4u) << cost;
+  }
+}
+
 TEST(DacrtParallel, SameHitsForAnyThreadCount) {
   const Scene scene = testing::scene_from_triangles(testing::spheres_on_floor());
   const int n = testing::small_scale() ? 192 : 320;  // > 2 tasks' worth of rays
