@@ -87,7 +87,11 @@ class CoreBench {
 
   int run() {
     // Before any scene loads: an unknown accelerator (embree in a build without it) or option.
-    for (const auto& c : columns_) check_accelerator(c.accel, AcceleratorOptions::from_list(c.options));
+    for (size_t k = 0; k < columns_.size(); ++k) {
+      auto check = [&] { check_accelerator(columns_[k].accel, AcceleratorOptions::from_list(columns_[k].options)); };
+      if (k < first_extra()) check();
+      else bench::check_argument("--column", opt_.extra[k - first_extra()], check);
+    }
     bench::check_names("--workload", opt_.workloads, workload_names());  // before any scene loads
     start_tables();
     for (const std::string& scene_arg : opt_.scenes) run_scene(scene_arg);

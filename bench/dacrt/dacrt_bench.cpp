@@ -520,10 +520,12 @@ int main(int argc, char** argv) {
     // A bad variant key ends the run here, not after the headings and the first view's scene.
     for (const std::string& v : o.variants) {
       const ColumnSpec c = parse_column("--variants", v, "dacrt-rs");
-      check_names("--variants", {c.accel}, {"dacrt", "dacrt-rs"});  // the table reads DACRT's own counts
-      AcceleratorOptions opts = AcceleratorOptions::from_list(c.options);
-      opts.set("parallel", o.threads > 1 ? "on" : "off");
-      check_accelerator(c.accel, opts);
+      check_names("--variants '" + v + "'", {c.accel}, {"dacrt", "dacrt-rs"});  // the table reads DACRT's own counts
+      check_argument("--variants", v, [&] {
+        AcceleratorOptions opts = AcceleratorOptions::from_list(c.options);
+        opts.set("parallel", o.threads > 1 ? "on" : "off");
+        check_accelerator(c.accel, opts);
+      });
     }
     if (!o.json.empty()) check_output_path(o.json, "--json");
     if (o.big && !std::count(o.res.begin(), o.res.end(), 4096)) o.res.push_back(4096);

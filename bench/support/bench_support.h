@@ -162,6 +162,18 @@ inline ColumnSpec parse_column(const std::string& option, const std::string& spe
   return c;
 }
 
+/// Calls check() and puts "option 'arg': " before the message of an InputError it throws, so
+/// that of several --column or --variants arguments the error names the wrong one:
+/// "--column 'x:bvh:colapse=sah': accelerator 'bvh' has no option(s): colapse (...)".
+template <class Check>
+void check_argument(const std::string& option, const std::string& arg, Check check) {
+  try {
+    check();
+  } catch (const InputError& e) {
+    throw InputError(option + " '" + arg + "': " + e.what());
+  }
+}
+
 /// One line naming the machine a table was measured on, for the drivers' headers: absolute
 /// times and even side-by-side ratios move between CPUs (docs/history/performance.md, session 22).
 /// "AMD EPYC (family 26, model 2), 2 logical CPUs, AVX-512, g++ 12.2.0"; on a system

@@ -1,5 +1,6 @@
 // bench_support.h: interleaved_medians' call order, which every driver's timing relies on, and
-// parse_column, the form of core_bench --column and dacrt_bench --variants.
+// parse_column, the form of core_bench --column and dacrt_bench --variants, and check_argument,
+// which names such an argument in the errors of its checks.
 #include <string>
 #include <vector>
 
@@ -70,6 +71,18 @@ TEST(ParseColumn, OlderVariantFormIsAnErrorNamingTheForm) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "--variants 'cs=cost:sampled;skip:on': expected label[:accel][:key=value,...]");
+  }
+}
+
+TEST(CheckArgument, AnErrorNamesTheArgumentItCameFrom) {
+  bool called = false;
+  check_argument("--column", "b:bvh", [&] { called = true; });
+  EXPECT_TRUE(called);
+  try {
+    check_argument("--column", "bvh-x:bvh:colapse=sah", [] { throw InputError("accelerator 'bvh' has no option(s): colapse"); });
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--column 'bvh-x:bvh:colapse=sah': accelerator 'bvh' has no option(s): colapse");
   }
 }
 
