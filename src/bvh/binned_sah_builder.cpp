@@ -345,7 +345,7 @@ class Builder {
 void check_primitive_count(uint64_t count) {
   if (count >= (uint64_t(1) << 27))
     throw InputError("BVH: " + std::to_string(count) +
-                     " primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+                     " primitives (triangles, or their pieces with presplit), at most 2^27 - 1 (134217727) supported");
 }
 
 int build_binned_sah(std::span<const Bounds3> boxes, const BvhBuildConfig& config,

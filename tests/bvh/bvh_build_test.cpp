@@ -234,9 +234,9 @@ TEST(BvhBuild, PresplitRefusesMoreReferencesThanTheBuilderTakesBeforeAllocatingT
     return "no error";
   };
   EXPECT_EQ(refusal(one, double((1u << 27) - 1)),
-            "BVH: 134217728 primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+            "BVH: 134217728 primitives (triangles, or their pieces with presplit), at most 2^27 - 1 (134217727) supported");
   EXPECT_EQ(refusal(two, double((1u << 31) - 1)),
-            "BVH: 4294967296 primitives (triangles, or their pieces with presplit), at most 2^27 supported");
+            "BVH: 4294967296 primitives (triangles, or their pieces with presplit), at most 2^27 - 1 (134217727) supported");
 }
 
 TEST(BvhBuild, OneAndTwoThreadsBuildIdenticalTrees) {
