@@ -1,7 +1,7 @@
 """Adversarial ray sets in rayscout's RAYS v1 format (include/rayscout/core/ray_file.h).
 
 usage: /usr/bin/python3 adversarial_rays.py OUT_DIR LO_X,LO_Y,LO_Z HI_X,HI_Y,HI_Z [N]
-writes OUT_DIR/{A_uniform,B_far,C_axis,D_segments,E_lattice,G_scaled}.rays, N rays each,
+writes OUT_DIR/{A_uniform,B_far,C_axis,D_segments,E_lattice,G_scaled,H_special}.rays, N rays each,
 for a scene box [LO, HI] (`rayscout info` prints it). Deterministic (seed 7).
 """
 import os, struct, sys
@@ -62,3 +62,27 @@ write(out + '/E_lattice.rays', o, zero, d, inf)
 o = lo + rng.random((n, 3)) * ext
 d = unit(rng, n) * (10.0 ** rng.uniform(-3, 3, n))[:, None]
 write(out + '/G_scaled.rays', o, zero, d, inf)
+# H: special values, one kind per ray, aimed at a random point of the box (t = 1 there):
+#    directions 1e20..3e38 or 1e-38..1e-20 long, a subnormal, -0 or +0 component, all zero;
+#    empty segments (tmin > tmax, tmax = -inf or 0, tmin = inf), one-point segments [0, 0] and
+#    [0.5, 0.5], NaN tmin or tmax; a NaN or infinite origin or direction component, a subnormal
+#    origin coordinate. Every accelerator and Embree must agree: misses, or the same hits.
+o = lo - 0.2 * ext + rng.random((n, 3)) * 1.4 * ext
+d = lo + rng.random((n, 3)) * ext - o
+tmin = np.zeros(n); tmax = np.full(n, np.inf)
+kind = rng.integers(0, 13, n); comp = rng.integers(0, 3, n); sel = lambda k: np.nonzero(kind == k)[0]
+d[sel(0)] *= (10.0 ** rng.uniform(20, 38, len(sel(0))))[:, None] / np.abs(d[sel(0)]).max(axis=1)[:, None]
+d[sel(1)] *= (10.0 ** rng.uniform(-38, -20, len(sel(1))))[:, None] / np.abs(d[sel(1)]).max(axis=1)[:, None]
+d = d.astype('<f4'); o = o.astype('<f4')
+i = sel(2); d[i, comp[i]] = rng.choice([-1, 1], len(i)) * 10.0 ** rng.uniform(-45, -38, len(i))
+i = sel(3); d[i, comp[i]] = -0.0; i = i[::2]; d[i, (comp[i] + 1) % 3] = 0.0
+i = sel(4); d[i] = rng.choice(np.array([0.0, -0.0], dtype='<f4'), (len(i), 3))
+i = sel(5); tmin[i] = rng.uniform(0.5, 1, len(i)); tmax[i] = np.nextafter(tmin[i].astype('<f4'), np.float32(0))
+i = sel(6); tmax[i] = rng.choice([-np.inf, 0.0, -0.0], len(i)); tmin[i[::2]] = -0.0
+i = sel(7); tmin[i] = np.inf
+i = sel(8); tmin[i] = tmax[i] = rng.choice([0.0, 0.5], len(i))
+i = sel(9); tmin[i[::2]] = np.nan; tmax[i[1::2]] = np.nan
+i = sel(10); o[i, comp[i]] = rng.choice([np.nan, np.inf, -np.inf], len(i))
+i = sel(11); d[i, comp[i]] = rng.choice([np.nan, np.inf, -np.inf], len(i))
+i = sel(12); o[i, comp[i]] = rng.choice([-1, 1], len(i)) * 10.0 ** rng.uniform(-45, -39, len(i))
+write(out + '/H_special.rays', o, tmin, d, tmax)
