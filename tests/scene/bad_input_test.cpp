@@ -803,5 +803,52 @@ TEST(SceneBadInput, JsonSceneOfAMeshWithManyWarningsIsReadInLinearTime) {
   expect_contains(s.warnings[0], {"undef.obj:4: material 'undefined0' is not defined in any material library"});
 }
 
+// Mutation checks: each case below passed every scene test with a one-line change to the reader
+// (named beside it) and fails with it.
+TEST(SceneBadInput, ObjErrorsAtTheirBounds) {
+  TempDir dir;
+  // A forward index names the first line that used it (MaxRef::note kept the last).
+  expect_contains(error_loading(dir, "fwd.obj", kTriangle + "f 1 2 9\nf 1 2 9\n"),
+                  {"fwd.obj:4: face index 9 out of range (3 vertices)"});
+  // "1/" has an empty texcoord index; only v//vn may leave it out.
+  expect_contains(error_loading(dir, "slash.obj", kTriangle + "f 1/ 2/ 3/\n"),
+                  {"slash.obj:4: face vertex '1/' has an empty index"});
+  // One number is a grey in MTL only (read_vec3's allow_one): "v 1" is not (1, 1, 1).
+  expect_contains(error_loading(dir, "one.obj", "v 1\n" + kTriangle + "f 2 3 4\n"),
+                  {"one.obj:1: ", "vertex: expected 3 numbers, found 1"});
+  // Every colour component is checked, the last one too.
+  dir.write("blue.mtl", "newmtl a\nKd 0.5 0.5 -0.1\n");
+  expect_contains(error_loading(dir, "blue.obj", "mtllib blue.mtl\n" + kTriangle + "usemtl a\nf 1 2 3\n"),
+                  {"blue.mtl:2: ", "Kd: colour components must be >= 0"});
+}
+
+TEST(SceneBadInput, PlyNegativeCountAndListCoordinate) {
+  TempDir dir;
+  expect_contains(error_loading(dir, "neg.ply", "ply\nformat ascii 1.0\nelement vertex -1\nproperty float x\n"
+                                                "property float y\nproperty float z\nend_header\n"),
+                  {"neg.ply:3: element: expected 'element <name> <count>'"});
+  // A list named x is no coordinate (it would read as 0).
+  expect_contains(error_loading(dir, "listx.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty list uchar float x\n"
+                                                  "property float y\nproperty float z\nelement face 1\n"
+                                                  "property list uchar int vertex_indices\nend_header\n"
+                                                  "1 0 0 0\n1 1 0 0\n1 0 1 0\n3 0 1 2\n"),
+                  {"listx.ply:3: vertex element lacks x, y or z properties"});
+}
+
+// The column of the nesting error counts an escaped character in a string.
+TEST(SceneBadInput, JsonDeepNestingColumnCountsEscapes) {
+  TempDir dir;
+  const std::string deep = std::string(300, '[') + std::string(300, ']');
+  // {"comment": "\"", "x": [[[...: the 257th '[' is at column 22 + 256.
+  expect_contains(json_error(dir, R"({"comment": "\"", "x": )" + deep + "}"),
+                  {"scene.json: JSON nested deeper than 256 arrays and objects at line 1, column 279"});
+}
+
+TEST(SceneBadInput, JsonBoxFlatInZ) {
+  TempDir dir;
+  expect_contains(json_error(dir, R"({"meshes": [{"shape": "box", "min": [0, 0, 0], "max": [1, 1, 0]}]})"),
+                  {"scene.json: meshes[0].max: must exceed min on every axis"});
+}
+
 }  // namespace
 }  // namespace rayscout

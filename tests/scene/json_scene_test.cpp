@@ -415,5 +415,50 @@ TEST(JsonScene, PathsAreRelativeToTheJsonFile) {
   EXPECT_EQ(s.triangles.size(), 1u);
 }
 
+// Mutation checks: each case passed every scene test with a one-line change to the loader and
+// fails with it.
+TEST(JsonScene, ValuesAtTheEdgesOfWhatTheDocAllows) {
+  TempDir dir;
+  dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+  const Scene s = load_scene(dir.write("edges.json", R"({
+    "meshes": [
+      {"file": "tri.obj", "transform": {"rotate": [{"axis": [0, 0, 1], "deg": 90}, {"axis": [1, 0, 0], "deg": 90}]}},
+      {"shape": "quad", "center": [0, 0, 0], "normal": [1, 0, 0], "size": [2, 4]},
+      {"shape": "box", "min": [0, 0, 0], "max": [1, 1, 1e11]}
+    ],
+    "lights": [{"type": "area", "emission": [1, 0, 0], "corner": [0, 5, 0], "edge1": [1, 0, 0], "edge2": [0, 0, 1]},
+               {"type": "point", "position": [0, 0, -10]}],
+    "camera": {"eye": [0, 0, -10], "look_at": [0, 0, 0], "up": [5e-4, 0, 1]}
+  })"));
+  ASSERT_EQ(s.triangles.size(), 1u + 2u + 12u + 2u);
+  // A rotation array applies first to last: x -> y about z, then y -> z about x.
+  expect_near(s.triangles[0].v0, {0, 0, 1});
+  // A centred quad's height runs along the default up [0, 1, 0].
+  Bounds3 quad;
+  quad.extend(s.triangles[1].bounds());
+  quad.extend(s.triangles[2].bounds());
+  expect_near(quad.lo, {0, -2, -1});
+  expect_near(quad.hi, {0, 2, 1});
+  // A vertex at exactly kMaxCoordinate (1e11) is within it.
+  EXPECT_EQ(s.bounds().hi.z, 1e11f);
+  // An area light may emit in one channel only.
+  EXPECT_EQ(s.emissive_triangles, (std::vector<uint32_t>{15, 16}));
+  // An up 5e-4 rad off the view direction still makes a frame (parallel is a sine below 1e-6).
+  const CameraFrame f = camera_frame(s.camera, 1.0f);
+  EXPECT_NEAR(std::fabs(f.right.y), 1.0f, 1e-6f);
+}
+
+// The frame's half extents: tan(fov / 2) high, aspect times that wide.
+TEST(JsonScene, CameraFrameHalfWidthIsAspectTimesHalfHeight) {
+  Camera c;
+  c.eye = {0, 0, 5};
+  c.look_at = {0, 0, 0};
+  c.up = {0, 1, 0};
+  c.fov_deg = 90;
+  const CameraFrame f = camera_frame(c, 2.0f);
+  EXPECT_NEAR(f.half_h, 1.0f, 1e-6f);
+  EXPECT_NEAR(f.half_w, 2.0f, 1e-6f);
+}
+
 }  // namespace
 }  // namespace rayscout

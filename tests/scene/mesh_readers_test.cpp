@@ -87,6 +87,8 @@ TEST(ObjReader, ConcavePolygonIsEarClippedNotFanned) {
   // Relative indices, in the yz plane, turned so that the projection is mirrored (C B A D).
   const std::string yz = "v 0 0 0\nv 0 1 2\nv 0 2 0\nv 0 1 1\n";
   expect_chevron_tiled(load_scene(dir.write("yz.obj", obj(yz, "f -8 -9 -10 -7"))), Vec3(1, 0, 0));
+  // Wound the other way (normal -z), the projection is mirrored before the ear clipping.
+  expect_chevron_tiled(load_scene(dir.write("cw.obj", obj(xy, "f 1 4 3 2"))), Vec3(0, 0, -1));
   // A concave polygon that its first vertex sees whole (the L from its reflex corner) keeps its fan.
   const Scene l = load_scene(dir.write("l.obj", "v 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4 5 6\n"));
   ASSERT_EQ(l.triangles.size(), 4u);
@@ -186,6 +188,20 @@ TEST(ObjReader, MtlMaterialMapping) {
   expect_vec(s.material_of(5).emission, {17, 12, 4});
   EXPECT_EQ(s.emissive_triangles, (std::vector<uint32_t>{5, 6}));
   EXPECT_FALSE(s.material_of(0).emissive());
+}
+
+// The MTL rules at their bounds: illum 7 is a mirror (as 3 and 5), Ns 1000 is one, and illum
+// 10 is the last model. Each passed the tests above when moved by one.
+TEST(ObjReader, MtlMirrorRulesAtTheirBounds) {
+  TempDir dir;
+  dir.write("b.mtl", "newmtl seven\nKs 0.5\nNs 10\nillum 7\nnewmtl ns1000\nKs 0.5\nNs 1000\n"
+                     "newmtl ten\nKs 0.5\nNs 10\nillum 10\n");
+  const Scene s = load_scene(dir.write("b.obj", "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                                "usemtl seven\nf 1 2 3\nusemtl ns1000\nf 1 2 3\nusemtl ten\nf 1 2 3\n"));
+  ASSERT_EQ(s.triangles.size(), 3u);
+  EXPECT_EQ(s.material_of(0).type, Material::Type::Mirror);
+  EXPECT_EQ(s.material_of(1).type, Material::Type::Mirror);
+  EXPECT_EQ(s.material_of(2).type, Material::Type::Glossy);
 }
 
 // MTL data from the wild may reflect more than arrives (CornellBox-Glossy's sphere: Kd up to
