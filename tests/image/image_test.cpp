@@ -169,6 +169,12 @@ TEST(ImageIo, SrgbCurveKnownValues) {
   EXPECT_NEAR(srgb_to_linear(0.5f), 0.2140f, 1e-4f);
   EXPECT_FLOAT_EQ(linear_to_srgb(5.0f), 1.0f);
   EXPECT_FLOAT_EQ(linear_to_srgb(std::nanf("")), 0.0f);
+  // Either side of each curve's knee (0.0031308 linear, 0.04045 encoded): a knee at the other
+  // curve's value, or a slope of 12 for 12.92, passed the values above.
+  EXPECT_NEAR(linear_to_srgb(0.002f), 12.92f * 0.002f, 1e-7f);
+  EXPECT_NEAR(linear_to_srgb(0.01f), 0.099853f, 1e-5f);
+  EXPECT_NEAR(srgb_to_linear(0.02f), 0.02f / 12.92f, 1e-8f);
+  EXPECT_NEAR(srgb_to_linear(0.05f), 0.0039359f, 1e-6f);
 }
 
 TEST(ImageIo, BadInputThrows) {
@@ -285,6 +291,11 @@ TEST(ImageIo, ExrGreyReadsAsGreyAndLayersOnlyAreRefused) {
   EXPECT_EQ(img.at(0, 0), Vec3(0.25f));
   EXPECT_EQ(img.at(1, 0), Vec3(0.25f));
   fs::remove(grey);
+  // Any one of R, G, B makes an RGB file (not only R): G alone reads as (0, G, 0).
+  const fs::path green = temp_file("green.exr");
+  write_one_channel(green, "G", 0.5f);
+  EXPECT_EQ(read_image(green).at(1, 0), Vec3(0.0f, 0.5f, 0.0f));
+  fs::remove(green);
   write_one_channel(layer, "diffuse.R", 0.5f);
   EXPECT_NE(read_error(layer).find("EXR without any of the channels R, G, B or Y; it has: diffuse.R"), std::string::npos);
 }
@@ -380,6 +391,15 @@ TEST(ImageIo, PngSizesAreCheckedBeforeTheWork) {
         << e.what();
   }
   EXPECT_NO_THROW(check_image_path(temp_file("big.png"), 32768, 21845));
+  // Each row has a filter byte: 21845 x 32768 is 3 w h = 2^31 - 32768 bytes of pixels, but
+  // (3 w + 1) h = 2^31 with them (a limit on 3 w h alone passed it).
+  try {
+    check_image_path(temp_file("tall.png"), 21845, 32768);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tall.png: a PNG of 21845x32768 pixels is beyond stb's PNG writer"), std::string::npos)
+        << e.what();
+  }
   EXPECT_NO_THROW(check_image_path(temp_file("big.exr"), 32768, 32768));
 }
 
@@ -475,6 +495,7 @@ TEST(ImageCompare, NonFinitePixels) {
   EXPECT_TRUE(std::isnan(e.rmse));
   EXPECT_TRUE(std::isnan(e.max_abs));
   EXPECT_EQ(e.nonfinite, 1u);
+  EXPECT_EQ(compare_images(b, a).nonfinite, 1u);  // in the reference too
   a.at(1, 0).y = std::numeric_limits<float>::infinity();
   e = compare_images(a, b);
   EXPECT_TRUE(std::isinf(e.rmse));
