@@ -100,6 +100,7 @@ TEST(Embree, RaysEmbreeCannotTraceMissInsteadOfAborting) {
   rays.push_back({{-10.0f, 0.0f, 0.0f}, nan, {1.0f, 0.0f, 0.0f}, kInfinity});
   rays.push_back({{-10.0f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, nan});
   rays.push_back({{-10.0f, 0.0f, 0.0f}, -1.0f, {1.0f, 0.0f, 0.0f}, kInfinity});
+  rays.push_back({{-2e18f, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity});  // just beyond FLT_LARGE
   for (int k = 0; k < 12; ++k) rays.push_back(good);  // a second packet of 16
   auto hit = [](const HitBatch& h, size_t i) { return h.prim[i] != kInvalidId; };
   HitBatch ref;
@@ -114,7 +115,7 @@ TEST(Embree, RaysEmbreeCannotTraceMissInsteadOfAborting) {
     accel.intersect(rays, hits);
     accel.occluded(rays, occ);
     for (size_t i = 0; i < rays.size(); ++i) {
-      const bool traceable = i == 0 || i >= 8;
+      const bool traceable = i == 0 || i >= 9;
       EXPECT_EQ(hit(hits, i), traceable) << "packet " << packet << ", ray " << i;
       EXPECT_EQ(occ[i] != 0, traceable) << "packet " << packet << ", ray " << i;
       if (traceable) {
@@ -187,6 +188,8 @@ TEST(Embree, PacketsOf16GiveTheSameResultAsSingleRays) {
   p->occluded(rays, ob);
   EXPECT_EQ(a.t, b.t);
   EXPECT_EQ(a.prim, b.prim);
+  EXPECT_EQ(a.u, b.u);  // a packet's u and v swapped passed the t and prim checks
+  EXPECT_EQ(a.v, b.v);
   EXPECT_EQ(oa, ob);
   EXPECT_GT(std::count(oa.begin(), oa.end(), 1), 100);
 }
@@ -228,6 +231,24 @@ TEST(Embree, BadOptionsAreInputErrors) {
     o.set(kv);
     EXPECT_THROW(make_accelerator("embree", scene, o), InputError) << kv;
   }
+}
+
+// Each option's values read as named: quality=medium set high quality (and high medium) with
+// every test passing, since the build quality shows in no answer.
+TEST(Embree, OptionsReadAsNamed) {
+  const auto config = [](std::initializer_list<const char*> kvs) {
+    AcceleratorOptions o;
+    for (const char* kv : kvs) o.set(kv);
+    return EmbreeConfig::from_options(o);
+  };
+  const EmbreeConfig defaults = config({});
+  EXPECT_TRUE(defaults.robust);
+  EXPECT_TRUE(defaults.high_quality);
+  EXPECT_EQ(defaults.packet, 1);
+  EXPECT_FALSE(config({"quality=medium"}).high_quality);
+  EXPECT_TRUE(config({"quality=high"}).high_quality);
+  EXPECT_FALSE(config({"robust=false"}).robust);
+  EXPECT_EQ(config({"packet=16"}).packet, 16);
 }
 
 // Found by review: packet=32 was "not in [1, 16]", a range that 4 is in, and packet=4 had a
