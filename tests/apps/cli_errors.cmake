@@ -48,6 +48,9 @@ expect_without(0 "wrote .*e\\\\x1bc\\.png \\(8x8" "${esc}" render --width 8 --he
 expect_without(0 "wrote .*e\\\\x1bc\\.pfm" "${esc}" render --width 8 --height 8 --spp 1 --out ${WORK}/e${esc}c.pfm)
 expect_without(0 "wrote .*d\\\\x1bc\\.png.*warning: .*e\\\\x1bc\\.png is a PNG.*e\\\\x1bc\\.pfm is not" "${esc}"
                diff ${WORK}/e${esc}c.png ${WORK}/e${esc}c.pfm --out ${WORK}/d${esc}c.png)
+# The PNG warning whichever side the PNG is on (a check of A alone passed the case above).
+expect(0 "warning: .*e\\\\x1bc\\.png is a PNG \\(8-bit sRGB.* and .*e\\\\x1bc\\.pfm is not"
+       diff ${WORK}/e${esc}c.pfm ${WORK}/e${esc}c.png)
 expect_without(0 "scene: .*esc\\\\x1bc\\.obj" "${esc}" info --scene ${WORK}/esc${esc}c.obj)
 expect(0 "--accel" trace --help)
 expect(0 "^rayscout [0-9]+\\.[0-9]+" --version)
@@ -168,6 +171,9 @@ for o in range(16, len(b), 16):
 open(sys.argv[2], 'wb').write(b)" ${WORK}/p.hits ${WORK}/t0.hits RESULT_VARIABLE rc)
 expect(1 "too many grazing: +[0-9]+ of 64 rays, above --max-grazing 0.01" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --rays ${WORK}/ok.rays)
 expect(0 "result: +OK" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --max-grazing 1)
+# --strict excuses no grazing contact, whatever --max-grazing allows; the default tolerance is 1e-4.
+expect(1 "result: +DIFFERENT" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --max-grazing 1 --strict)
+expect(0 "result: +OK \\(tolerance 0\\.0001\\)" compare-hits ${WORK}/p.hits ${WORK}/p.hits)
 # Every file of a comparison holds as many results as the first (or the RAYS file), whichever
 # position the odd one is in; --hits-a/--hits-b belong to OCCL files.
 expect(0 "wrote" rays --scene cornell --workload primary --width 4 --height 4 --out ${WORK}/small.rays)
@@ -228,6 +234,10 @@ expect(2 "render: width 1024 x height 1024 x spp 4096 = 4294967296 camera sample
 # A ray offset of a sizeable part of the scene is warned about (rays would start past walls).
 expect(0 "--ray-epsilon 0.5 is 14 % of the scene's diagonal"
        render --ray-epsilon 0.5 --width 8 --height 8 --out ${WORK}/x.png)
+# From 1 % of the diagonal (3.46 here) on: 0.1 is 3 %, 0.03 is 0.9 %.
+expect(0 "--ray-epsilon 0.1 is 3 % of the scene's diagonal"
+       render --ray-epsilon 0.1 --width 8 --height 8 --out ${WORK}/x.png)
+expect_without(0 "wrote" "ray-epsilon" render --ray-epsilon 0.03 --width 8 --height 8 --out ${WORK}/x.png)
 # So do the shadow rays to point lights, known once the scene is loaded (64 lights here).
 set(lights "")
 foreach(i RANGE 1 64)
@@ -402,6 +412,7 @@ expect(0 "--costs is ignored by --visibility exact" ${M} --passes 1 --visibility
 expect(0 "--costs 0.25,0.7: a sample costs no more with its shadow ray than without it: skipping saves nothing"
        ${M} --passes 1 --costs 0.25,0.7)
 expect_without(0 "wrote" "warning" ${M} --passes 1 --costs 0.7,0.25 --epsilon 0.2 --cpu-clock)
+expect(0 "--costs 0.5,0.5: a sample costs no more with its shadow ray" ${M} --passes 1 --costs 0.5,0.5)
 expect_without(0 "wrote" "warning" ${M} --time-budget 0.01 --visibility conservative --costs 0.7,0.25)
 # Manylight costs: two positive numbers; given, the skipping modes are repeatable (no timing in
 # the skip probabilities), so two runs with the same seed write the same bytes.
