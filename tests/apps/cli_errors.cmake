@@ -171,6 +171,18 @@ for o in range(16, len(b), 16):
 open(sys.argv[2], 'wb').write(b)" ${WORK}/p.hits ${WORK}/t0.hits RESULT_VARIABLE rc)
 expect(1 "too many grazing: +[0-9]+ of 64 rays, above --max-grazing 0.01" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --rays ${WORK}/ok.rays)
 expect(0 "result: +OK" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --max-grazing 1)
+# With the scene, contacts are judged from the triangles: t = 0 on another triangle, far from
+# its edges and its plane, excuses nothing however many --max-grazing allows.
+expect(1 "different triangle: +[1-9][0-9]* .*\ngrazing contacts: +0 \\(an edge, an end of the segment or two distances within 64 float ulps of the coordinates; not counted\\).*result: +DIFFERENT"
+       compare-hits ${WORK}/p.hits ${WORK}/t0.hits --rays ${WORK}/ok.rays --scene cornell --max-grazing 1)
+expect_without(0 "result: +OK" "warning" compare-hits ${WORK}/p.hits ${WORK}/p.hits --rays ${WORK}/ok.rays --scene cornell)
+expect(2 "--scene judges contacts from the rays' geometry: give the RAYS file too \\(--rays FILE\\)"
+       compare-hits ${WORK}/p.hits ${WORK}/p.hits --scene cornell)
+expect(2 "p\\.hits: ray [0-9]+ hits triangle [0-9]+, but --scene .*quad0\\.json has 2 triangles \\(traced against another scene\\?\\)"
+       compare-hits ${WORK}/p.hits ${WORK}/p.hits --rays ${WORK}/ok.rays --scene ${WORK}/quad0.json)
+expect(0 "warning: --edge-eps ignored with --scene" compare-hits ${WORK}/p.hits ${WORK}/p.hits --rays ${WORK}/ok.rays
+       --scene cornell --edge-eps 0.01)
+expect(0 "warning: --ulps ignored without --scene" compare-hits ${WORK}/p.hits ${WORK}/p.hits --ulps 8)
 # --strict excuses no grazing contact, whatever --max-grazing allows; the default tolerance is 1e-4.
 expect(1 "result: +DIFFERENT" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --max-grazing 1 --strict)
 expect(0 "result: +OK \\(tolerance 0\\.0001\\)" compare-hits ${WORK}/p.hits ${WORK}/p.hits)

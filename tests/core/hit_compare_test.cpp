@@ -237,5 +237,145 @@ TEST(OcclusionCompare, CountsAndGrazing) {
   EXPECT_EQ(d.differ, 2u);
 }
 
+
+// With triangles, a contact is grazing when float arithmetic cannot decide it: tol = 64 ulps
+// (2^-18) of the largest coordinate, in world units. Vertical rays below, so the edge
+// measure is the in-plane distance.
+struct GeometricJudge {
+  std::vector<Triangle> tris = {
+      {{32.0f, 0.0f, 0.0f}, {32.002f, 0.0f, 0.0f}, {32.0f, 0.002f, 0.0f}},  // 0: 0.002 wide, tol 1.2e-4
+      {{0.0f, 0.0f, 0.0f}, {64.0f, 0.0f, 0.0f}, {0.0f, 64.0f, 0.0f}},      // 1: 64 wide, tol 2.4e-4
+      {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, {2.0f, 2.0f, 2.0f}},        // 2: degenerate
+      {{0.0f, 0.0f, -1.0f}, {64.0f, 0.0f, -1.0f}, {0.0f, 64.0f, -1.0f}},   // 3: 1 below 1
+      {{0.0f, 0.0f, 2e-4f}, {64.0f, 0.0f, 2e-4f}, {0.0f, 64.0f, 2e-4f}},   // 4: 2e-4 above 1
+  };
+  RayBatch rays;
+  HitCompareConfig cfg;
+  GeometricJudge() {
+    cfg.rel_tol = 1e-4f;
+    cfg.allow_grazing = true;
+    cfg.rays = &rays;
+    cfg.triangles = tris;
+  }
+  size_t add(Vec3 org, Vec3 dir, float tmin = 0.0f, float tmax = kInfinity) {
+    rays.push_back({org, tmin, dir, tmax});
+    return rays.size() - 1;
+  }
+  bool grazing(size_t ray, uint32_t prim, float t = 1.0f) const { return is_grazing({t, prim, 0.3f, 0.3f}, cfg, ray); }
+};
+
+TEST(HitCompareGeometry, ATinyTrianglesEdgeIsJudgedInWorldUnitsNotBarycentrics) {
+  GeometricJudge g;
+  const size_t edge = g.add({32.0005f, 5e-5f, 1.0f}, {0.0f, 0.0f, -1.0f});      // 5e-5 from y = 0
+  const size_t inside = g.add({32.0008f, 8e-4f, 1.0f}, {0.0f, 0.0f, -1.0f});    // 2.8e-4 from the nearest edge
+  EXPECT_TRUE(g.grazing(edge, 0));
+  EXPECT_FALSE(g.grazing(inside, 0));
+  // The hit's barycentrics (v = 0.025) are far from edge_eps: without triangles it is an error.
+  const HitBatch ref = batch({{1.0f, 0, 0.25f, 0.025f}}), got = batch({{}});
+  HitCompareConfig bary = g.cfg;
+  bary.triangles = {};
+  EXPECT_EQ(compare_hits(ref, got, bary).hit_miss, 1u);
+  const HitDiff d = compare_hits(ref, got, g.cfg);
+  EXPECT_EQ(d.grazing, 1u);
+  EXPECT_TRUE(d.ok()) << d.first;
+}
+
+TEST(HitCompareGeometry, ALargeTrianglesEdgeGetsOnlyThePrecisionOfItsCoordinates) {
+  GeometricJudge g;
+  const size_t near = g.add({16.0f, 1e-4f, 1.0f}, {0.0f, 0.0f, -1.0f});  // 1e-4 < 2.4e-4 from y = 0
+  const size_t far = g.add({16.0f, 4e-3f, 1.0f}, {0.0f, 0.0f, -1.0f});   // 4e-3: barycentric 6e-5 <= edge_eps
+  EXPECT_TRUE(g.grazing(near, 1));
+  EXPECT_FALSE(g.grazing(far, 1));
+  const HitBatch ref = batch({{}, {1.0f, 1, 0.25f, 6.25e-5f}}), got = batch({{}, {}});
+  HitCompareConfig bary = g.cfg;
+  bary.triangles = {};
+  EXPECT_TRUE(compare_hits(ref, got, bary).ok());  // excused by barycentrics
+  const HitDiff d = compare_hits(ref, got, g.cfg);
+  EXPECT_EQ(d.hit_miss, 1u);
+  EXPECT_NE(d.first.find("ray 1: hit/miss"), std::string::npos) << d.first;
+}
+
+// The edge measure is the in-plane distance times the cosine of the incidence angle: a ray
+// 1e-6 rad off the plane is undecidable 10 units inside; at 27 degrees off it is not.
+TEST(HitCompareGeometry, ARayNearlyInThePlaneIsGrazingAndItsDistanceIllConditioned) {
+  GeometricJudge g;
+  const size_t flat = g.add({-10.0f, 16.0f, 2e-5f}, {1.0f, 0.0f, -1e-6f});  // meets z = 0 at (10, 16), t = 20
+  const size_t steep = g.add({-10.0f, 16.0f, 20.0f}, {1.0f, 0.0f, -0.5f});  // at (30, 16), t = 40
+  EXPECT_TRUE(g.grazing(flat, 1, 20.0f));
+  EXPECT_FALSE(g.grazing(steep, 1, 40.0f));
+  // The same triangle half a unit further along: 5e-7 off the plane for the flat ray (within
+  // tol), 0.25 for the steep one.
+  const HitBatch ref = batch({{20.0f, 1, 0.2f, 0.3f}, {40.0f, 1, 0.2f, 0.3f}});
+  const HitBatch got = batch({{20.5f, 1, 0.2f, 0.3f}, {40.5f, 1, 0.2f, 0.3f}});
+  const HitDiff d = compare_hits(ref, got, g.cfg);
+  EXPECT_EQ(d.grazing, 1u);
+  EXPECT_EQ(d.t_mismatch, 1u);
+  EXPECT_NE(d.first.find("ray 1: distance"), std::string::npos) << d.first;
+}
+
+// Two triangles whose hit points lie within tol of each other's planes cannot be ordered in
+// float, though their distances differ beyond rel_tol: a ray 3 degrees off z = 0 meets z = 0
+// and z = 2e-4 4e-3 apart (2.5e-4 of the world scale 16). One unit apart they are ordered.
+TEST(HitCompareGeometry, HitsFloatCannotOrderAreExcusedOthersAreNot) {
+  GeometricJudge g;
+  const size_t ray = g.add({-10.0f, 16.0f, 1.0f}, {1.0f, 0.0f, -0.05f});  // z = 0 at t = 20, z = -1 at t = 40
+  const float t_lifted = (1.0f - 2e-4f) / 0.05f;
+  EXPECT_FALSE(g.grazing(ray, 1, 20.0f));
+  EXPECT_FALSE(g.grazing(ray, 4, t_lifted));
+  const HitBatch ref = batch({{20.0f, 1, 0.2f, 0.3f}});
+  HitDiff d = compare_hits(ref, batch({{t_lifted, 4, 0.2f, 0.3f}}), g.cfg);
+  EXPECT_EQ(d.ties, 0u);
+  EXPECT_EQ(d.grazing, 1u);
+  EXPECT_TRUE(d.ok()) << d.first;
+  d = compare_hits(ref, batch({{40.0f, 3, 0.2f, 0.3f}}), g.cfg);  // passed z = 0 by
+  EXPECT_EQ(d.other_prim, 1u);
+  HitCompareConfig bary = g.cfg;
+  bary.triangles = {};
+  EXPECT_EQ(compare_hits(ref, batch({{t_lifted, 4, 0.2f, 0.3f}}), bary).other_prim, 1u);
+}
+
+// An end of the segment within tol of the plane: a ray leaving the surface it starts on
+// (tmin), or one ending on it (tmax). Away from the plane the same rays are decided.
+TEST(HitCompareGeometry, ASegmentEndingOnThePlaneIsGrazing) {
+  GeometricJudge g;
+  const size_t leaving = g.add({10.0f, 10.0f, 0.0f}, {0.3f, 0.2f, 1.0f});
+  const size_t ending = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 2.0f);
+  const size_t through = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 3.0f);
+  const size_t starting = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, -1.0f}, 2.0f);
+  EXPECT_TRUE(g.grazing(leaving, 1, 0.0f));
+  EXPECT_TRUE(g.grazing(ending, 1, 2.0f));
+  EXPECT_FALSE(g.grazing(through, 1, 2.0f));
+  EXPECT_TRUE(g.grazing(starting, 1, 2.0f));
+}
+
+// No excuse without a contact to judge: a degenerate triangle is always undecidable, but a
+// triangle id the scene lacks, a zero or NaN direction are not grazing, and a miss is none.
+TEST(HitCompareGeometry, DegenerateInputs) {
+  GeometricJudge g;
+  const size_t ok = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, -1.0f});
+  const size_t zero = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, 0.0f});
+  const size_t nan = g.add({10.0f, 10.0f, 2.0f}, {std::nanf(""), 0.0f, -1.0f});
+  EXPECT_TRUE(g.grazing(ok, 2));
+  EXPECT_FALSE(g.grazing(ok, 1));
+  EXPECT_FALSE(g.grazing(ok, 99));
+  EXPECT_FALSE(g.grazing(zero, 1));
+  EXPECT_FALSE(g.grazing(nan, 1));
+  EXPECT_FALSE(g.grazing(7, 1));  // no such ray
+  EXPECT_FALSE(is_grazing({}, g.cfg, ok));
+}
+
+// compare_occlusion asks the same question of the occluded side's closest hit.
+TEST(HitCompareGeometry, OcclusionExcusesOnlyAnUndecidableBlocker) {
+  GeometricJudge g;
+  g.add({32.0005f, 5e-5f, 1.0f}, {0.0f, 0.0f, -1.0f});  // the tiny triangle's edge
+  g.add({16.0f, 4e-3f, 1.0f}, {0.0f, 0.0f, -1.0f});     // the large one, decided
+  const HitBatch blockers = batch({{1.0f, 0, 0.25f, 0.025f}, {1.0f, 1, 0.25f, 6.25e-5f}});
+  const HitBatch none = batch({{}, {}});
+  const OcclusionDiff d = compare_occlusion({1, 1}, {0, 0}, g.cfg, &blockers, &none);
+  EXPECT_EQ(d.grazing, 1u);
+  EXPECT_EQ(d.differ, 1u);
+  EXPECT_NE(d.first.find("ray 1"), std::string::npos) << d.first;
+}
+
 }  // namespace
 }  // namespace rayscout

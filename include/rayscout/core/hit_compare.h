@@ -3,10 +3,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "rayscout/core/ray.h"
+#include "rayscout/core/triangle.h"
 
 namespace rayscout {
 
@@ -29,16 +31,33 @@ struct HitCompareConfig {
   /// Off (default) for our own accelerators, which share one kernel; on for Embree.
   /// Ignored when rel_tol is 0: bit-identical excuses nothing.
   bool allow_grazing = false;
-  /// A hit is grazing when a barycentric coordinate (u, v or 1-u-v) is <= edge_eps.
+  /// Without triangles: a hit is grazing when a barycentric coordinate (u, v or 1-u-v) is
+  /// <= edge_eps.
   float edge_eps = 1e-4f;
+  /// The triangles both batches were traced against, indexed by Hit::prim (optional, used
+  /// with `rays`; must outlive the call). With them a contact is grazing when float
+  /// arithmetic cannot decide it (see is_grazing), whatever the triangle's size, and edge_eps
+  /// is not used.
+  std::span<const Triangle> triangles;
+  /// With triangles: the precision of the two tracers' arithmetic, in float ulps (2^-24) of
+  /// the largest coordinate of the ray's origin and the triangle's vertices.
+  float ulps = 64.0f;
 
   /// Whether a disagreement at a grazing contact is counted apart instead of as an error.
   bool excuses_grazing() const { return allow_grazing && rel_tol > 0.0f; }
 };
 
-/// True for a hit on an edge or vertex of its triangle (a barycentric <= edge_eps) or at
-/// t within the tolerance of 0 (a ray leaving the surface it starts on); `ray`: the index of
-/// the hit's ray in config.rays, when given.
+/// Whether float arithmetic may decide the contact h either way; `ray`: the index of the hit's
+/// ray in config.rays, when given.
+/// Without triangles: a hit on an edge or vertex of its triangle (a barycentric <= edge_eps)
+/// or at t within the tolerance of 0 (a ray leaving the surface it starts on).
+/// With triangles and rays, in double precision, tol = ulps 2^-24 max(|o|, |v0|, |v1|, |v2|)
+/// (largest coordinates): the ray passes an edge of the triangle by less than tol, measured
+/// as (e x d) . (o - a) / (|e| |d|) for the edge e from vertex a, which is the in-plane
+/// distance from the edge times the cosine of the incidence angle (so a ray nearly in the
+/// plane is grazing everywhere, a tiny triangle is judged in world units, not barycentrics);
+/// or an end of the segment (at tmin, at tmax when finite) lies within tol of the plane; or
+/// the triangle is degenerate.
 bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray = 0);
 
 /// Disagreements between a reference and a candidate hit batch.
@@ -50,7 +69,10 @@ struct HitDiff {
   size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * scale
   size_t uv_mismatch = 0;   ///< rel_tol = 0 only: same triangle and t, different u or v bits
   size_t ties = 0;          ///< different triangle at the same t (within tolerance, rel_tol > 0): not an error
-  size_t grazing = 0;       ///< disagreements at a grazing contact (allow_grazing only): not an error
+  /// Disagreements at a grazing contact, and with triangles also at distances float cannot
+  /// order (each hit point within is_grazing's tol of the other's plane; allow_grazing
+  /// only): not an error.
+  size_t grazing = 0;
   /// Max and 99th percentile of |t - t_ref| / scale (HitCompareConfig::rel_tol) over rays
   /// that both hit (the same triangle or a tie).
   double max_rel_diff = 0.0, p99_rel_diff = 0.0;
