@@ -7,7 +7,10 @@
 
 #include <atomic>
 #include <cerrno>
+#include <climits>
+#include <csignal>
 #include <cstring>
+#include <mutex>
 
 #include "rayscout/core/input_error.h"
 
@@ -93,9 +96,83 @@ bool write_all(int fd, std::string_view bytes) {
   return true;
 }
 
+// The temporaries being written, for the handler of SIGINT, SIGTERM and SIGHUP to remove: a
+// fixed table, as a signal handler may neither allocate nor lock. A slot is free, being
+// filled (by a writer; the handler skips it), holding a temporary's path, or taken by the
+// handler (which then ends the process, so the slot is never freed).
+enum SlotState : int { kFree, kFilling, kRegistered, kRemoving };
+struct TemporarySlot {
+  std::atomic<int> state{kFree};
+  char path[PATH_MAX];
+};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs lock-free atomics");
+// More writes at once than slots (or a path too long to open) go unregistered: their
+// temporaries are left behind on a signal, as they all were before.
+TemporarySlot temporary_slots[32];
+
+// Reserves a slot for `path`; -1 when none is free or the path does not fit.
+int register_temporary(const std::filesystem::path& path) {
+  const std::string& name = path.native();
+  if (name.size() >= PATH_MAX) return -1;
+  for (int i = 0; i < int(std::size(temporary_slots)); ++i) {
+    TemporarySlot& slot = temporary_slots[i];
+    int expected = kFree;
+    if (!slot.state.compare_exchange_strong(expected, kFilling, std::memory_order_acquire)) continue;
+    std::memcpy(slot.path, name.c_str(), name.size() + 1);
+    slot.state.store(kRegistered, std::memory_order_release);
+    return i;
+  }
+  return -1;
+}
+
+// Frees the slot once its temporary is renamed or removed (unless a handler took it).
+void unregister_temporary(int slot) {
+  if (slot < 0) return;
+  int expected = kRegistered;
+  temporary_slots[slot].state.compare_exchange_strong(expected, kFree, std::memory_order_release);
+}
+
+// Removes the registered temporaries, then ends the process by the same signal, with its
+// default action, so that its exit status says so (a shell sees "killed by SIGINT"). Only
+// async-signal-safe calls.
+void remove_temporaries_and_reraise(int sig) {
+  const int saved_errno = errno;
+  for (TemporarySlot& slot : temporary_slots) {
+    int expected = kRegistered;
+    if (slot.state.compare_exchange_strong(expected, kRemoving, std::memory_order_acquire)) ::unlink(slot.path);
+  }
+  struct sigaction default_action {};
+  default_action.sa_handler = SIG_DFL;
+  sigemptyset(&default_action.sa_mask);
+  ::sigaction(sig, &default_action, nullptr);
+  // Pending until this handler returns and unblocks it; then it ends the process.
+  ::raise(sig);
+  errno = saved_errno;
+}
+
+// Installs the handler for SIGINT, SIGTERM and SIGHUP, once, where the signal still has its
+// default action: a signal the program ignores (SIGHUP under nohup) or handles itself is left so.
+void remove_temporaries_on_signals() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_reraise;
+    sigemptyset(&action.sa_mask);
+    // One handler at a time: a second signal waits until the first has ended the process.
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, sig);
+    action.sa_flags = SA_RESTART;
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction old {};
+      if (::sigaction(sig, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL)
+        ::sigaction(sig, &action, nullptr);
+    }
+  });
+}
+
 // Creates a file of its own beside `target` (".NAME.PID-N.tmp"), with the permissions a new
-// file gets, or those of the file it will replace; -1 (errno set) when it cannot.
-int create_temporary(const std::filesystem::path& target, std::filesystem::path& temporary) {
+// file gets, or those of the file it will replace, registered for removal on a signal (`slot`,
+// -1 when it could not be); -1 (errno set) when it cannot.
+int create_temporary(const std::filesystem::path& target, std::filesystem::path& temporary, int& slot) {
   static std::atomic<unsigned> counter{0};
   struct stat old {};
   const bool replaces = ::stat(target.c_str(), &old) == 0;
@@ -109,9 +186,19 @@ int create_temporary(const std::filesystem::path& target, std::filesystem::path&
     name += std::to_string(counter++);
     name += ".tmp";
     temporary = target.parent_path() / name;
+    // Registered before it exists, so that no signal comes between creating and registering
+    // it (a signal before the open removes nothing, or at worst a stale file of the same name).
+    slot = register_temporary(temporary);
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0 && errno == EEXIST) continue;
-    if (fd >= 0 && replaces) ::fchmod(fd, old.st_mode & 07777);
+    if (fd < 0) {
+      const int error = errno;
+      unregister_temporary(slot);
+      slot = -1;
+      if (error == EEXIST) continue;
+      errno = error;
+      return -1;
+    }
+    if (replaces) ::fchmod(fd, old.st_mode & 07777);
     return fd;
   }
   errno = EEXIST;
@@ -144,8 +231,11 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
   const bool regular = exists && std::filesystem::is_regular_file(target, ec);
   // Written beside the target and renamed over it once whole: a failed or interrupted write
   // (a full disk, Ctrl-C) never leaves a partial file under the name, nor spoils the old one.
+  // Ctrl-C, SIGTERM or SIGHUP while it is written removes the temporary.
+  remove_temporaries_on_signals();
   std::filesystem::path temporary;
-  const int fd = exists && !regular ? -1 : create_temporary(target, temporary);
+  int slot = -1;
+  const int fd = exists && !regular ? -1 : create_temporary(target, temporary, slot);
   if (fd < 0) {
     const int open_error = errno;
     // A device or FIFO (/dev/stdout, /dev/full) cannot be renamed over, and a writable file in
@@ -162,15 +252,19 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
     }
     return;
   }
+  // Unregistered only once renamed or removed: a signal in between unlinks a name that is gone.
   if (int error = 0; !write_and_close(fd, bytes, error)) {
     ::unlink(temporary.c_str());
+    unregister_temporary(slot);
     throw failure(cannot_write, error);
   }
   if (::rename(temporary.c_str(), target.c_str()) != 0) {
     const int error = errno;
     ::unlink(temporary.c_str());
+    unregister_temporary(slot);
     throw failure(cannot_write, error);
   }
+  unregister_temporary(slot);
 }
 
 }  // namespace rayscout

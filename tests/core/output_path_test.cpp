@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -9,6 +10,7 @@
 
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "rayscout/core/input_error.h"
@@ -88,6 +90,48 @@ TEST_F(WriteFileTest, ReplacesTheTargetKeepingLinkAndPermissions) {
   EXPECT_EQ(fs::status(target).permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
   EXPECT_EQ(files_in_dir(), 2u);
+}
+
+// Ctrl-C, SIGTERM or SIGHUP during a write used to leave the hidden temporary behind. Here
+// the signal arrives during the write, deterministically: in a child, a file size limit makes
+// the write raise SIGXFSZ, whose handler raises the signal. The child must still die of that
+// signal (a shell sees "killed by SIGINT"), and leave neither the target nor the temporary.
+TEST_F(WriteFileTest, AnInterruptedWriteRemovesItsTemporary) {
+  const std::string big(64 * 1024, 'x');
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    SCOPED_TRACE(::strsignal(sig));
+    // Ignored when the test started (a background job's SIGINT): write_file leaves it so.
+    struct sigaction now {};
+    ASSERT_EQ(::sigaction(sig, nullptr, &now), 0);
+    if (now.sa_handler == SIG_IGN) GTEST_SKIP() << ::strsignal(sig) << " is ignored in this process";
+    const fs::path target = dir_ / "interrupted.rays";
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      static volatile sig_atomic_t to_raise = 0;
+      to_raise = sig;
+      struct sigaction on_limit {};
+      on_limit.sa_handler = [](int) { ::raise(to_raise); };
+      ::sigaction(SIGXFSZ, &on_limit, nullptr);
+      const rlimit limit{4096, 4096};
+      ::setrlimit(RLIMIT_FSIZE, &limit);
+      try {
+        write_file(target, big, "ray file");
+      } catch (...) {
+        ::_exit(2);  // the write failed (EFBIG) and the process lived on
+      }
+      ::_exit(1);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "exit status " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    EXPECT_EQ(WTERMSIG(status), sig);
+    std::string left;
+    for (const auto& e : fs::directory_iterator(dir_)) (left += ' ') += e.path().filename().string();
+    EXPECT_TRUE(left.empty()) << "left behind:" << left;
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
 }
 
 // A device cannot be renamed over: it is written in place, and its errors are reported.

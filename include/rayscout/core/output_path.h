@@ -1,4 +1,4 @@
-// Checking an output path before the work that ends by writing it.
+// Checking an output path before the work that ends by writing it, and writing it whole.
 #pragma once
 
 #include <filesystem>
@@ -32,6 +32,12 @@ void check_distinct_files(std::span<const NamedFile> outputs, std::span<const Na
 /// spoils the file it replaces. A symbolic link is written through (its target replaced, the
 /// link kept) and a replaced file keeps its permissions; a device (/dev/stdout) is written in
 /// place. Throws InputError "label: cannot write path (...)" on any failure.
+///
+/// Ctrl-C (SIGINT), SIGTERM or SIGHUP during the write removes the temporary file: the first
+/// call installs a handler for each of those signals that still has its default action (one
+/// the program ignores or handles itself is left alone), which unlinks the temporaries being
+/// written, then ends the process by the same signal (exit status "killed by SIGINT"). Safe to
+/// call from several threads at once (up to 32 writes are tracked; more go untracked).
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label);
 
 }  // namespace rayscout
