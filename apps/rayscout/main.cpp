@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "rayscout/core/input_error.h"
+#include "rayscout/core/output_path.h"
 
 namespace rayscout::cli {
 std::vector<AddCommand>& command_registry() {
@@ -33,6 +34,7 @@ std::string memory_hint(const CLI::App& cmd) {
 }  // namespace rayscout::cli
 
 int main(int argc, char** argv) {
+  rayscout::remove_temporaries_on_signals();  // Ctrl-C during a write leaves no hidden .tmp file
   CLI::App app{"rayscout: a ray tracing engine that looks at the rays before tracing them"};
   app.set_version_flag("--version", "rayscout " RAYSCOUT_VERSION);
   app.require_subcommand(1);

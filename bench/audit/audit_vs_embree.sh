@@ -1,8 +1,10 @@
 #!/bin/bash
 # Every accelerator against Embree on rays not made by the renderer: the adversarial families of
-# adversarial_rays.py plus shadow and diffuse workloads, closest hit and any hit, judged with
-# `rayscout compare-hits --rays` (world-space distance tolerance, grazing contacts allowed; for
-# any hit, --hits-a/--hits-b excuse a disagreement whose blocker is a grazing contact).
+# adversarial_rays.py, rays aimed at the scene's own vertices, edges and planes (probe_rays), and
+# shadow and diffuse workloads, closest hit and any hit, judged with `rayscout compare-hits --rays
+# --scene` (world-space distance tolerance; a contact float arithmetic cannot decide, judged from
+# its triangle, is excused; for any hit, --hits-a/--hits-b excuse a disagreement whose blocker is
+# such a contact).
 # usage: bench/audit/audit_vs_embree.sh BUILD_DIR SCENE.json OUT_DIR [N]
 # prints one line per (ray set, query, accelerator) and the disagreements in full.
 # ACCELS="bvh shafts@select=camera-voxels" audits these instead of every accelerator
@@ -17,6 +19,9 @@ mkdir -p "$out"
 read -r lo hi < <($R info --scene "$scene" | awk '/^bounds:/ {gsub(/[(),]/, " "); print $3","$4","$5, $7","$8","$9}')
 [ -n "${lo:-}" ] || { echo "audit: no bounds for $scene (see the error above)" >&2; exit 2; }
 /usr/bin/python3 "$here/adversarial_rays.py" "$out" "$lo" "$hi" "$n" || exit 1
+P=$build/bench/audit/probe_rays
+[ -x "$P" ] || { echo "audit: $P: no probe_rays binary (build the probe_rays target in $build)" >&2; exit 2; }
+$P "$scene" "$out" "$n" >/dev/null || exit 1
 for w in shadow diffuse; do
   $R rays --scene "$scene" --workload $w --width 256 --height 192 --out "$out/W_$w.rays" >/dev/null || exit 1
 done
@@ -32,7 +37,7 @@ for rays in "$out"/*.rays; do
       [ "$name" != "$accel" ] && for kv in $(tr , " " <<< "${accel#*@}"); do tunables+=(--accel-opt "$kv"); done
       $R trace --scene "$scene" --rays "$rays" --accel "$name" "${tunables[@]}" --repeat 1 $flag --out "$out/$set_name.$accel.$ext" >/dev/null || exit 1
       # Any hit: a disagreement whose blocker is a grazing closest hit (traced just before) is excused.
-      opts="--rays $rays"
+      opts="--rays $rays --scene $scene"
       [ $ext = occl ] && opts="$opts --hits-a $out/$set_name.embree.hits --hits-b $out/$set_name.$accel.hits"
       if result=$($R compare-hits "$out/$set_name.embree.$ext" "$out/$set_name.$accel.$ext" $opts); then
         echo "$set_name $query $accel: OK"

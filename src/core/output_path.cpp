@@ -150,24 +150,6 @@ void remove_temporaries_and_reraise(int sig) {
   errno = saved_errno;
 }
 
-// Installs the handler for SIGINT, SIGTERM and SIGHUP, once, where the signal still has its
-// default action: a signal the program ignores (SIGHUP under nohup) or handles itself is left so.
-void remove_temporaries_on_signals() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    struct sigaction action {};
-    action.sa_handler = remove_temporaries_and_reraise;
-    sigemptyset(&action.sa_mask);
-    // One handler at a time: a second signal waits until the first has ended the process.
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, sig);
-    action.sa_flags = SA_RESTART;
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
-      struct sigaction old {};
-      if (::sigaction(sig, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL)
-        ::sigaction(sig, &action, nullptr);
-    }
-  });
-}
 
 // Creates a file of its own beside `target` (".NAME.PID-N.tmp"), with the permissions a new
 // file gets, or those of the file it will replace, registered for removal on a signal (`slot`,
@@ -231,8 +213,6 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
   const bool regular = exists && std::filesystem::is_regular_file(target, ec);
   // Written beside the target and renamed over it once whole: a failed or interrupted write
   // (a full disk, Ctrl-C) never leaves a partial file under the name, nor spoils the old one.
-  // Ctrl-C, SIGTERM or SIGHUP while it is written removes the temporary.
-  remove_temporaries_on_signals();
   std::filesystem::path temporary;
   int slot = -1;
   const int fd = exists && !regular ? -1 : create_temporary(target, temporary, slot);
@@ -265,6 +245,25 @@ void write_file(const std::filesystem::path& path, std::string_view bytes, const
     throw failure(cannot_write, error);
   }
   unregister_temporary(slot);
+}
+
+// Only where the signal still has its default action: one the program ignores (SIGHUP under
+// nohup, SIGINT in a background job) or handles itself is left so.
+void remove_temporaries_on_signals() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_reraise;
+    sigemptyset(&action.sa_mask);
+    // One handler at a time: a second signal waits until the first has ended the process.
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, sig);
+    action.sa_flags = SA_RESTART;
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction old {};
+      if (::sigaction(sig, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL)
+        ::sigaction(sig, &action, nullptr);
+    }
+  });
 }
 
 }  // namespace rayscout

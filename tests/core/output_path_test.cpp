@@ -92,7 +92,8 @@ TEST_F(WriteFileTest, ReplacesTheTargetKeepingLinkAndPermissions) {
   EXPECT_EQ(files_in_dir(), 2u);
 }
 
-// Ctrl-C, SIGTERM or SIGHUP during a write used to leave the hidden temporary behind. Here
+// Ctrl-C, SIGTERM or SIGHUP during a write used to leave the hidden temporary behind (with
+// remove_temporaries_on_signals installed, as the CLI does, it does not). Here
 // the signal arrives during the write, deterministically: in a child, a file size limit makes
 // the write raise SIGXFSZ, whose handler raises the signal. The child must still die of that
 // signal (a shell sees "killed by SIGINT"), and leave neither the target nor the temporary.
@@ -115,6 +116,7 @@ TEST_F(WriteFileTest, AnInterruptedWriteRemovesItsTemporary) {
       ::sigaction(SIGXFSZ, &on_limit, nullptr);
       const rlimit limit{4096, 4096};
       ::setrlimit(RLIMIT_FSIZE, &limit);
+      remove_temporaries_on_signals();
       try {
         write_file(target, big, "ray file");
       } catch (...) {

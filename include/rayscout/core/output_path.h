@@ -32,12 +32,14 @@ void check_distinct_files(std::span<const NamedFile> outputs, std::span<const Na
 /// spoils the file it replaces. A symbolic link is written through (its target replaced, the
 /// link kept) and a replaced file keeps its permissions; a device (/dev/stdout) is written in
 /// place. Throws InputError "label: cannot write path (...)" on any failure.
-///
-/// Ctrl-C (SIGINT), SIGTERM or SIGHUP during the write removes the temporary file: the first
-/// call installs a handler for each of those signals that still has its default action (one
-/// the program ignores or handles itself is left alone), which unlinks the temporaries being
-/// written, then ends the process by the same signal (exit status "killed by SIGINT"). Safe to
-/// call from several threads at once (up to 32 writes are tracked; more go untracked).
+/// Safe to call from several threads at once.
 void write_file(const std::filesystem::path& path, std::string_view bytes, const std::string& label);
+
+/// Makes Ctrl-C (SIGINT), SIGTERM and SIGHUP remove the temporaries write_file is writing
+/// (up to 32 at once), then end the process by the same signal (exit status "killed by
+/// SIGINT"). Installs a handler for each of those signals that still has its default action:
+/// one the program ignores or handles itself is left alone. For programs (the CLI calls it
+/// first thing); a library never installs signal handlers on its own. Idempotent.
+void remove_temporaries_on_signals();
 
 }  // namespace rayscout
