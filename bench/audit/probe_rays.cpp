@@ -9,8 +9,8 @@
 // of a triangle in a random direction (a ray leaving its own surface). M_bundles: 64 rays from one
 // point with directions jittered by 1e-6..1e-3 rad around a vertex, alternating with 64 parallel
 // rays on an 8x8 grid (spacing 1e-4..1e-2 diagonals) around a line through an edge point.
-// Aims are computed in double from the float origin, then rounded to float as the file stores
-// them. Deterministic: the same scene, N and seed give the same bytes.
+// Aims are computed in double from the float origin (K: from the exact in-plane one), then rounded
+// to float as the file stores them. Deterministic: the same scene, N and seed give the same bytes.
 #include <charconv>
 #include <cmath>
 #include <cstdint>
