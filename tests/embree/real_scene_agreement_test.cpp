@@ -1,7 +1,8 @@
 // Every accelerator against Embree on a real scene (Sibenik), ray by ray, on ray families
 // chosen to break culling and seeding: origins outside the scene and far away, on lattice
 // points (box faces, voxel faces of power-of-two grids), axis-parallel and zero-component
-// directions, segments, unnormalised directions, and the renderer's rays from surfaces.
+// directions, segments, unnormalised directions, rays aimed exactly at the scene's vertices
+// and edges, and the renderer's rays from surfaces.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -26,6 +27,7 @@ struct Family {
   std::string name;
   RayBatch rays;
   double min_hit_share = 0.2;  ///< hits (shadow rays: occluded) expected at least, so the family tests something
+  double max_grazing_share = 1e-3;  ///< disagreements float cannot decide, allowed at most
 };
 
 std::vector<Family> make_families(const Scene& scene, const Accelerator& bvh, size_t n) {
@@ -41,6 +43,12 @@ std::vector<Family> make_families(const Scene& scene, const Accelerator& bvh, si
   f[3].name = "segments [tmin, tmax]";
   f[4].name = "lattice origins (k/64 of the box)";
   f[5].name = "unnormalised directions";
+  // Aimed at a vertex or an edge point of a random triangle: contacts on edges by construction,
+  // where the two tracers may disagree only as far as float cannot decide (0.26-0.33 % of the
+  // rays with bvh; the limit leaves three times that).
+  f.push_back({.name = "aimed at vertices", .rays = {}, .max_grazing_share = 0.01});
+  f.push_back({.name = "aimed at edge points", .rays = {}, .max_grazing_share = 0.01});
+  testing::Rng aim(7);  // its own stream: the families above keep their rays
   for (size_t i = 0; i < n; ++i) {
     f[0].rays.push_back({in_box(0.2f), 0.0f, rng.direction(), kInfinity});
     const Vec3 far = centre + rng.direction() * diag * (2.0f + 40.0f * rng.uniform());
@@ -61,6 +69,12 @@ std::vector<Family> make_families(const Scene& scene, const Accelerator& bvh, si
     const Vec3 lattice = b.lo + ext * Vec3(float(rng.gen() % 65), float(rng.gen() % 65), float(rng.gen() % 65)) / 64.0f;
     f[4].rays.push_back({lattice, 0.0f, i % 3 == 0 ? centre - lattice : rng.direction(), kInfinity});
     f[5].rays.push_back({in_box(0.0f), 0.0f, rng.direction() * std::pow(10.0f, -3.0f + 6.0f * rng.uniform()), kInfinity});
+    const Triangle& t = scene.triangles[aim.gen() % scene.triangles.size()];
+    const Vec3 from_a = b.lo - ext * 0.2f + ext * 1.4f * aim.point(0.0f, 1.0f);
+    const Vec3 from_b = b.lo - ext * 0.2f + ext * 1.4f * aim.point(0.0f, 1.0f);
+    const float along = aim.uniform();
+    f[6].rays.push_back({from_a, 0.0f, t.v0 - from_a, kInfinity});
+    f[7].rays.push_back({from_b, 0.0f, t.v1 + (t.v2 - t.v1) * along - from_b, kInfinity});
   }
   const int res = int(std::sqrt(double(n)));
   for (const Workload w : {Workload::Shadow, Workload::Diffuse, Workload::Ao})
@@ -129,7 +143,7 @@ TEST_P(AgreesWithEmbree, OnEveryRayFamilyOfARealScene) {
     EXPECT_TRUE(d.ok()) << f.name << ": " << d.hit_miss << " hit/miss, " << d.other_prim << " other triangle, "
                         << d.t_mismatch << " distance; first: " << d.first;
     EXPECT_GT(double(d.both_hit), f.min_hit_share * double(f.rays.size())) << f.name;
-    EXPECT_LE(d.grazing, f.rays.size() / 1000) << f.name;
+    EXPECT_LE(double(d.grazing), f.max_grazing_share * double(f.rays.size())) << f.name;
     EXPECT_LT(d.p99_rel_diff, 1e-6) << f.name;
     const OcclusionDiff od = compare_occlusion(ref->occluded[k], occ, cfg, &ref->hits[k], &hits);
     EXPECT_TRUE(od.ok()) << f.name << ": " << od.differ << " rays; first: " << od.first;
