@@ -18,7 +18,7 @@ struct CompareArgs {
   std::string a, b, rays, hits_a, hits_b, scene;
   float tolerance = 1e-4f;
   float edge_eps = 1e-4f;
-  float ulps = 64.0f;
+  float ulps = 4.0f;
   float max_grazing = 0.01f;
   bool strict = false;
   std::vector<std::string> hit_options;  // those given of the options that judge closest hits

@@ -173,7 +173,7 @@ expect(1 "too many grazing: +[0-9]+ of 64 rays, above --max-grazing 0.01" compar
 expect(0 "result: +OK" compare-hits ${WORK}/p.hits ${WORK}/t0.hits --max-grazing 1)
 # With the scene, contacts are judged from the triangles: t = 0 on another triangle, far from
 # its edges and its plane, excuses nothing however many --max-grazing allows.
-expect(1 "different triangle: +[1-9][0-9]* .*\ngrazing contacts: +0 \\(an edge, an end of the segment or two distances within 64 float ulps of the coordinates; not counted\\).*result: +DIFFERENT"
+expect(1 "different triangle: +[1-9][0-9]* .*\ngrazing contacts: +0 \\(an edge, an end of the segment or two distances within 4 float ulps of the coordinates; not counted\\).*result: +DIFFERENT"
        compare-hits ${WORK}/p.hits ${WORK}/t0.hits --rays ${WORK}/ok.rays --scene cornell --max-grazing 1)
 expect_without(0 "result: +OK" "warning" compare-hits ${WORK}/p.hits ${WORK}/p.hits --rays ${WORK}/ok.rays --scene cornell)
 expect(2 "--scene judges contacts from the rays' geometry: give the RAYS file too \\(--rays FILE\\)"

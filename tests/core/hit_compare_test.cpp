@@ -238,16 +238,16 @@ TEST(OcclusionCompare, CountsAndGrazing) {
 }
 
 
-// With triangles, a contact is grazing when float arithmetic cannot decide it: tol = 64 ulps
-// (2^-18) of the largest coordinate, in world units. Vertical rays below, so the edge
+// With triangles, a contact is grazing when float arithmetic cannot decide it: tol = 4 ulps
+// (2^-22) of the largest coordinate, in world units. Vertical rays below, so the edge
 // measure is the in-plane distance.
 struct GeometricJudge {
   std::vector<Triangle> tris = {
-      {{32.0f, 0.0f, 0.0f}, {32.002f, 0.0f, 0.0f}, {32.0f, 0.002f, 0.0f}},  // 0: 0.002 wide, tol 1.2e-4
-      {{0.0f, 0.0f, 0.0f}, {64.0f, 0.0f, 0.0f}, {0.0f, 64.0f, 0.0f}},      // 1: 64 wide, tol 2.4e-4
+      {{32.0f, 0.0f, 0.0f}, {32.002f, 0.0f, 0.0f}, {32.0f, 0.002f, 0.0f}},  // 0: 0.002 wide, tol 7.6e-6
+      {{0.0f, 0.0f, 0.0f}, {64.0f, 0.0f, 0.0f}, {0.0f, 64.0f, 0.0f}},      // 1: 64 wide, tol 1.5e-5
       {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, {2.0f, 2.0f, 2.0f}},        // 2: degenerate
       {{0.0f, 0.0f, -1.0f}, {64.0f, 0.0f, -1.0f}, {0.0f, 64.0f, -1.0f}},   // 3: 1 below 1
-      {{0.0f, 0.0f, 2e-4f}, {64.0f, 0.0f, 2e-4f}, {0.0f, 64.0f, 2e-4f}},   // 4: 2e-4 above 1
+      {{0.0f, 0.0f, 1e-5f}, {64.0f, 0.0f, 1e-5f}, {0.0f, 64.0f, 1e-5f}},   // 4: 1e-5 above 1
   };
   RayBatch rays;
   HitCompareConfig cfg;
@@ -266,12 +266,12 @@ struct GeometricJudge {
 
 TEST(HitCompareGeometry, ATinyTrianglesEdgeIsJudgedInWorldUnitsNotBarycentrics) {
   GeometricJudge g;
-  const size_t edge = g.add({32.0005f, 5e-5f, 1.0f}, {0.0f, 0.0f, -1.0f});      // 5e-5 from y = 0
-  const size_t inside = g.add({32.0008f, 8e-4f, 1.0f}, {0.0f, 0.0f, -1.0f});    // 2.8e-4 from the nearest edge
+  const size_t edge = g.add({32.0005f, 5e-6f, 1.0f}, {0.0f, 0.0f, -1.0f});      // 5e-6 from y = 0
+  const size_t inside = g.add({32.0008f, 1e-4f, 1.0f}, {0.0f, 0.0f, -1.0f});    // 1e-4 from y = 0
   EXPECT_TRUE(g.grazing(edge, 0));
   EXPECT_FALSE(g.grazing(inside, 0));
-  // The hit's barycentrics (v = 0.025) are far from edge_eps: without triangles it is an error.
-  const HitBatch ref = batch({{1.0f, 0, 0.25f, 0.025f}}), got = batch({{}});
+  // The hit's barycentrics (v = 0.0025) are far from edge_eps: without triangles it is an error.
+  const HitBatch ref = batch({{1.0f, 0, 0.25f, 0.0025f}}), got = batch({{}});
   HitCompareConfig bary = g.cfg;
   bary.triangles = {};
   EXPECT_EQ(compare_hits(ref, got, bary).hit_miss, 1u);
@@ -282,7 +282,7 @@ TEST(HitCompareGeometry, ATinyTrianglesEdgeIsJudgedInWorldUnitsNotBarycentrics) 
 
 TEST(HitCompareGeometry, ALargeTrianglesEdgeGetsOnlyThePrecisionOfItsCoordinates) {
   GeometricJudge g;
-  const size_t near = g.add({16.0f, 1e-4f, 1.0f}, {0.0f, 0.0f, -1.0f});  // 1e-4 < 2.4e-4 from y = 0
+  const size_t near = g.add({16.0f, 1e-5f, 1.0f}, {0.0f, 0.0f, -1.0f});  // 1e-5 < 1.5e-5 from y = 0
   const size_t far = g.add({16.0f, 4e-3f, 1.0f}, {0.0f, 0.0f, -1.0f});   // 4e-3: barycentric 6e-5 <= edge_eps
   EXPECT_TRUE(g.grazing(near, 1));
   EXPECT_FALSE(g.grazing(far, 1));
@@ -296,14 +296,14 @@ TEST(HitCompareGeometry, ALargeTrianglesEdgeGetsOnlyThePrecisionOfItsCoordinates
 }
 
 // The edge measure is the in-plane distance times the cosine of the incidence angle: a ray
-// 1e-6 rad off the plane is undecidable 10 units inside; at 27 degrees off it is not.
+// 1e-7 rad off the plane is undecidable 10 units inside; at 27 degrees off it is not.
 TEST(HitCompareGeometry, ARayNearlyInThePlaneIsGrazingAndItsDistanceIllConditioned) {
   GeometricJudge g;
-  const size_t flat = g.add({-10.0f, 16.0f, 2e-5f}, {1.0f, 0.0f, -1e-6f});  // meets z = 0 at (10, 16), t = 20
+  const size_t flat = g.add({-10.0f, 16.0f, 2e-6f}, {1.0f, 0.0f, -1e-7f});  // meets z = 0 at (10, 16), t = 20
   const size_t steep = g.add({-10.0f, 16.0f, 20.0f}, {1.0f, 0.0f, -0.5f});  // at (30, 16), t = 40
   EXPECT_TRUE(g.grazing(flat, 1, 20.0f));
   EXPECT_FALSE(g.grazing(steep, 1, 40.0f));
-  // The same triangle half a unit further along: 5e-7 off the plane for the flat ray (within
+  // The same triangle half a unit further along: 5e-8 off the plane for the flat ray (within
   // tol), 0.25 for the steep one.
   const HitBatch ref = batch({{20.0f, 1, 0.2f, 0.3f}, {40.0f, 1, 0.2f, 0.3f}});
   const HitBatch got = batch({{20.5f, 1, 0.2f, 0.3f}, {40.5f, 1, 0.2f, 0.3f}});
@@ -314,12 +314,12 @@ TEST(HitCompareGeometry, ARayNearlyInThePlaneIsGrazingAndItsDistanceIllCondition
 }
 
 // Two triangles whose hit points lie within tol of each other's planes cannot be ordered in
-// float, though their distances differ beyond rel_tol: a ray 3 degrees off z = 0 meets z = 0
-// and z = 2e-4 4e-3 apart (2.5e-4 of the world scale 16). One unit apart they are ordered.
+// float, though their distances differ beyond rel_tol: a ray 0.1 degrees off z = 0 meets
+// z = 0 and z = 1e-5 5e-3 apart (3.1e-4 of the world scale 16). 0.04 apart they are ordered.
 TEST(HitCompareGeometry, HitsFloatCannotOrderAreExcusedOthersAreNot) {
   GeometricJudge g;
-  const size_t ray = g.add({-10.0f, 16.0f, 1.0f}, {1.0f, 0.0f, -0.05f});  // z = 0 at t = 20, z = -1 at t = 40
-  const float t_lifted = (1.0f - 2e-4f) / 0.05f;
+  const size_t ray = g.add({-10.0f, 16.0f, 0.04f}, {1.0f, 0.0f, -0.002f});  // z = 0 at t = 20, -0.04 at 40
+  const float t_lifted = (0.04f - 1e-5f) / 0.002f;
   EXPECT_FALSE(g.grazing(ray, 1, 20.0f));
   EXPECT_FALSE(g.grazing(ray, 4, t_lifted));
   const HitBatch ref = batch({{20.0f, 1, 0.2f, 0.3f}});
@@ -367,9 +367,9 @@ TEST(HitCompareGeometry, DegenerateInputs) {
 // compare_occlusion asks the same question of the occluded side's closest hit.
 TEST(HitCompareGeometry, OcclusionExcusesOnlyAnUndecidableBlocker) {
   GeometricJudge g;
-  g.add({32.0005f, 5e-5f, 1.0f}, {0.0f, 0.0f, -1.0f});  // the tiny triangle's edge
+  g.add({32.0005f, 5e-6f, 1.0f}, {0.0f, 0.0f, -1.0f});  // the tiny triangle's edge
   g.add({16.0f, 4e-3f, 1.0f}, {0.0f, 0.0f, -1.0f});     // the large one, decided
-  const HitBatch blockers = batch({{1.0f, 0, 0.25f, 0.025f}, {1.0f, 1, 0.25f, 6.25e-5f}});
+  const HitBatch blockers = batch({{1.0f, 0, 0.25f, 0.0025f}, {1.0f, 1, 0.25f, 6.25e-5f}});
   const HitBatch none = batch({{}, {}});
   const OcclusionDiff d = compare_occlusion({1, 1}, {0, 0}, g.cfg, &blockers, &none);
   EXPECT_EQ(d.grazing, 1u);
