@@ -2,6 +2,7 @@
 #include "rayscout/core/hit_compare.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <string>
@@ -58,16 +59,26 @@ struct Contact {
   bool near_plane(const Triangle& tri, double t) const {
     return std::isfinite(t) && !(std::fabs(plane_distance(tri, t)) > tol);  // NaN: degenerate
   }
-  // Whether the ray passes an edge within tol: (e x d) . (o - a) / (|e| |d|) is the in-plane
-  // distance from the edge times the cosine of the incidence angle, the quantity both
-  // watertight tests (ours, Embree's robust Pluecker test) decide the edge by.
-  bool near_edge(const Triangle& tri) const {
+  // The ray's edge functions (e x d) . (o - a) / (|e| |d|), edge e from vertex a: where the
+  // ray's line crosses the plane, the in-plane distance from each edge times the cosine of the
+  // incidence angle, of one sign inside the triangle. Both watertight tests (ours, Embree's
+  // robust Pluecker test) decide a hit by their signs. 0 for an edge of length 0.
+  std::array<double, 3> edge_functions(const Triangle& tri) const {
     const D3 v[3] = {tri.v0, tri.v1, tri.v2};
+    std::array<double, 3> f{};
     for (int i = 0; i < 3; ++i) {
       const D3 e = v[(i + 1) % 3] - v[i];
-      if (!(std::fabs(dot(cross(e, d), o - v[i])) > tol * norm(e) * norm(d))) return true;  // NaN: degenerate
+      const double scale = norm(e) * norm(d);
+      f[i] = scale > 0.0 ? dot(cross(e, d), o - v[i]) / scale : 0.0;
     }
-    return false;
+    return f;
+  }
+  // Whether the ray's line meets the triangle, edges grown by tol: a claimed contact must.
+  bool passes(const std::array<double, 3>& f) const {
+    return std::min({f[0], f[1], f[2]}) >= -tol || std::max({f[0], f[1], f[2]}) <= tol;
+  }
+  static bool near_edge(const std::array<double, 3>& f, double tol) {
+    return std::min({std::fabs(f[0]), std::fabs(f[1]), std::fabs(f[2])}) <= tol;
   }
 };
 
@@ -76,13 +87,15 @@ bool has_geometry(const HitCompareConfig& config, size_t i, const Hit& h) {
   return config.rays && i < config.rays->size() && h.prim < config.triangles.size();
 }
 
-// Whether two hits of ray i lie at distances float cannot order: each hit point within the
-// tolerance of the other's plane (for one triangle: |t_a - t_b| |n . d| <= tol).
+// Whether two hits of ray i lie at distances float cannot order: the ray meets both triangles
+// (within tol) and each hit point lies within tol of the other's plane (for one triangle:
+// |t_a - t_b| |n . d| <= tol).
 bool indistinct(const Hit& a, const Hit& b, const HitCompareConfig& config, size_t i) {
   if (!has_geometry(config, i, a) || !has_geometry(config, i, b)) return false;
   const Triangle &ta = config.triangles[a.prim], &tb = config.triangles[b.prim];
   const Contact c((*config.rays)[i], {&ta, &tb}, config.ulps);
-  return c.near_plane(ta, b.t) && c.near_plane(tb, a.t);
+  return c.passes(c.edge_functions(ta)) && c.passes(c.edge_functions(tb)) && c.near_plane(ta, b.t) &&
+         c.near_plane(tb, a.t);
 }
 
 }  // namespace
@@ -95,7 +108,8 @@ bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray) {
     const Triangle& tri = config.triangles[h.prim];
     const Contact c(r, {&tri}, config.ulps);
     if (!std::isfinite(c.o.max_abs()) || !std::isfinite(c.d.max_abs()) || !(norm(c.d) > 0.0)) return false;
-    return c.near_edge(tri) || c.near_plane(tri, r.tmin) || c.near_plane(tri, r.tmax);
+    const std::array<double, 3> f = c.edge_functions(tri);
+    return c.passes(f) && (Contact::near_edge(f, c.tol) || c.near_plane(tri, r.tmin) || c.near_plane(tri, r.tmax));
   }
   const float w = 1.0f - h.u - h.v;
   return std::min({h.u, h.v, w}) <= config.edge_eps ||

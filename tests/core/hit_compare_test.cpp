@@ -348,11 +348,31 @@ TEST(HitCompareGeometry, ASegmentEndingOnThePlaneIsGrazing) {
   EXPECT_TRUE(g.grazing(starting, 1, 2.0f));
 }
 
-// No excuse without a contact to judge: a degenerate triangle is always undecidable, but a
-// triangle id the scene lacks, a zero or NaN direction are not grazing, and a miss is none.
+// The excuse needs the ray to meet the claimed triangle (edges grown by tol): a ray along the
+// line of an edge, 36 units past its end, or one starting on the plane far outside the triangle
+// is not a contact float cannot decide, whatever a tracer claims there.
+TEST(HitCompareGeometry, AClaimedContactOffTheTriangleIsNoExcuse) {
+  GeometricJudge g;
+  const size_t past_edge = g.add({100.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -1.0f});  // on the line y = 0
+  const size_t on_edge = g.add({32.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -1.0f});
+  const size_t off_plane = g.add({100.0f, 100.0f, 0.0f}, {0.3f, 0.2f, 1.0f});
+  EXPECT_FALSE(g.grazing(past_edge, 1));
+  EXPECT_TRUE(g.grazing(on_edge, 1));
+  EXPECT_FALSE(g.grazing(off_plane, 1, 0.0f));
+  const HitDiff d = compare_hits(batch({{}, {}, {}}), batch({{1.0f, 1, 0.0f, 0.0f}, {1.0f, 1, 0.5f, 0.0f}, {0.0f, 1, 0.0f, 0.0f}}),
+                                 g.cfg);
+  EXPECT_EQ(d.hit_miss, 2u);
+  EXPECT_EQ(d.grazing, 1u);
+}
+
+// No excuse without a contact to judge: a degenerate triangle (a segment) is undecidable where
+// the ray meets it and only there, and a triangle id the scene lacks, a zero or NaN direction
+// are not grazing, and a miss is none.
 TEST(HitCompareGeometry, DegenerateInputs) {
   GeometricJudge g;
-  const size_t ok = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, -1.0f});
+  const size_t ok = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, -1.0f});  // over the line x = y = z
+  const size_t beside = g.add({10.0f, 5.0f, 2.0f}, {0.0f, 0.0f, -1.0f});
+  EXPECT_FALSE(g.grazing(beside, 2));
   const size_t zero = g.add({10.0f, 10.0f, 2.0f}, {0.0f, 0.0f, 0.0f});
   const size_t nan = g.add({10.0f, 10.0f, 2.0f}, {std::nanf(""), 0.0f, -1.0f});
   EXPECT_TRUE(g.grazing(ok, 2));

@@ -54,12 +54,12 @@ struct HitCompareConfig {
 /// Without triangles: a hit on an edge or vertex of its triangle (a barycentric <= edge_eps)
 /// or at t within the tolerance of 0 (a ray leaving the surface it starts on).
 /// With triangles and rays, in double precision, tol = ulps 2^-24 max(|o|, |v0|, |v1|, |v2|)
-/// (largest coordinates): the ray passes an edge of the triangle by less than tol, measured
-/// as (e x d) . (o - a) / (|e| |d|) for the edge e from vertex a, which is the in-plane
-/// distance from the edge times the cosine of the incidence angle (so a ray nearly in the
-/// plane is grazing everywhere, a tiny triangle is judged in world units, not barycentrics);
-/// or an end of the segment (at tmin, at tmax when finite) lies within tol of the plane; or
-/// the triangle is degenerate.
+/// (largest coordinates): the ray's line meets the triangle with its edges grown by tol, and
+/// passes an edge by less than tol, measured as (e x d) . (o - a) / (|e| |d|) for the edge e
+/// from vertex a, which is the in-plane distance from the edge times the cosine of the
+/// incidence angle (so a ray nearly in the plane is grazing everywhere, a tiny triangle is
+/// judged in world units, not barycentrics), or an end of the segment (at tmin, at tmax when
+/// finite) lies within tol of the plane.
 bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray = 0);
 
 /// Disagreements between a reference and a candidate hit batch.
