@@ -29,7 +29,7 @@ bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit
 // below add errors ~2^29 times smaller than the float arithmetic it judges.
 struct D3 {
   double x, y, z;
-  D3(const Vec3& v) : x(v.x), y(v.y), z(v.z) {}  // NOLINT: a float vector widens exactly
+  D3(const Vec3& v) : x(v.x), y(v.y), z(v.z) {}  // implicit: a float vector widens exactly
   D3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
   D3 operator-(const D3& b) const { return {x - b.x, y - b.y, z - b.z}; }
   D3 operator+(const D3& b) const { return {x + b.x, y + b.y, z + b.z}; }
@@ -77,7 +77,7 @@ struct Contact {
   bool passes(const std::array<double, 3>& f) const {
     return std::min({f[0], f[1], f[2]}) >= -tol || std::max({f[0], f[1], f[2]}) <= tol;
   }
-  static bool near_edge(const std::array<double, 3>& f, double tol) {
+  bool near_edge(const std::array<double, 3>& f) const {
     return std::min({std::fabs(f[0]), std::fabs(f[1]), std::fabs(f[2])}) <= tol;
   }
 };
@@ -109,7 +109,7 @@ bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray) {
     const Contact c(r, {&tri}, config.ulps);
     if (!std::isfinite(c.o.max_abs()) || !std::isfinite(c.d.max_abs()) || !(norm(c.d) > 0.0)) return false;
     const std::array<double, 3> f = c.edge_functions(tri);
-    return c.passes(f) && (Contact::near_edge(f, c.tol) || c.near_plane(tri, r.tmin) || c.near_plane(tri, r.tmax));
+    return c.passes(f) && (c.near_edge(f) || c.near_plane(tri, r.tmin) || c.near_plane(tri, r.tmax));
   }
   const float w = 1.0f - h.u - h.v;
   return std::min({h.u, h.v, w}) <= config.edge_eps ||
@@ -156,8 +156,9 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     if (r.prim != g.prim) {
       if (t_close && !exact) {
         ++d.ties;
-      } else if (config.excuses_grazing() && (is_grazing(g.t < r.t ? g : r, config, i) || indistinct(r, g, config, i))) {
-        ++d.grazing;  // the nearer contact is grazing (the other side passed it by), or no nearer
+      } else if (config.excuses_grazing() &&
+                 (is_grazing(g.t < r.t ? g : r, config, i) || indistinct(r, g, config, i))) {
+        ++d.grazing;  // the nearer contact is grazing (the other side passed it by), or neither is nearer
         continue;
       } else {
         ++d.other_prim;

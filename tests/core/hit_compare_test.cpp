@@ -359,8 +359,8 @@ TEST(HitCompareGeometry, AClaimedContactOffTheTriangleIsNoExcuse) {
   EXPECT_FALSE(g.grazing(past_edge, 1));
   EXPECT_TRUE(g.grazing(on_edge, 1));
   EXPECT_FALSE(g.grazing(off_plane, 1, 0.0f));
-  const HitDiff d = compare_hits(batch({{}, {}, {}}), batch({{1.0f, 1, 0.0f, 0.0f}, {1.0f, 1, 0.5f, 0.0f}, {0.0f, 1, 0.0f, 0.0f}}),
-                                 g.cfg);
+  const HitBatch claims = batch({{1.0f, 1, 0.0f, 0.0f}, {1.0f, 1, 0.5f, 0.0f}, {0.0f, 1, 0.0f, 0.0f}});
+  const HitDiff d = compare_hits(batch({{}, {}, {}}), claims, g.cfg);
   EXPECT_EQ(d.hit_miss, 2u);
   EXPECT_EQ(d.grazing, 1u);
 }
