@@ -22,6 +22,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "rayscout/core/dvec3.h"
 #include "rayscout/core/input_error.h"
 #include "rayscout/core/random.h"
 #include "rayscout/core/ray_file.h"
@@ -30,29 +31,13 @@
 namespace rayscout {
 namespace {
 
-struct D3 {
-  double x = 0, y = 0, z = 0;
-  D3() = default;
-  D3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
-  explicit D3(const Vec3& v) : x(v.x), y(v.y), z(v.z) {}
-  D3 operator+(const D3& b) const { return {x + b.x, y + b.y, z + b.z}; }
-  D3 operator-(const D3& b) const { return {x - b.x, y - b.y, z - b.z}; }
-  D3 operator*(double s) const { return {x * s, y * s, z * s}; }
-};
-double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 cross(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double length(const D3& a) { return std::sqrt(dot(a, a)); }
-D3 unit(const D3& a) { return a * (1.0 / length(a)); }
-D3 lerp(const D3& a, const D3& b, double s) { return a + (b - a) * s; }
-Vec3 to_float(const D3& a) { return {float(a.x), float(a.y), float(a.z)}; }
-
 struct Rng {
   SplitMix64 sm;
   double uniform() { return double(sm.next() >> 11) * 0x1p-53; }  // [0, 1), all 53 bits
   double uniform(double a, double b) { return a + (b - a) * uniform(); }
   double log_uniform(double a, double b) { return std::exp(uniform(std::log(a), std::log(b))); }
   size_t index(size_t n) { return size_t(sm.next() % n); }  // the bias of % is below 2^-40 here
-  D3 direction() {
+  DVec3 direction() {
     const double z = uniform(-1, 1), phi = 2 * std::numbers::pi * uniform(), r = std::sqrt(1 - z * z);
     return {r * std::cos(phi), r * std::sin(phi), z};
   }
@@ -63,57 +48,58 @@ struct Rng {
 // their order would be unspecified, and the bytes must not depend on the compiler.
 struct Prober {
   const Scene& scene;
-  D3 lo, ext, centre;
+  DVec3 lo, ext, centre;
   double diag;
   Rng rng;
 
   Prober(const Scene& s, uint64_t seed) : scene(s), rng{SplitMix64{mix64(seed)}} {
     const Bounds3 b = s.bounds();
-    lo = D3(b.lo), ext = D3(b.hi) - lo, centre = lo + ext * 0.5, diag = length(ext);
+    lo = DVec3(b.lo), ext = DVec3(b.hi) - lo, centre = lo + ext * 0.5, diag = length(ext);
   }
-  D3 corner(size_t tri, int k) const {
+  DVec3 corner(size_t tri, int k) const {
     const Triangle& t = scene.triangles[tri];
-    return D3(k == 0 ? t.v0 : k == 1 ? t.v1 : t.v2);
+    return DVec3(k == 0 ? t.v0 : k == 1 ? t.v1 : t.v2);
   }
   size_t triangle() { return rng.index(scene.triangles.size()); }
-  D3 vertex() {
+  DVec3 vertex() {
     const size_t t = triangle();
     return corner(t, int(rng.index(3)));
   }
-  D3 edge_point(bool midpoints) {
+  DVec3 edge_point(bool midpoints) {
     const size_t t = triangle();
     const int k = int(rng.index(3));
-    return lerp(corner(t, k), corner(t, (k + 1) % 3), midpoints && rng.index(3) == 0 ? 0.5 : rng.uniform());
+    const DVec3 a = corner(t, k), b = corner(t, (k + 1) % 3);
+    return a + (b - a) * (midpoints && rng.index(3) == 0 ? 0.5 : rng.uniform());
   }
-  D3 surface_point(size_t t) {
+  DVec3 surface_point(size_t t) {
     const double su = std::sqrt(rng.uniform()), b1 = 1 - su, b2 = rng.uniform() * su;  // as sample_triangle
     return corner(t, 0) + (corner(t, 1) - corner(t, 0)) * b1 + (corner(t, 2) - corner(t, 0)) * b2;
   }
   // The float origin of an aimed ray: the box grown by 20 %, or (a quarter) far outside it.
   Vec3 origin() {
     if (rng.index(4) == 0) {
-      const D3 dir = rng.direction();
+      const DVec3 dir = rng.direction();
       return to_float(centre + dir * (diag * rng.uniform(2, 60)));
     }
-    const D3 u{rng.uniform(), rng.uniform(), rng.uniform()};
-    return to_float(lo - ext * 0.2 + D3{u.x * ext.x, u.y * ext.y, u.z * ext.z} * 1.4);
+    const DVec3 u{rng.uniform(), rng.uniform(), rng.uniform()};
+    return to_float(lo - ext * 0.2 + DVec3{u.x * ext.x, u.y * ext.y, u.z * ext.z} * 1.4);
   }
   // A ray from float `org` whose point at t = 1 is `target` (up to the rounding of the direction).
-  static Ray aimed(const Vec3& org, const D3& target) { return {org, 0.0f, to_float(target - D3(org)), kInfinity}; }
+  static Ray aimed(const Vec3& org, const DVec3& target) { return {org, 0.0f, to_float(target - DVec3(org)), kInfinity}; }
 
   Ray vertex_ray() { const Vec3 o = origin(); return aimed(o, vertex()); }
   Ray edge_ray() { const Vec3 o = origin(); return aimed(o, edge_point(true)); }
 
   Ray in_plane_ray() {
     const size_t t = triangle();
-    const D3 a = corner(t, 0), e1 = corner(t, 1) - a, e2 = corner(t, 2) - a;
-    const D3 n = unit(cross(e1, e2)), u = unit(e1), w = cross(n, u);
+    const DVec3 a = corner(t, 0), e1 = corner(t, 1) - a, e2 = corner(t, 2) - a;
+    const DVec3 n = normalize(cross(e1, e2)), u = normalize(e1), w = cross(n, u);
     const double size = std::max({length(e1), length(e2), length(e2 - e1)});
     // The centroid is less than the longest edge from every point of the triangle: outside.
     const double phi = 2 * std::numbers::pi * rng.uniform(), r = size * rng.uniform(1, 3);
-    const D3 o = (a + (e1 + e2) * (1.0 / 3)) + (u * std::cos(phi) + w * std::sin(phi)) * r;
+    const DVec3 o = (a + (e1 + e2) * (1.0 / 3)) + (u * std::cos(phi) + w * std::sin(phi)) * r;
     // The direction lies in the exact plane; only the origin's rounding to float leaves it.
-    const D3 d = surface_point(t) - o;
+    const DVec3 d = surface_point(t) - o;
     static constexpr double kTilts[] = {0.0, 1e-7, 1e-5, 1e-3};
     const double tilt = kTilts[rng.index(4)], sign = rng.index(2) ? 1 : -1;
     return {to_float(o), 0.0f, to_float(d * std::cos(tilt) + n * (sign * length(d) * std::sin(tilt))), kInfinity};
@@ -125,20 +111,20 @@ struct Prober {
   void bundle(size_t b, size_t count, RayBatch& out) {
     if (b % 2 == 0) {
       const Vec3 o = origin();
-      const D3 d = D3(aimed(o, vertex()).dir);
+      const DVec3 d = DVec3(aimed(o, vertex()).dir);
       const double spread = rng.log_uniform(1e-6, 1e-3);
       for (size_t i = 0; i < count; ++i)
-        out.push_back({o, 0.0f, to_float(i == 0 ? d : (unit(d) + rng.direction() * spread) * length(d)), kInfinity});
+        out.push_back({o, 0.0f, to_float(i == 0 ? d : (normalize(d) + rng.direction() * spread) * length(d)), kInfinity});
       return;
     }
     const Vec3 o = origin();
     const Ray axis = aimed(o, edge_point(false));
-    const D3 n = unit(D3(axis.dir)), s = unit(cross(n, std::abs(n.x) < 0.5 ? D3{1, 0, 0} : D3{0, 1, 0}));
-    const D3 t = cross(n, s);
+    const DVec3 n = normalize(DVec3(axis.dir)), s = normalize(cross(n, std::abs(n.x) < 0.5 ? DVec3{1, 0, 0} : DVec3{0, 1, 0}));
+    const DVec3 t = cross(n, s);
     const double h = diag * rng.log_uniform(1e-4, 1e-2);
     // Grid offsets -4..3 steps: the line itself is one of the 64.
     for (size_t i = 0; i < count; ++i)
-      out.push_back({to_float(D3(axis.org) + s * (h * (double(i % 8) - 4)) + t * (h * (double(i / 8) - 4))), 0.0f,
+      out.push_back({to_float(DVec3(axis.org) + s * (h * (double(i % 8) - 4)) + t * (h * (double(i / 8) - 4))), 0.0f,
                      axis.dir, kInfinity});
   }
 };

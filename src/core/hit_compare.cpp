@@ -7,6 +7,8 @@
 #include <cmath>
 #include <string>
 
+#include "rayscout/core/dvec3.h"
+
 namespace rayscout {
 
 namespace {
@@ -25,36 +27,21 @@ float t_scale(const HitCompareConfig& config, size_t i, float t_ref) {
 
 bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
 
-// The geometric judge works in double, where float inputs are exact and the few operations
-// below add errors ~2^29 times smaller than the float arithmetic it judges.
-struct D3 {
-  double x, y, z;
-  D3(const Vec3& v) : x(v.x), y(v.y), z(v.z) {}  // implicit: a float vector widens exactly
-  D3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
-  D3 operator-(const D3& b) const { return {x - b.x, y - b.y, z - b.z}; }
-  D3 operator+(const D3& b) const { return {x + b.x, y + b.y, z + b.z}; }
-  D3 operator*(double s) const { return {x * s, y * s, z * s}; }
-  double max_abs() const { return std::max({std::fabs(x), std::fabs(y), std::fabs(z)}); }
-};
-double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 cross(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double norm(const D3& a) { return std::sqrt(dot(a, a)); }
-
-// The ray and the triangles of a contact in double, with the precision float coordinates
-// of that size have: config.ulps ulps of the largest one.
+// The ray and the triangles of a contact in double (where float inputs are exact), with the
+// precision float coordinates of that size have: config.ulps ulps of the largest one.
 struct Contact {
-  D3 o, d;
+  DVec3 o, d;
   double tol;
   Contact(const Ray& r, std::initializer_list<const Triangle*> tris, float ulps) : o(r.org), d(r.dir) {
-    double m = o.max_abs();
+    double m = max_abs(o);
     for (const Triangle* t : tris)
-      for (const Vec3& v : {t->v0, t->v1, t->v2}) m = std::max(m, D3(v).max_abs());
+      for (const Vec3& v : {t->v0, t->v1, t->v2}) m = std::max(m, max_abs(DVec3(v)));
     tol = double(ulps) * 0x1p-24 * m;
   }
   // Signed distance of o + t d from the triangle's plane; NaN for a degenerate triangle.
   double plane_distance(const Triangle& tri, double t) const {
-    const D3 n = cross(D3(tri.v1) - D3(tri.v0), D3(tri.v2) - D3(tri.v0));
-    return dot(n, o + d * t - D3(tri.v0)) / norm(n);
+    const DVec3 n = cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0));
+    return dot(n, o + d * t - DVec3(tri.v0)) / length(n);
   }
   bool near_plane(const Triangle& tri, double t) const {
     return std::isfinite(t) && !(std::fabs(plane_distance(tri, t)) > tol);  // NaN: degenerate
@@ -64,11 +51,11 @@ struct Contact {
   // incidence angle, of one sign inside the triangle. Both watertight tests (ours, Embree's
   // robust Pluecker test) decide a hit by their signs. 0 for an edge of length 0.
   std::array<double, 3> edge_functions(const Triangle& tri) const {
-    const D3 v[3] = {tri.v0, tri.v1, tri.v2};
+    const DVec3 v[3] = {DVec3(tri.v0), DVec3(tri.v1), DVec3(tri.v2)};
     std::array<double, 3> f{};
     for (int i = 0; i < 3; ++i) {
-      const D3 e = v[(i + 1) % 3] - v[i];
-      const double scale = norm(e) * norm(d);
+      const DVec3 e = v[(i + 1) % 3] - v[i];
+      const double scale = length(e) * length(d);
       f[i] = scale > 0.0 ? dot(cross(e, d), o - v[i]) / scale : 0.0;
     }
     return f;
@@ -107,7 +94,7 @@ bool is_grazing(const Hit& h, const HitCompareConfig& config, size_t ray) {
     const Ray r = (*config.rays)[ray];
     const Triangle& tri = config.triangles[h.prim];
     const Contact c(r, {&tri}, config.ulps);
-    if (!std::isfinite(c.o.max_abs()) || !std::isfinite(c.d.max_abs()) || !(norm(c.d) > 0.0)) return false;
+    if (!std::isfinite(max_abs(c.o)) || !std::isfinite(max_abs(c.d)) || !(length(c.d) > 0.0)) return false;
     const std::array<double, 3> f = c.edge_functions(tri);
     return c.passes(f) && (c.near_edge(f) || c.near_plane(tri, r.tmin) || c.near_plane(tri, r.tmax));
   }
