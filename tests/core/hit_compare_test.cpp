@@ -248,6 +248,8 @@ struct GeometricJudge {
       {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, {2.0f, 2.0f, 2.0f}},        // 2: degenerate
       {{0.0f, 0.0f, -1.0f}, {64.0f, 0.0f, -1.0f}, {0.0f, 64.0f, -1.0f}},   // 3: 1 below 1
       {{0.0f, 0.0f, 1e-5f}, {64.0f, 0.0f, 1e-5f}, {0.0f, 64.0f, 1e-5f}},   // 4: 1e-5 above 1
+      {{64.0f, 0.0f, 0.0f}, {64.0f, 64.0f, 0.0f}, {0.0f, 64.0f, 0.0f}},    // 5: 1's neighbour
+      {{0.0f, 0.0f, 1e-4f}, {64.0f, 0.0f, 1e-4f}, {0.0f, 64.0f, 1e-4f}},   // 6: 1e-4 above 1
   };
   RayBatch rays;
   HitCompareConfig cfg;
@@ -332,6 +334,28 @@ TEST(HitCompareGeometry, HitsFloatCannotOrderAreExcusedOthersAreNot) {
   HitCompareConfig bary = g.cfg;
   bary.triangles = {};
   EXPECT_EQ(compare_hits(ref, batch({{t_lifted, 4, 0.2f, 0.3f}}), bary).other_prim, 1u);
+}
+
+// A different triangle within rel_tol is a tie only where float cannot order the two: across
+// a shared edge, or 1e-5 above (tol 1.5e-5), judged from the triangles (the reported 1 + 5e-5
+// is off both planes by more than tol). 1e-4 above, or off the ray (the tiny triangle 0), it
+// is a different triangle; without triangles all four pass as ties.
+TEST(HitCompareGeometry, OnlyTrueTiesAreTies) {
+  GeometricJudge g;
+  g.add({32.0f, 32.0f, 1.0f}, {0.0f, 0.0f, -1.0f});  // on the edge 1 and 5 share
+  for (int i = 0; i < 3; ++i) g.add({16.0f, 16.0f, 1.0f}, {0.0f, 0.0f, -1.0f});
+  const HitBatch ref = batch({{1.0f, 1, 0.5f, 0.5f}, {1.0f, 1, 0.25f, 0.25f}, {1.0f, 1, 0.25f, 0.25f},
+                              {1.0f, 1, 0.25f, 0.25f}});
+  const HitBatch got = batch({{1.0f, 5, 0.5f, 0.5f}, {1.0f + 5e-5f, 4, 0.25f, 0.25f},
+                              {1.0f - 1e-4f, 6, 0.25f, 0.25f}, {1.0f, 0, 0.25f, 0.25f}});
+  HitCompareConfig bary = g.cfg;
+  bary.triangles = {};
+  EXPECT_EQ(compare_hits(ref, got, bary).ties, 4u);
+  const HitDiff d = compare_hits(ref, got, g.cfg);
+  EXPECT_EQ(d.ties, 2u);
+  EXPECT_EQ(d.grazing, 0u);
+  EXPECT_EQ(d.other_prim, 2u);
+  EXPECT_NE(d.first.find("ray 2: different triangle"), std::string::npos) << d.first;
 }
 
 // An end of the segment within tol of the plane: a ray leaving the surface it starts on

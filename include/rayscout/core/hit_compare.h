@@ -70,7 +70,11 @@ struct HitDiff {
   size_t other_prim = 0;    ///< both hit, different triangle, t not within tolerance (any t when rel_tol = 0)
   size_t t_mismatch = 0;    ///< same triangle, |t - t_ref| > rel_tol * scale
   size_t uv_mismatch = 0;   ///< rel_tol = 0 only: same triangle and t, different u or v bits
-  size_t ties = 0;          ///< different triangle at the same t (within tolerance, rel_tol > 0): not an error
+  /// Different triangle at the same t (within tolerance, rel_tol > 0): not an error. With
+  /// triangles only a true tie counts: the ray meets both, and where its line crosses each
+  /// plane (computed, not reported) lies within is_grazing's tol of the other's plane (a shared
+  /// edge, coplanar triangles); otherwise it is judged as any other different triangle.
+  size_t ties = 0;
   /// Disagreements at a grazing contact, and with triangles also at distances float cannot
   /// order (each hit point within is_grazing's tol of the other's plane; allow_grazing
   /// only): not an error.
@@ -83,7 +87,8 @@ struct HitDiff {
 };
 
 /// Compares ray by ray. With rel_tol > 0 a different triangle at the same t (within
-/// tolerance) is a true tie and not counted as an error; with rel_tol = 0 it is an error.
+/// tolerance; with triangles, also where float cannot order the two) is a tie and not counted
+/// as an error; with rel_tol = 0 it is an error.
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareConfig& config);
 /// Same, with config {rel_tol} (no grazing allowance).
 HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, float rel_tol = 1e-5f);
