@@ -145,6 +145,11 @@ bool compare_hit_files(const Comparison& c, const ResultFile& fa, const ResultFi
   if (args.tolerance == 0) fmt::print("u, v not identical:    {}\n", d.uv_mismatch);
   fmt::print("t rel. difference:     max {:.3e}, 99th percentile {:.3e} ({})\n", d.max_rel_diff, d.p99_rel_diff,
              c.cfg.rays ? "world space: |dt| |d| / max(1, |o|, |hit point|)" : "|dt| / max(1, t_A)");
+  if (!c.cfg.triangles.empty())
+    for (const auto& [name, p] : {std::pair{"A", d.ref_offsets}, std::pair{"B", d.got_offsets}})
+      fmt::print("off the plane, {}:      median {:.2f}, 99th percentile {:.2f}, max {:.2f} ulps over {} hits (how far "
+                 "o + t d lies from its triangle's plane; the unit of --ulps)\n",
+                 name, p.median, p.p99, p.max, p.hits);
   if (!d.first.empty()) fmt::print("first:                 {}\n", d.first);
   const bool ok = grazing_within_bound(d.grazing, d.rays, args) && d.ok();
   fmt::print("result:                {} (tolerance {:g})\n", ok ? "OK" : "DIFFERENT", args.tolerance);

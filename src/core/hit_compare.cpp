@@ -91,6 +91,34 @@ bool indistinct(const Hit& a, const Hit& b, const HitCompareConfig& config, size
          c.near_plane(tb, a.t);
 }
 
+// The q-quantile of v (reordered), 0 for an empty v.
+double quantile(std::vector<double>& v, double q) {
+  if (v.empty()) return 0.0;
+  const size_t k = std::min(v.size() - 1, size_t(std::ceil(q * double(v.size()))) - (q > 0.0));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+// HitDiff::PlaneOffsets of a batch's hits (config has rays and triangles).
+HitDiff::PlaneOffsets plane_offsets(const HitBatch& hits, const HitCompareConfig& config) {
+  std::vector<double> ulps;
+  for (size_t i = 0; i < hits.size(); ++i) {
+    const Hit h = hits[i];
+    if (!h.hit() || !has_geometry(config, i, h)) continue;
+    const Triangle& tri = config.triangles[h.prim];
+    const Contact c((*config.rays)[i], {&tri}, 1.0f);  // tol = 1 ulp
+    const double off = std::fabs(c.plane_distance(tri, h.t)) / c.tol;
+    if (std::isfinite(off)) ulps.push_back(off);
+  }
+  HitDiff::PlaneOffsets p;
+  p.hits = ulps.size();
+  if (ulps.empty()) return p;
+  p.max = *std::max_element(ulps.begin(), ulps.end());
+  p.p99 = quantile(ulps, 0.99);
+  p.median = quantile(ulps, 0.5);
+  return p;
+}
+
 // Whether ray i meets the triangles of a and b at points float cannot order, whatever
 // distances the tracers reported: both are met (within tol), and where the line crosses each
 // plane lies within tol of the other's plane (a shared edge, coplanar triangles).
@@ -141,7 +169,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     d.first = "batch sizes differ: " + std::to_string(ref.size()) + " vs " + std::to_string(got.size());
   }
   const bool exact = config.rel_tol == 0.0f;  // bit-identical: no ties, u and v compared too
-  std::vector<float> rel;
+  std::vector<double> rel;
   for (size_t i = 0; i < n; ++i) {
     const Hit r = ref[i], g = got[i];
     if (r.hit() != g.hit()) {
@@ -187,9 +215,11 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
   }
   if (!rel.empty()) {
     d.max_rel_diff = *std::max_element(rel.begin(), rel.end());
-    const size_t k = std::min(rel.size() - 1, size_t(std::ceil(0.99 * double(rel.size()))) - 1);
-    std::nth_element(rel.begin(), rel.begin() + k, rel.end());
-    d.p99_rel_diff = rel[k];
+    d.p99_rel_diff = quantile(rel, 0.99);
+  }
+  if (!config.triangles.empty() && config.rays) {
+    d.ref_offsets = plane_offsets(ref, config);
+    d.got_offsets = plane_offsets(got, config);
   }
   return d;
 }

@@ -358,6 +358,27 @@ TEST(HitCompareGeometry, OnlyTrueTiesAreTies) {
   EXPECT_NE(d.first.find("ray 2: different triangle"), std::string::npos) << d.first;
 }
 
+// How far each side's hit points lie off their planes, in ulps of the largest coordinate (64:
+// 1 ulp = 2^-18): t = 1 + 2^-17 is 2 ulps above triangle 1, t = 1 - 2^-16 4 ulps below.
+TEST(HitCompareGeometry, PlaneOffsetsMeasureEachSidesDistances) {
+  GeometricJudge g;
+  for (int i = 0; i < 4; ++i) g.add({16.0f, 16.0f, 1.0f}, {0.0f, 0.0f, -1.0f});
+  const HitBatch ref = batch({{1.0f, 1, 0.25f, 0.25f}, {1.0f, 1, 0.25f, 0.25f}, {1.0f, 1, 0.25f, 0.25f}, {}});
+  const HitBatch got = batch({{1.0f, 1, 0.25f, 0.25f}, {1.0f + 0x1p-17f, 1, 0.25f, 0.25f},
+                              {1.0f - 0x1p-16f, 1, 0.25f, 0.25f}, {}});
+  const HitDiff d = compare_hits(ref, got, g.cfg);
+  EXPECT_TRUE(d.ok()) << d.first;
+  EXPECT_EQ(d.ref_offsets.hits, 3u);
+  EXPECT_EQ(d.ref_offsets.max, 0.0);
+  EXPECT_EQ(d.got_offsets.hits, 3u);
+  EXPECT_DOUBLE_EQ(d.got_offsets.median, 2.0);
+  EXPECT_DOUBLE_EQ(d.got_offsets.p99, 4.0);
+  EXPECT_DOUBLE_EQ(d.got_offsets.max, 4.0);
+  HitCompareConfig bary = g.cfg;
+  bary.triangles = {};
+  EXPECT_EQ(compare_hits(ref, got, bary).got_offsets.hits, 0u);
+}
+
 // An end of the segment within tol of the plane: a ray leaving the surface it starts on
 // (tmin), or one ending on it (tmax). Away from the plane the same rays are decided.
 TEST(HitCompareGeometry, ASegmentEndingOnThePlaneIsGrazing) {

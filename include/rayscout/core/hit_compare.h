@@ -83,6 +83,15 @@ struct HitDiff {
   /// that both hit (the same triangle or a tie).
   double max_rel_diff = 0.0, p99_rel_diff = 0.0;
   std::string first;        ///< description of the first disagreement
+  /// With triangles and rays: how far one side's hit points o + t d lie off their triangles'
+  /// planes, in ulps (2^-24) of the largest coordinate of the ray's origin and the triangle's
+  /// vertices (the unit of HitCompareConfig::ulps), over that side's hits. What a tracer's t
+  /// is worth, independent of the other side; all 0 without triangles.
+  struct PlaneOffsets {
+    size_t hits = 0;
+    double median = 0.0, p99 = 0.0, max = 0.0;
+  };
+  PlaneOffsets ref_offsets, got_offsets;
   bool ok() const { return hit_miss == 0 && other_prim == 0 && t_mismatch == 0 && uv_mismatch == 0; }
 };
 
