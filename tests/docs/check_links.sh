@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Fails when README.md or docs/**/*.md names a file that does not exist: a relative markdown link
-# (resolved from the page's folder) or a `docs/...` path in backquotes or a code block (resolved
-# from the root; a glob, or a <placeholder> taken as *, must match something); or when a link's
+# (resolved from the page's folder) or a path in backquotes or a code block under docs/, or, outside
+# docs/history/, under bench/, src/, include/, tests/, apps/, scripts/, cmake/ or .ci/ (resolved from
+# the root; a glob, or a <placeholder> or {a,b} taken as *, must match something); or when a link's
 # #anchor (`page.md#anchor`, or `#anchor` on the same page) names no heading of that .md page.
-# docs/runs/ is raw command output, kept as printed, and is not read.
+# docs/runs/ is raw command output, kept as printed, and is not read; docs/history/ quotes commands
+# as they were run, so only its docs/ paths are checked.
 # usage: check_links.sh [ROOT]   (default: the source tree holding this script)
 set -euo pipefail
 export LC_ALL=C  # awk works on bytes; the slugs decode UTF-8 themselves
@@ -26,9 +28,12 @@ refs=$(awk '
   }
   function code_paths(s,   n, w, i, t) {
     n = split(s, w, /[ \t=(,;"]+/)
-    for (i = 1; i <= n; ++i) if (w[i] ~ /^docs\//) { t = w[i]; sub(/[.,:;)]+$/, "", t); emit("path", t) }
+    for (i = 1; i <= n; ++i)
+      if (w[i] ~ /^docs\// || (!history && w[i] ~ /^(bench|src|include|tests|apps|scripts|cmake|\.ci)\//)) {
+        t = w[i]; sub(/[.,:;)]+$/, "", t); emit("path", t)
+      }
   }
-  FNR == 1 { fence = 0 }
+  FNR == 1 { fence = 0; history = FILENAME ~ /^docs\/history\// }
   /^[ \t]*(```|~~~)/ { fence = !fence; next }
   fence { code_paths($0); next }
   {
@@ -141,6 +146,7 @@ while IFS=$'\037' read -r page line kind target anchor; do
     path=$target
   fi
   [[ $path == *'<'*'>'* ]] && path=$(sed 's/<[^>]*>/*/g' <<< "$path")
+  [[ $path == *'{'* ]] && path="${path%%\{*}*"  # a{b,c}d, split at the comma: a*
   if [[ $path == *[\*\?\[]* ]]; then
     compgen -G "$path" > /dev/null && continue
   elif [[ -e $path ]]; then
