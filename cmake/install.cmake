@@ -11,6 +11,16 @@ foreach(module IN LISTS RAYSCOUT_MODULES)
 endforeach()
 set_target_properties(rayscout_core_private PROPERTIES EXPORT_NAME core_private)
 
+# Shared libraries (-DBUILD_SHARED_LIBS=ON): the installed CLI and libraries find rayscout's
+# libraries relative to themselves, so the prefix runs without LD_LIBRARY_PATH wherever it is
+# moved, and the dependencies outside the system folders where they were linked from.
+get_target_property(rayscout_library_type rayscout_core TYPE)
+if(rayscout_library_type STREQUAL SHARED_LIBRARY)
+  file(RELATIVE_PATH rayscout_bin_to_lib ${CMAKE_INSTALL_FULL_BINDIR} ${CMAKE_INSTALL_FULL_LIBDIR})
+  set_target_properties(${rayscout_export_targets} PROPERTIES INSTALL_RPATH "$ORIGIN" INSTALL_RPATH_USE_LINK_PATH ON)
+  set_target_properties(rayscout PROPERTIES INSTALL_RPATH "$ORIGIN/${rayscout_bin_to_lib}" INSTALL_RPATH_USE_LINK_PATH ON)
+endif()
+
 install(TARGETS ${rayscout_export_targets} EXPORT rayscoutTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -39,8 +39,28 @@ foreach(file IN LISTS package_files)
   endforeach()
 endforeach()
 
+# Shared libraries: the installed CLI finds them by its RUNPATH, in the prefix, not the build tree.
+unset(ENV{LD_LIBRARY_PATH})
 run("installed CLI" ${prefix}/bin/rayscout --version)
 expect_match("installed CLI" "^rayscout ${VERSION}" "${output}")
+if(SHARED)
+  file(GLOB libraries ${prefix}/lib*/librayscout_core.so.${VERSION})
+  if(NOT libraries)
+    fail("no ${prefix}/lib*/librayscout_core.so.${VERSION} (VERSION and SOVERSION)")
+  endif()
+  file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${prefix}/bin/rayscout RESOLVED_DEPENDENCIES_VAR resolved
+       UNRESOLVED_DEPENDENCIES_VAR unresolved)
+  list(FILTER resolved INCLUDE REGEX "/librayscout_[a-z]+\\.so")
+  if(unresolved OR NOT resolved)
+    fail("installed CLI: unresolved ${unresolved}, rayscout libraries ${resolved}")
+  endif()
+  foreach(library IN LISTS resolved)
+    string(FIND "${library}" "${prefix}/" at)
+    if(NOT at EQUAL 0)
+      fail("installed CLI loads ${library}, outside ${prefix}")
+    endif()
+  endforeach()
+endif()
 
 # Sanitized libraries: the consumer is compiled the same way (the package adds the link flag).
 set(flags "${CXX_FLAGS}")
