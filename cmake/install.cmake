@@ -55,3 +55,39 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/rayscoutConfigVersion.cma
                                  COMPATIBILITY ${rayscout_compatibility})
 install(FILES ${PROJECT_BINARY_DIR}/rayscoutConfig.cmake ${PROJECT_BINARY_DIR}/rayscoutConfigVersion.cmake
         DESTINATION ${rayscout_cmake_dir})
+
+# rayscout.pc for pkg-config, every module in link order. The packages the libraries link go to
+# Requires.private and Libs.private when the libraries are shared; static, to Requires and Libs,
+# so that a plain `pkg-config --libs rayscout` links either. TBB is public, as for rayscout::core:
+# an engine sets the thread count with tbb::global_control.
+set(rayscout_pc_libs)
+foreach(module manylight render image accelerators shafts dacrt embree bvh scene core)
+  if(TARGET rayscout_${module})
+    string(APPEND rayscout_pc_libs " -lrayscout_${module}")
+  endif()
+endforeach()
+string(STRIP "${rayscout_pc_libs}" rayscout_pc_libs)
+set(rayscout_pc_requires tbb)
+set(rayscout_pc_requires_private "assimp OpenEXR fmt")
+set(rayscout_pc_libs_private)
+if(TARGET rayscout_embree)
+  set(rayscout_pc_libs_private -lembree3)  # Embree 3 has no .pc file
+endif()
+if(RAYSCOUT_SANITIZE)
+  string(APPEND rayscout_pc_libs " -fsanitize=${RAYSCOUT_SANITIZE}")
+endif()
+if(rayscout_library_type STREQUAL SHARED_LIBRARY)
+  set(rayscout_pc_kind shared)
+else()
+  set(rayscout_pc_kind static)
+  string(APPEND rayscout_pc_requires " ${rayscout_pc_requires_private}")
+  string(APPEND rayscout_pc_libs " ${rayscout_pc_libs_private}")
+  set(rayscout_pc_requires_private)
+  set(rayscout_pc_libs_private)
+endif()
+file(RELATIVE_PATH rayscout_pc_to_prefix ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
+string(REGEX REPLACE "/$" "" rayscout_pc_to_prefix ${rayscout_pc_to_prefix})  # ../../ -> ../..
+file(RELATIVE_PATH rayscout_pc_libdir ${CMAKE_INSTALL_PREFIX} ${CMAKE_INSTALL_FULL_LIBDIR})
+file(RELATIVE_PATH rayscout_pc_includedir ${CMAKE_INSTALL_PREFIX} ${CMAKE_INSTALL_FULL_INCLUDEDIR})
+configure_file(cmake/rayscout.pc.in ${PROJECT_BINARY_DIR}/rayscout.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/rayscout.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
