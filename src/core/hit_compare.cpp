@@ -38,15 +38,16 @@ struct Contact {
       for (const Vec3& v : {t->v0, t->v1, t->v2}) m = std::max(m, max_abs(DVec3(v)));
     tol = double(ulps) * 0x1p-24 * m;
   }
+  static DVec3 normal(const Triangle& tri) { return cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0)); }
   // Signed distance of o + t d from the triangle's plane; NaN for a degenerate triangle.
   double plane_distance(const Triangle& tri, double t) const {
-    const DVec3 n = cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0));
+    const DVec3 n = normal(tri);
     return dot(n, o + d * t - DVec3(tri.v0)) / length(n);
   }
   // Where the ray's line crosses the triangle's plane, exactly (but for rounding in double);
   // NaN or infinite for a ray parallel to it or a degenerate triangle.
   double plane_t(const Triangle& tri) const {
-    const DVec3 n = cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0));
+    const DVec3 n = normal(tri);
     return dot(n, DVec3(tri.v0) - o) / dot(n, d);
   }
   bool near_plane(const Triangle& tri, double t) const {
@@ -82,13 +83,16 @@ bool has_geometry(const HitCompareConfig& config, size_t i, const Hit& h) {
 
 // Whether two hits of ray i lie at distances float cannot order: the ray meets both triangles
 // (within tol) and each hit point lies within tol of the other's plane (for one triangle:
-// |t_a - t_b| |n . d| <= tol).
-bool indistinct(const Hit& a, const Hit& b, const HitCompareConfig& config, size_t i) {
+// |t_a - t_b| |n . d| <= tol). The points are o + t d at the reported t, or, for a true tie
+// (at_crossings), where the line crosses each plane, whatever distances the tracers reported
+// (a shared edge, coplanar triangles).
+bool indistinct(const Hit& a, const Hit& b, const HitCompareConfig& config, size_t i, bool at_crossings = false) {
   if (!has_geometry(config, i, a) || !has_geometry(config, i, b)) return false;
   const Triangle &ta = config.triangles[a.prim], &tb = config.triangles[b.prim];
   const Contact c((*config.rays)[i], {&ta, &tb}, config.ulps);
-  return c.passes(c.edge_functions(ta)) && c.passes(c.edge_functions(tb)) && c.near_plane(ta, b.t) &&
-         c.near_plane(tb, a.t);
+  const double t_a = at_crossings ? c.plane_t(ta) : a.t, t_b = at_crossings ? c.plane_t(tb) : b.t;
+  return c.passes(c.edge_functions(ta)) && c.passes(c.edge_functions(tb)) && c.near_plane(ta, t_b) &&
+         c.near_plane(tb, t_a);
 }
 
 // The q-quantile of v (reordered), 0 for an empty v.
@@ -117,17 +121,6 @@ HitDiff::PlaneOffsets plane_offsets(const HitBatch& hits, const HitCompareConfig
   p.p99 = quantile(ulps, 0.99);
   p.median = quantile(ulps, 0.5);
   return p;
-}
-
-// Whether ray i meets the triangles of a and b at points float cannot order, whatever
-// distances the tracers reported: both are met (within tol), and where the line crosses each
-// plane lies within tol of the other's plane (a shared edge, coplanar triangles).
-bool true_tie(const Hit& a, const Hit& b, const HitCompareConfig& config, size_t i) {
-  if (!has_geometry(config, i, a) || !has_geometry(config, i, b)) return false;
-  const Triangle &ta = config.triangles[a.prim], &tb = config.triangles[b.prim];
-  const Contact c((*config.rays)[i], {&ta, &tb}, config.ulps);
-  return c.passes(c.edge_functions(ta)) && c.passes(c.edge_functions(tb)) && c.near_plane(ta, c.plane_t(tb)) &&
-         c.near_plane(tb, c.plane_t(ta));
 }
 
 }  // namespace
@@ -169,6 +162,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     d.first = "batch sizes differ: " + std::to_string(ref.size()) + " vs " + std::to_string(got.size());
   }
   const bool exact = config.rel_tol == 0.0f;  // bit-identical: no ties, u and v compared too
+  const bool judged = !config.triangles.empty() && config.rays;  // contacts judged from the triangles
   std::vector<double> rel;
   for (size_t i = 0; i < n; ++i) {
     const Hit r = ref[i], g = got[i];
@@ -188,8 +182,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     if (r.prim != g.prim) {
       // With triangles, a tie must be one: the reported distances may be a few ulps off
       // (they agree within rel_tol), the triangles' own may not.
-      const bool judged = !config.triangles.empty() && config.rays;
-      if (t_close && !exact && (!judged || true_tie(r, g, config, i))) {
+      if (t_close && !exact && (!judged || indistinct(r, g, config, i, /*at_crossings=*/true))) {
         ++d.ties;
       } else if (config.excuses_grazing() &&
                  (is_grazing(g.t < r.t ? g : r, config, i) || indistinct(r, g, config, i))) {
@@ -217,7 +210,7 @@ HitDiff compare_hits(const HitBatch& ref, const HitBatch& got, const HitCompareC
     d.max_rel_diff = *std::max_element(rel.begin(), rel.end());
     d.p99_rel_diff = quantile(rel, 0.99);
   }
-  if (!config.triangles.empty() && config.rays) {
+  if (judged) {
     d.ref_offsets = plane_offsets(ref, config);
     d.got_offsets = plane_offsets(got, config);
   }
