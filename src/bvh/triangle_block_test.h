@@ -27,6 +27,8 @@ struct Lanes4 {
   static F sub(F a, F b) { return _mm_sub_ps(a, b); }
   static F mul(F a, F b) { return _mm_mul_ps(a, b); }
   static F div(F a, F b) { return _mm_div_ps(a, b); }
+  static F min(F a, F b) { return _mm_min_ps(a, b); }
+  static F max(F a, F b) { return _mm_max_ps(a, b); }
   static F and_(F a, F b) { return _mm_and_ps(a, b); }
   static F or_(F a, F b) { return _mm_or_ps(a, b); }
   static F andnot(F a, F b) { return _mm_andnot_ps(a, b); }
@@ -55,6 +57,8 @@ struct Lanes8 {
   static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
   static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
   static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F min(F a, F b) { return _mm256_min_ps(a, b); }
+  static F max(F a, F b) { return _mm256_max_ps(a, b); }
   static F and_(F a, F b) { return _mm256_and_ps(a, b); }
   static F or_(F a, F b) { return _mm256_or_ps(a, b); }
   static F andnot(F a, F b) { return _mm256_andnot_ps(a, b); }
@@ -84,7 +88,7 @@ inline constexpr uint32_t kBlockTestLanes = BlockTestLanes::kLanes;
 /// lane l % 4 of block l / 4 of the blocks tested.
 struct BlockHits {
   uint32_t hit;       ///< lanes accepted by the single-precision test
-  uint32_t fallback;  ///< lanes with an edge function exactly 0: redo with intersect_triangle
+  uint32_t fallback;  ///< lanes with an edge function exactly 0 or a NaN t: redo with intersect_triangle
   alignas(32) float t[kBlockTestLanes], ev[kBlockTestLanes], ew[kBlockTestLanes], det[kBlockTestLanes];
 };
 
@@ -99,10 +103,11 @@ struct BlockRay {
         sx(L::set1(rp.sx)), sy(L::set1(rp.sy)), sz(L::set1(rp.sz)) {}
 };
 
-/// Woop, Benthin, Wald 2013 (fig. 4) in the lanes of L: the same float operations in the same
-/// order as core's intersect_triangle (compiled with -ffp-contract=off), so every t, u, v is
-/// bit-identical. Lanes whose edge function is exactly zero need the double-precision
-/// recomputation; they are reported in `fallback` rather than handled here.
+/// Woop, Benthin, Wald 2013 (fig. 4) and core's plane_distance in the lanes of L: the same
+/// float operations in the same order as core's intersect_triangle (compiled with
+/// -ffp-contract=off), so every t, u, v is bit-identical. Lanes whose edge function is exactly
+/// zero or whose t is NaN need the double-precision recomputations; they are reported in
+/// `fallback` rather than handled here.
 template <class L, class R>
 inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockRay<R>& r, float tmin, float tmax,
                             BlockHits& out) {
@@ -126,13 +131,24 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
   const F any_pos = L::or_(L::or_(L::gt(eu, zero), L::gt(ev, zero)), L::gt(ew, zero));
   const F det = L::add(L::add(eu, ev), ew);
   const F az = L::mul(sz, a_z), bz = L::mul(sz, b_z), cz = L::mul(sz, c_z);
-  const F t = L::div(L::add(L::add(L::mul(eu, az), L::mul(ev, bz)), L::mul(ew, cz)), det);
+  // The normal n = (v1 - v0) x (v2 - v0) in world axes, as Triangle::normal, then in the ray's
+  // (kx, ky, kz) order.
+  auto edge = [&](int vtx, int axis) { return L::sub(L::load(b, vtx, axis), L::load(b, 0, axis)); };
+  const F e1[3] = {edge(1, 0), edge(1, 1), edge(1, 2)}, e2[3] = {edge(2, 0), edge(2, 1), edge(2, 2)};
+  const F n[3] = {L::sub(L::mul(e1[1], e2[2]), L::mul(e1[2], e2[1])),
+                  L::sub(L::mul(e1[2], e2[0]), L::mul(e1[0], e2[2])),
+                  L::sub(L::mul(e1[0], e2[1]), L::mul(e1[1], e2[0]))};
+  const F nx = n[r.kx], ny = n[r.ky], nz = n[r.kz];
+  const F num = L::add(L::add(L::mul(nx, a_x), L::mul(ny, a_y)), L::mul(nz, a_z));
+  const F den = L::add(L::add(L::mul(nx, sx), L::mul(ny, sy)), nz);
+  const F lo = L::min(L::min(az, bz), cz), hi = L::max(L::max(az, bz), cz);
+  const F t = L::min(hi, L::max(lo, L::div(L::mul(num, sz), den)));
   // Reject mixed edge signs and det == 0 (neq is true for NaN, as det == 0 is false).
   F ok = L::andnot(L::and_(any_neg, any_pos), L::neq(det, zero));
+  const uint32_t redo = L::mask(L::or_(any_zero, L::and_(ok, L::neq(t, t)))) & lanes;
   ok = L::and_(ok, L::and_(L::ge(t, L::set1(tmin)), L::le(t, L::set1(tmax))));
-  const uint32_t zero_lanes = L::mask(any_zero) & lanes;
-  out.fallback = zero_lanes;
-  out.hit = L::mask(ok) & lanes & ~zero_lanes;
+  out.fallback = redo;
+  out.hit = L::mask(ok) & lanes & ~redo;
   L::store(out.t, t);
   L::store(out.ev, ev);
   L::store(out.ew, ew);

@@ -1,7 +1,8 @@
 // AVX2 leaf kernel (when AVX-512 is not available): 8 rays against one triangle at a time,
 // the same float operations in the same order as core's intersect_triangle (watertight,
-// Woop et al. 2013) and leaf_avx512.h, so hits are bit-identical; lanes with an exactly-zero
-// edge function take the scalar path (its double recomputation).
+// Woop et al. 2013, with core's plane_distance) and leaf_avx512.h, so hits are bit-identical;
+// lanes with an exactly-zero edge function or a NaN t take the scalar path (its double
+// recomputations).
 #pragma once
 
 #if defined(__AVX2__) && !defined(__AVX512F__)
@@ -85,17 +86,30 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       const __m256 ev = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
       const __m256 ew = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
       auto bits = [](__m256 m) { return _mm256_movemask_ps(m); };
-      const int zero_edge = active & (bits(_mm256_cmp_ps(eu, zero, _CMP_EQ_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_EQ_OQ)) |
+      int redo = active & (bits(_mm256_cmp_ps(eu, zero, _CMP_EQ_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_EQ_OQ)) |
                                       bits(_mm256_cmp_ps(ew, zero, _CMP_EQ_OQ)));
       const int neg = bits(_mm256_cmp_ps(eu, zero, _CMP_LT_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_LT_OQ)) |
                       bits(_mm256_cmp_ps(ew, zero, _CMP_LT_OQ));
       const int pos = bits(_mm256_cmp_ps(eu, zero, _CMP_GT_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_GT_OQ)) |
                       bits(_mm256_cmp_ps(ew, zero, _CMP_GT_OQ));
       const __m256 det = _mm256_add_ps(_mm256_add_ps(eu, ev), ew);
-      int hit = active & ~zero_edge & ~(neg & pos) & bits(_mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
+      int hit = active & ~redo & ~(neg & pos) & bits(_mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
       __m256 tt = zero, u = zero, v = zero;
       if (hit) {
-        tt = _mm256_div_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(eu, az), _mm256_mul_ps(ev, bz)), _mm256_mul_ps(ew, cz)), det);
+        // core's plane_distance: the normal and v0 - org picked in the ray's (kx, ky, kz) order.
+        const Vec3 n = tri.normal();
+        const __m256 nx = _mm256_set1_ps(n.x), ny = _mm256_set1_ps(n.y), nz = _mm256_set1_ps(n.z);
+        const __m256 wx = _mm256_sub_ps(_mm256_set1_ps(tri.v0.x), ox);
+        const __m256 wy = _mm256_sub_ps(_mm256_set1_ps(tri.v0.y), oy);
+        const __m256 wz = _mm256_sub_ps(_mm256_set1_ps(tri.v0.z), oz);
+        const __m256 na = pick(x0, x1, nx, ny, nz), nb = pick(y0, y1, nx, ny, nz), nc = pick(z0, z1, nx, ny, nz);
+        const __m256 num = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(na, pick(x0, x1, wx, wy, wz)),
+                                                       _mm256_mul_ps(nb, pick(y0, y1, wx, wy, wz))),
+                                         _mm256_mul_ps(nc, pick(z0, z1, wx, wy, wz)));
+        const __m256 den = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(na, sx), _mm256_mul_ps(nb, sy)), nc);
+        const __m256 lo = _mm256_min_ps(_mm256_min_ps(az, bz), cz), hi = _mm256_max_ps(_mm256_max_ps(az, bz), cz);
+        tt = _mm256_min_ps(hi, _mm256_max_ps(lo, _mm256_div_ps(_mm256_mul_ps(num, sz), den)));
+        redo |= hit & bits(_mm256_cmp_ps(tt, tt, _CMP_UNORD_Q));  // a NaN t: see intersect_triangle
         hit &= bits(_mm256_cmp_ps(tt, tmin, _CMP_GE_OQ)) & bits(_mm256_cmp_ps(tt, best_t, _CMP_LE_OQ));
         if (!kAny) {
           // is_closer: nearer, or equally near with a smaller triangle id (unsigned compare).
@@ -108,14 +122,14 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
           v = _mm256_div_ps(ew, det);
         }
       }
-      if (zero_edge) {
+      if (redo) {  // exactly-zero edge functions and NaN t: the scalar path decides
         LeafLanes<8> lane;
         _mm256_store_ps(lane.t, tt); _mm256_store_ps(lane.u, u); _mm256_store_ps(lane.v, v);
         _mm256_store_ps(lane.best_t, best_t); _mm256_store_ps(lane.tmin, tmin);
         _mm256_store_ps(lane.ox, ox); _mm256_store_ps(lane.oy, oy); _mm256_store_ps(lane.oz, oz);
         _mm256_store_si256(reinterpret_cast<__m256i*>(lane.id), id);
         _mm256_store_si256(reinterpret_cast<__m256i*>(lane.best_p), best_p);
-        hit |= int(redo_zero_edge_lanes<kAny>(lane, uint32_t(zero_edge), tri, p, pre));
+        hit |= int(redo_in_scalar<kAny>(lane, uint32_t(redo), tri, p, pre));
         tt = _mm256_load_ps(lane.t); u = _mm256_load_ps(lane.u); v = _mm256_load_ps(lane.v);
       }
       if (!hit) continue;

@@ -1,7 +1,7 @@
 // AVX-512 leaf kernel: 16 rays against one triangle at a time, the same float operations in
-// the same order as core's intersect_triangle (watertight, Woop et al. 2013), so hits are
-// bit-identical; lanes with an exactly-zero edge function take the scalar path (its double
-// recomputation).
+// the same order as core's intersect_triangle (watertight, Woop et al. 2013, with core's
+// plane_distance), so hits are bit-identical; lanes with an exactly-zero edge function or a
+// NaN t take the scalar path (its double recomputations).
 #pragma once
 
 #if defined(__AVX512F__)
@@ -27,10 +27,6 @@ namespace rayscout::dacrt {
 struct EdgeTest {
   __m512 eu, ev, ew, det;
   __mmask16 zero_edge, candidates;
-  /// The hit distance (eu az + ev bz + ew cz) / det.
-  __m512 distance(__m512 az, __m512 bz, __m512 cz) const {
-    return _mm512_div_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(eu, az), _mm512_mul_ps(ev, bz)), _mm512_mul_ps(ew, cz)), det);
-  }
 };
 inline EdgeTest edge_test(__mmask16 lanes, __m512 ax, __m512 ay, __m512 bx, __m512 by, __m512 cx, __m512 cy) {
   const __m512 zero = _mm512_setzero_ps();
@@ -47,6 +43,16 @@ inline EdgeTest edge_test(__mmask16 lanes, __m512 ax, __m512 ay, __m512 bx, __m5
   e.det = _mm512_add_ps(_mm512_add_ps(e.eu, e.ev), e.ew);
   e.candidates = lanes & ~e.zero_edge & ~(neg & pos) & _mm512_cmp_ps_mask(e.det, zero, _CMP_NEQ_UQ);
   return e;
+}
+
+/// core's plane_distance in 16 lanes: the normal (na, nb, nc) and v0 - org (aa, ab, ac) in the
+/// ray's (kx, ky, kz) order, the shear, and the vertices' sheared depths az, bz, cz.
+inline __m512 plane_distance16(__m512 na, __m512 nb, __m512 nc, __m512 aa, __m512 ab, __m512 ac, __m512 sx,
+                               __m512 sy, __m512 sz, __m512 az, __m512 bz, __m512 cz) {
+  const __m512 num = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(na, aa), _mm512_mul_ps(nb, ab)), _mm512_mul_ps(nc, ac));
+  const __m512 den = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(na, sx), _mm512_mul_ps(nb, sy)), nc);
+  const __m512 lo = _mm512_min_ps(_mm512_min_ps(az, bz), cz), hi = _mm512_max_ps(_mm512_max_ps(az, bz), cz);
+  return _mm512_min_ps(hi, _mm512_max_ps(lo, _mm512_div_ps(_mm512_mul_ps(num, sz), den)));
 }
 
 /// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
@@ -124,7 +130,25 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       ry = _mm512_sub_ps(_mm512_sub_ps(_mm512_set1_ps(wp[ub]), ob), _mm512_mul_ps(sy, k));
       rz = _mm512_mul_ps(sz, k);
     };
-    auto triangles = [&](auto rel) {
+    // plane_distance for triangle tri, in the frames of rel_any and rel_uniform.
+    auto distance_any = [&](const Triangle& tri, __m512 az, __m512 bz, __m512 cz) {
+      const Vec3 n = tri.normal();
+      const __m512 wx = _mm512_sub_ps(_mm512_set1_ps(tri.v0.x), ox);
+      const __m512 wy = _mm512_sub_ps(_mm512_set1_ps(tri.v0.y), oy);
+      const __m512 wz = _mm512_sub_ps(_mm512_set1_ps(tri.v0.z), oz);
+      const __m512 nx = _mm512_set1_ps(n.x), ny = _mm512_set1_ps(n.y), nz = _mm512_set1_ps(n.z);
+      return plane_distance16(pick(x0, x1, nx, ny, nz), pick(y0, y1, nx, ny, nz), pick(z0, z1, nx, ny, nz),
+                              pick(x0, x1, wx, wy, wz), pick(y0, y1, wx, wy, wz), pick(z0, z1, wx, wy, wz), sx, sy,
+                              sz, az, bz, cz);
+    };
+    auto distance_uniform = [&](const Triangle& tri, __m512 az, __m512 bz, __m512 cz) {
+      const Vec3 n = tri.normal();
+      const float *np = &n.x, *wp = &tri.v0.x;
+      return plane_distance16(_mm512_set1_ps(np[ua]), _mm512_set1_ps(np[ub]), _mm512_set1_ps(np[uc]),
+                              _mm512_sub_ps(_mm512_set1_ps(wp[ua]), oa), _mm512_sub_ps(_mm512_set1_ps(wp[ub]), ob),
+                              _mm512_sub_ps(_mm512_set1_ps(wp[uc]), oc), sx, sy, sz, az, bz, cz);
+    };
+    auto triangles = [&](auto rel, auto distance) {
       for (size_t j = 0; j < nt && active; ++j) {
         const uint32_t p = tid[j];
         const Triangle& tri = tris[p];
@@ -134,11 +158,11 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
         rel(tri.v1, bx, by, bz);
         rel(tri.v2, cx, cy, cz);
         const EdgeTest e = edge_test(active, ax, ay, bx, by, cx, cy);
-        const __mmask16 zero_edge = e.zero_edge;
-        __mmask16 hit = e.candidates;
+        __mmask16 redo = e.zero_edge, hit = e.candidates;  // redo: the scalar path decides
         __m512 tt = zero, u = zero, v = zero;
         if (hit) {
-          tt = e.distance(az, bz, cz);
+          tt = distance(tri, az, bz, cz);
+          redo |= hit & _mm512_cmp_ps_mask(tt, tt, _CMP_UNORD_Q);  // a NaN t: see intersect_triangle
           hit &= _mm512_cmp_ps_mask(tt, tmin, _CMP_GE_OQ) & _mm512_cmp_ps_mask(tt, best_t, _CMP_LE_OQ);
           if (!kAny) {
             // is_closer: nearer, or equally near with a smaller triangle id.
@@ -151,14 +175,14 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
             v = _mm512_div_ps(e.ew, e.det);
           }
         }
-        if (zero_edge) {
-          if (!kAny) need_p(zero_edge);
+        if (redo) {
+          if (!kAny) need_p(redo);
           LeafLanes<16> lane;
           _mm512_store_ps(lane.t, tt); _mm512_store_ps(lane.u, u); _mm512_store_ps(lane.v, v);
           _mm512_store_ps(lane.best_t, best_t); _mm512_store_ps(lane.tmin, tmin);
           _mm512_store_ps(lane.ox, ox); _mm512_store_ps(lane.oy, oy); _mm512_store_ps(lane.oz, oz);
           _mm512_store_si512(lane.id, id); _mm512_store_si512(lane.best_p, best_p);
-          hit |= __mmask16(redo_zero_edge_lanes<kAny>(lane, zero_edge, tri, p, pre));
+          hit |= __mmask16(redo_in_scalar<kAny>(lane, redo, tri, p, pre));
           tt = _mm512_load_ps(lane.t); u = _mm512_load_ps(lane.u); v = _mm512_load_ps(lane.v);
         }
         if (!hit) continue;
@@ -175,8 +199,8 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
         }
       }
     };
-    if (uniform) triangles(rel_uniform);
-    else triangles(rel_any);
+    if (uniform) triangles(rel_uniform, distance_uniform);
+    else triangles(rel_any, distance_any);
     if (!changed) continue;
     LeafLanes<16> lane;
     _mm512_store_ps(lane.best_t, best_t); _mm512_store_ps(lane.u, best_u); _mm512_store_ps(lane.v, best_v);
@@ -214,6 +238,12 @@ __attribute__((noinline)) uint64_t leaf_few_rays(RayRecord* rays, const RayShear
     __m512 w[3][3];  // w[vertex][axis] of the 16 triangles
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) w[k][a] = _mm512_mask_i32gather_ps(zero, valid, off, base + 3 * k + a, 4);
+    // Their normals (v1 - v0) x (v2 - v0), as Triangle::normal.
+    __m512 e1[3], e2[3];
+    for (int a = 0; a < 3; ++a) e1[a] = _mm512_sub_ps(w[1][a], w[0][a]), e2[a] = _mm512_sub_ps(w[2][a], w[0][a]);
+    const __m512 nrm[3] = {_mm512_sub_ps(_mm512_mul_ps(e1[1], e2[2]), _mm512_mul_ps(e1[2], e2[1])),
+                           _mm512_sub_ps(_mm512_mul_ps(e1[2], e2[0]), _mm512_mul_ps(e1[0], e2[2])),
+                           _mm512_sub_ps(_mm512_mul_ps(e1[0], e2[1]), _mm512_mul_ps(e1[1], e2[0]))};
     for (size_t i = 0; i < nr; ++i) {
       const uint32_t r = rid[i];
       if (kAny && occ[r]) continue;  // retired: no tests, as in the scalar kernel
@@ -234,11 +264,12 @@ __attribute__((noinline)) uint64_t leaf_few_rays(RayRecord* rays, const RayShear
       rel(1, bx, by, bz);
       rel(2, cx, cy, cz);
       const EdgeTest e = edge_test(valid, ax, ay, bx, by, cx, cy);
-      const __mmask16 zero_edge = e.zero_edge;
-      __mmask16 hit = e.candidates;
+      __mmask16 redo = e.zero_edge, hit = e.candidates;  // redo: the scalar path decides
       alignas(64) float t[16], u[16], v[16];
       if (hit) {
-        const __m512 tt = e.distance(az, bz, cz);
+        auto a0 = [&](int axis) { return _mm512_sub_ps(w[0][axis], _mm512_set1_ps(o[axis])); };
+        const __m512 tt = plane_distance16(nrm[kx], nrm[ky], nrm[kz], a0(kx), a0(ky), a0(kz), sx, sy, sz, az, bz, cz);
+        redo |= hit & _mm512_cmp_ps_mask(tt, tt, _CMP_UNORD_Q);
         hit &= _mm512_cmp_ps_mask(tt, _mm512_set1_ps(ray.tmin), _CMP_GE_OQ) &
                _mm512_cmp_ps_mask(tt, _mm512_set1_ps(best[i].t), _CMP_LE_OQ);
         _mm512_store_ps(t, tt);
@@ -247,8 +278,8 @@ __attribute__((noinline)) uint64_t leaf_few_rays(RayRecord* rays, const RayShear
           _mm512_store_ps(v, _mm512_div_ps(e.ew, e.det));
         }
       }
-      // Exactly-zero edge functions: core's test (its double recomputation), lane by lane.
-      for (uint32_t z = zero_edge; z; z &= z - 1) {
+      // Exactly-zero edge functions and NaN t: core's test (its double recomputations), lane by lane.
+      for (uint32_t z = redo; z; z &= z - 1) {
         const int l = std::countr_zero(z);
         if (intersect_triangle(Vec3(o[0], o[1], o[2]), to_precomp(sh), tris[tid[j + size_t(l)]], ray.tmin, best[i].t,
                                t[l], u[l], v[l]))

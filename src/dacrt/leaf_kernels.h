@@ -75,11 +75,12 @@ struct LeafLanes {
   alignas(64) uint32_t id[W], best_p[W];
 };
 
-/// Redoes triangle p for the lanes in `lanes`, whose edge function was exactly zero, with
-/// core's intersect_triangle (its double-precision path) and, for closest hit, is_closer.
+/// Redoes triangle p for the lanes in `lanes`, whose edge function was exactly zero or whose t
+/// was NaN, with core's intersect_triangle (its double-precision paths) and, for closest hit,
+/// is_closer.
 /// A lane that hits gets t, u, v overwritten. Returns the lanes that hit.
 template <bool kAny, int W>
-inline uint32_t redo_zero_edge_lanes(LeafLanes<W>& lane, uint32_t lanes, const Triangle& tri, uint32_t p,
+inline uint32_t redo_in_scalar(LeafLanes<W>& lane, uint32_t lanes, const Triangle& tri, uint32_t p,
                                      const RayShear* pre) {
   uint32_t hit = 0;
   for (int l = 0; l < W; ++l) {
