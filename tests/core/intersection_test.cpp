@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "rayscout/core/dvec3.h"
 #include "rayscout/core/triangle.h"
 
 namespace rayscout {
@@ -132,6 +133,31 @@ TEST(IntersectTriangle, EdgeFunctionCancellingToZeroIsDecidedInDouble) {
   EXPECT_EQ(t, 1.0f);
   EXPECT_EQ(u, 0.25f);
   EXPECT_EQ(v, 0.25f);
+}
+
+// Two overlapping triangles of Sponza's floor trim (ids 49800 and 119889), 1e-4 apart in z, and
+// the audit's ray (family H, ray 22268; direction scaled by 2^96) that meets both. 49800 is a
+// sliver, 273 x 0.45 units, hit 188 units from its v0. Woop's interpolated t put that hit 59 ulps
+// (of 142.85) short of its plane, in front of 119889, which is nearer by 4 ulps; the plane
+// distance puts each hit within 1 ulp of its plane, in the right order.
+TEST(IntersectTriangle, SliverHitLiesOnItsPlane) {
+  const Triangle sliver{{-142.852005f, 0.112262003f, 57.4029007f}, {130.218994f, -0.337967992f, 57.4029999f},
+                        {130.218994f, 0.112262003f, 57.4029999f}};
+  const Triangle nearer{{2.03048992f, -0.262037992f, 57.4029999f}, {38.1451988f, 12.1583996f, 57.4029999f},
+                        {130.218994f, -0.262037992f, 57.4029999f}};
+  const Vec3 org{45.0192108f, -10.0714378f, 67.2716293f};
+  const Vec3 dir = Vec3(-6.29013535e-29f, 5.1831397e-29f, -5.15610205e-29f) * 0x1p96f;
+  const RayPrecomp rp(dir);
+  const float ulp = 142.852005f * 0x1p-24f;
+  float t_sliver, t_nearer, u, v;
+  ASSERT_TRUE(intersect_triangle(org, rp, sliver, 0, kInfinity, t_sliver, u, v));
+  ASSERT_TRUE(intersect_triangle(org, rp, nearer, 0, kInfinity, t_nearer, u, v));
+  for (const auto& [tri, t] : {std::pair{sliver, t_sliver}, std::pair{nearer, t_nearer}}) {
+    const DVec3 n = cross(DVec3(tri.v1) - DVec3(tri.v0), DVec3(tri.v2) - DVec3(tri.v0));
+    const double off = dot(n, DVec3(org) + DVec3(dir) * double(t) - DVec3(tri.v0)) / length(n);
+    EXPECT_LE(std::fabs(off), ulp) << "t " << t;
+  }
+  EXPECT_LT(t_nearer, t_sliver);
 }
 
 TEST(IsCloser, TiesGoToTheSmallerTriangleId) {
