@@ -130,6 +130,14 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
   const F any_neg = L::or_(L::or_(L::lt(eu, zero), L::lt(ev, zero)), L::lt(ew, zero));
   const F any_pos = L::or_(L::or_(L::gt(eu, zero), L::gt(ev, zero)), L::gt(ew, zero));
   const F det = L::add(L::add(eu, ev), ew);
+  // Reject mixed edge signs and det == 0 (neq is true for NaN, as det == 0 is false).
+  F ok = L::andnot(L::and_(any_neg, any_pos), L::neq(det, zero));
+  const uint32_t zero_lanes = L::mask(any_zero) & lanes;
+  out.fallback = zero_lanes;
+  out.hit = 0;
+  // Most tests miss every triangle: t only for blocks with a candidate (the caller reads t, ev,
+  // ew, det of hit lanes only).
+  if (!(L::mask(ok) & lanes & ~zero_lanes)) return;
   const F az = L::mul(sz, a_z), bz = L::mul(sz, b_z), cz = L::mul(sz, c_z);
   // The normal n = (v1 - v0) x (v2 - v0) in world axes, as Triangle::normal, then in the ray's
   // (kx, ky, kz) order.
@@ -143,9 +151,7 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
   const F den = L::add(L::add(L::mul(nx, sx), L::mul(ny, sy)), nz);
   const F lo = L::min(L::min(az, bz), cz), hi = L::max(L::max(az, bz), cz);
   const F t = L::min(hi, L::max(lo, L::div(L::mul(num, sz), den)));
-  // Reject mixed edge signs and det == 0 (neq is true for NaN, as det == 0 is false).
-  F ok = L::andnot(L::and_(any_neg, any_pos), L::neq(det, zero));
-  const uint32_t redo = L::mask(L::or_(any_zero, L::and_(ok, L::neq(t, t)))) & lanes;
+  const uint32_t redo = zero_lanes | (L::mask(L::and_(ok, L::neq(t, t))) & lanes);
   ok = L::and_(ok, L::and_(L::ge(t, L::set1(tmin)), L::le(t, L::set1(tmax))));
   out.fallback = redo;
   out.hit = L::mask(ok) & lanes & ~redo;
