@@ -46,16 +46,16 @@ inline Bounds3 padded(const Bounds3& b, float pad) { return {b.lo - Vec3(pad), b
 inline float pad_for(float m) { return m * (1.0f / 262144.0f); }
 
 /// The tmax used to filter a ray: t + |t| kHitSlack (never below t), and +inf for t = -inf,
-/// as bvh's CullInterval::far: a hit at -inf (tmin = -inf) may be an overflowed t numerator
-/// of a triangle whose box lies at a finite distance, so the boxes of triangles tied with it
-/// there (the smaller id wins) and, for tmax = -inf, every box must stay in. NaN stays NaN.
+/// as bvh's CullInterval::far: a hit at -inf (tmin = -inf) is an overflowed t, so the boxes
+/// of triangles tied with it there (the smaller id wins) and, for tmax = -inf, every box must
+/// stay in. NaN stays NaN.
 inline float filter_tmax(float t) {
   const float grown = t + std::fabs(t) * kHitSlack;
   return t == -kInfinity ? kInfinity : (grown > t ? grown : t);
 }
 
 /// The tmin used to filter a ray: -inf for tmin = +inf (CullInterval::near; the mirror of
-/// filter_tmax: a t numerator overflowing to +inf in a box at a finite distance). A retired
+/// filter_tmax: a t overflowing to +inf). A retired
 /// ray's NaN tmin stays NaN, which fails every box test.
 inline float filter_tmin(float tmin) { return tmin == kInfinity ? -kInfinity : tmin; }
 

@@ -32,8 +32,8 @@ struct CullInterval {
   }
   /// Box-test far limit for a current closest distance t (|t|: a hit behind the origin, for
   /// a ray with tmin < 0, must widen the interval too). t = -inf gives +inf, not NaN (which
-  /// culled every box): a hit at -inf may be an overflowed t numerator of a triangle whose
-  /// boxes lie at finite distances, and a tie there goes to the smaller id, so no box is culled.
+  /// culled every box): every triangle whose t overflows to -inf ties there, wherever its box,
+  /// and the tie goes to the smaller id, so no box is culled.
   float far(float t) const {
     return t == -kInfinity ? kInfinity : t + (t < 0 ? -t : t) * kRelativeSlack + abs_slack;
   }
