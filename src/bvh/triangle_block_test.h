@@ -17,6 +17,7 @@ struct Lanes4 {
   using F = __m128;
   static constexpr uint32_t kLanes = 4;
   static F load(const TriangleBlock* b, int vtx, int axis) { return _mm_load_ps(b->v[vtx][axis]); }
+  static F normal(const TriangleBlock* b, int axis) { return _mm_load_ps(b->n[axis]); }
   static F low(__m128 x) { return x; }
 #if defined(__AVX2__)
   static F low(__m256 x) { return _mm256_castps256_ps128(x); }
@@ -49,6 +50,9 @@ struct Lanes8 {
   // Lanes 0..3 from block b, 4..7 from block b + 1 (adjacent in memory).
   static F load(const TriangleBlock* b, int vtx, int axis) {
     return _mm256_set_m128(_mm_load_ps(b[1].v[vtx][axis]), _mm_load_ps(b[0].v[vtx][axis]));
+  }
+  static F normal(const TriangleBlock* b, int axis) {
+    return _mm256_set_m128(_mm_load_ps(b[1].n[axis]), _mm_load_ps(b[0].n[axis]));
   }
   static F low(F x) { return x; }
   static F set1(float x) { return _mm256_set1_ps(x); }
@@ -139,14 +143,8 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
   // ew, det of hit lanes only).
   if (!(L::mask(ok) & lanes & ~zero_lanes)) return;
   const F az = L::mul(sz, a_z), bz = L::mul(sz, b_z), cz = L::mul(sz, c_z);
-  // The normal n = (v1 - v0) x (v2 - v0) in world axes, as Triangle::normal, then in the ray's
-  // (kx, ky, kz) order.
-  auto edge = [&](int vtx, int axis) { return L::sub(L::load(b, vtx, axis), L::load(b, 0, axis)); };
-  const F e1[3] = {edge(1, 0), edge(1, 1), edge(1, 2)}, e2[3] = {edge(2, 0), edge(2, 1), edge(2, 2)};
-  const F n[3] = {L::sub(L::mul(e1[1], e2[2]), L::mul(e1[2], e2[1])),
-                  L::sub(L::mul(e1[2], e2[0]), L::mul(e1[0], e2[2])),
-                  L::sub(L::mul(e1[0], e2[1]), L::mul(e1[1], e2[0]))};
-  const F nx = n[r.kx], ny = n[r.ky], nz = n[r.kz];
+  // The block's normals (Triangle::normal) in the ray's (kx, ky, kz) order.
+  const F nx = L::normal(b, r.kx), ny = L::normal(b, r.ky), nz = L::normal(b, r.kz);
   const F num = L::add(L::add(L::mul(nx, a_x), L::mul(ny, a_y)), L::mul(nz, a_z));
   const F den = L::add(L::add(L::mul(nx, sx), L::mul(ny, sy)), nz);
   const F lo = L::min(L::min(az, bz), cz), hi = L::max(L::max(az, bz), cz);

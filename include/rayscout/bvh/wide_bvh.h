@@ -40,11 +40,13 @@ static_assert(uint32_t(kBvhMaxLeafSize) <= WideRef::kMaxCount);
 /// Triangles per TriangleBlock: one SSE register.
 inline constexpr uint32_t kTriangleBlockWidth = 4;
 
-/// Four triangles as structure of arrays (v[vertex][axis][lane]), the unit of the SIMD
-/// watertight test; slot s of a WideBvh lives in block s / 4, lane s % 4. Lanes no leaf uses
-/// (prim_ids = kInvalidId) repeat a triangle of the block and are masked off.
+/// Four triangles as structure of arrays (v[vertex][axis][lane]) with their normals
+/// (n[axis][lane], Triangle::normal, for the plane distance of core's intersect_triangle), the
+/// unit of the SIMD watertight test; slot s of a WideBvh lives in block s / 4, lane s % 4.
+/// Lanes no leaf uses (prim_ids = kInvalidId) repeat a triangle of the block and are masked off.
 struct alignas(16) TriangleBlock {
   float v[3][3][kTriangleBlockWidth];
+  float n[3][kTriangleBlockWidth];
   /// The triangle in lane `lane`.
   Triangle get(int lane) const {
     return {{v[0][0][lane], v[0][1][lane], v[0][2][lane]},
@@ -56,6 +58,8 @@ struct alignas(16) TriangleBlock {
     const Vec3* p[3] = {&t.v0, &t.v1, &t.v2};
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) v[k][a][lane] = (*p[k])[a];
+    const Vec3 normal = t.normal();
+    for (int a = 0; a < 3; ++a) n[a][lane] = normal[a];
   }
 };
 
