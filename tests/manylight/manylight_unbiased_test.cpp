@@ -134,7 +134,11 @@ TEST_F(ManylightUnbiased, EveryModeConvergesToTheExactSumWithinFourStandardError
   ManylightConfig config = small_config();
   ManylightRenderer r(scene_, *accel_, config);
   const auto ref = regions(exact_sum(scene_, *accel_, r), config.width, config.height);
-  const int renders = small_scale() ? 60 : 200;
+  // 120 at small scale, not 60: the regions' sums are heavy-tailed (a VPL near a surface), and
+  // 60 renders underestimated a standard error. Session 50 changed t in the last bits and exact
+  // mode, unbiased by construction, reached z = 4.37 at 60 renders, 3.06 at 120, 2.03 at 200 and
+  // 1.92 at 400: a bias would grow with the renders instead.
+  const int renders = small_scale() ? 120 : 200;
   for (VisibilityMode mode : {VisibilityMode::Exact, VisibilityMode::Veach, VisibilityMode::Conservative,
                               VisibilityMode::Proposed}) {
     const double z = max_z_score(r, mode, ref, renders, 2);
