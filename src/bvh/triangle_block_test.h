@@ -145,10 +145,7 @@ inline void intersect_lanes(const TriangleBlock* b, uint32_t lanes, const BlockR
   const F az = L::mul(sz, a_z), bz = L::mul(sz, b_z), cz = L::mul(sz, c_z);
   // The block's normals (Triangle::normal) in the ray's (kx, ky, kz) order.
   const F nx = L::normal(b, r.kx), ny = L::normal(b, r.ky), nz = L::normal(b, r.kz);
-  const F num = L::add(L::add(L::mul(nx, a_x), L::mul(ny, a_y)), L::mul(nz, a_z));
-  const F den = L::add(L::add(L::mul(nx, sx), L::mul(ny, sy)), nz);
-  const F lo = L::min(L::min(az, bz), cz), hi = L::max(L::max(az, bz), cz);
-  const F t = L::min(hi, L::max(lo, L::div(L::mul(num, sz), den)));
+  const F t = plane_distance<L>(nx, ny, nz, a_x, a_y, a_z, sx, sy, sz, az, bz, cz);
   const uint32_t redo = zero_lanes | (L::mask(L::and_(ok, L::neq(t, t))) & lanes);
   ok = L::and_(ok, L::and_(L::ge(t, L::set1(tmin)), L::le(t, L::set1(tmax))));
   out.fallback = redo;

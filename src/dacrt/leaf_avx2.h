@@ -17,6 +17,16 @@
 
 namespace rayscout::dacrt {
 
+/// The lane operations of core's plane_distance in 8 lanes.
+struct Lanes8 {
+  using F = __m256;
+  static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F min(F a, F b) { return _mm256_min_ps(a, b); }
+  static F max(F a, F b) { return _mm256_max_ps(a, b); }
+};
+
 /// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
 /// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
 template <bool kAny>
@@ -102,13 +112,9 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
         const __m256 wx = _mm256_sub_ps(_mm256_set1_ps(tri.v0.x), ox);
         const __m256 wy = _mm256_sub_ps(_mm256_set1_ps(tri.v0.y), oy);
         const __m256 wz = _mm256_sub_ps(_mm256_set1_ps(tri.v0.z), oz);
-        const __m256 na = pick(x0, x1, nx, ny, nz), nb = pick(y0, y1, nx, ny, nz), nc = pick(z0, z1, nx, ny, nz);
-        const __m256 num = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(na, pick(x0, x1, wx, wy, wz)),
-                                                       _mm256_mul_ps(nb, pick(y0, y1, wx, wy, wz))),
-                                         _mm256_mul_ps(nc, pick(z0, z1, wx, wy, wz)));
-        const __m256 den = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(na, sx), _mm256_mul_ps(nb, sy)), nc);
-        const __m256 lo = _mm256_min_ps(_mm256_min_ps(az, bz), cz), hi = _mm256_max_ps(_mm256_max_ps(az, bz), cz);
-        tt = _mm256_min_ps(hi, _mm256_max_ps(lo, _mm256_div_ps(_mm256_mul_ps(num, sz), den)));
+        tt = plane_distance<Lanes8>(pick(x0, x1, nx, ny, nz), pick(y0, y1, nx, ny, nz), pick(z0, z1, nx, ny, nz),
+                                    pick(x0, x1, wx, wy, wz), pick(y0, y1, wx, wy, wz), pick(z0, z1, wx, wy, wz), sx,
+                                    sy, sz, az, bz, cz);
         redo |= hit & bits(_mm256_cmp_ps(tt, tt, _CMP_UNORD_Q));  // a NaN t: see intersect_triangle
         hit &= bits(_mm256_cmp_ps(tt, tmin, _CMP_GE_OQ)) & bits(_mm256_cmp_ps(tt, best_t, _CMP_LE_OQ));
         if (!kAny) {

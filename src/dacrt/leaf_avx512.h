@@ -45,15 +45,15 @@ inline EdgeTest edge_test(__mmask16 lanes, __m512 ax, __m512 ay, __m512 bx, __m5
   return e;
 }
 
-/// core's plane_distance in 16 lanes: the normal (na, nb, nc) and v0 - org (aa, ab, ac) in the
-/// ray's (kx, ky, kz) order, the shear, and the vertices' sheared depths az, bz, cz.
-inline __m512 plane_distance16(__m512 na, __m512 nb, __m512 nc, __m512 aa, __m512 ab, __m512 ac, __m512 sx,
-                               __m512 sy, __m512 sz, __m512 az, __m512 bz, __m512 cz) {
-  const __m512 num = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(na, aa), _mm512_mul_ps(nb, ab)), _mm512_mul_ps(nc, ac));
-  const __m512 den = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(na, sx), _mm512_mul_ps(nb, sy)), nc);
-  const __m512 lo = _mm512_min_ps(_mm512_min_ps(az, bz), cz), hi = _mm512_max_ps(_mm512_max_ps(az, bz), cz);
-  return _mm512_min_ps(hi, _mm512_max_ps(lo, _mm512_div_ps(_mm512_mul_ps(num, sz), den)));
-}
+/// The lane operations of core's plane_distance in 16 lanes.
+struct Lanes16 {
+  using F = __m512;
+  static F add(F a, F b) { return _mm512_add_ps(a, b); }
+  static F mul(F a, F b) { return _mm512_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm512_div_ps(a, b); }
+  static F min(F a, F b) { return _mm512_min_ps(a, b); }
+  static F max(F a, F b) { return _mm512_max_ps(a, b); }
+};
 
 /// kAny = false: closest hit (updates t in rays and out.prim/u/v). kAny = true: any hit
 /// (marks occ and retires). Returns ray-triangle tests, counted as the scalar kernels do.
@@ -137,14 +137,14 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       const __m512 wy = _mm512_sub_ps(_mm512_set1_ps(tri.v0.y), oy);
       const __m512 wz = _mm512_sub_ps(_mm512_set1_ps(tri.v0.z), oz);
       const __m512 nx = _mm512_set1_ps(n.x), ny = _mm512_set1_ps(n.y), nz = _mm512_set1_ps(n.z);
-      return plane_distance16(pick(x0, x1, nx, ny, nz), pick(y0, y1, nx, ny, nz), pick(z0, z1, nx, ny, nz),
+      return plane_distance<Lanes16>(pick(x0, x1, nx, ny, nz), pick(y0, y1, nx, ny, nz), pick(z0, z1, nx, ny, nz),
                               pick(x0, x1, wx, wy, wz), pick(y0, y1, wx, wy, wz), pick(z0, z1, wx, wy, wz), sx, sy,
                               sz, az, bz, cz);
     };
     auto distance_uniform = [&](const Triangle& tri, __m512 az, __m512 bz, __m512 cz) {
       const Vec3 n = tri.normal();
       const float *np = &n.x, *wp = &tri.v0.x;
-      return plane_distance16(_mm512_set1_ps(np[ua]), _mm512_set1_ps(np[ub]), _mm512_set1_ps(np[uc]),
+      return plane_distance<Lanes16>(_mm512_set1_ps(np[ua]), _mm512_set1_ps(np[ub]), _mm512_set1_ps(np[uc]),
                               _mm512_sub_ps(_mm512_set1_ps(wp[ua]), oa), _mm512_sub_ps(_mm512_set1_ps(wp[ub]), ob),
                               _mm512_sub_ps(_mm512_set1_ps(wp[uc]), oc), sx, sy, sz, az, bz, cz);
     };
@@ -268,7 +268,7 @@ __attribute__((noinline)) uint64_t leaf_few_rays(RayRecord* rays, const RayShear
       alignas(64) float t[16], u[16], v[16];
       if (hit) {
         auto a0 = [&](int axis) { return _mm512_sub_ps(w[0][axis], _mm512_set1_ps(o[axis])); };
-        const __m512 tt = plane_distance16(nrm[kx], nrm[ky], nrm[kz], a0(kx), a0(ky), a0(kz), sx, sy, sz, az, bz, cz);
+        const __m512 tt = plane_distance<Lanes16>(nrm[kx], nrm[ky], nrm[kz], a0(kx), a0(ky), a0(kz), sx, sy, sz, az, bz, cz);
         redo |= hit & _mm512_cmp_ps_mask(tt, tt, _CMP_UNORD_Q);
         hit &= _mm512_cmp_ps_mask(tt, _mm512_set1_ps(ray.tmin), _CMP_GE_OQ) &
                _mm512_cmp_ps_mask(tt, _mm512_set1_ps(best[i].t), _CMP_LE_OQ);

@@ -57,13 +57,28 @@ constexpr float simd_max(float a, float b) { return a > b ? a : b; }
 /// within 7, docs/runs/zen5/session50). In the ray's (kx, ky, kz) order, n.d / d[kz] is
 /// n[kx] sx + n[ky] sy + n[kz]. The result is clamped to the vertices' sheared depths
 /// [lo, hi], where the interpolation lies by construction: a ray grazing the plane divides
-/// by a denominator that is mostly rounding. A NaN quotient stays NaN. Every SIMD kernel
-/// repeats these operations in this order.
-inline float plane_distance(const Vec3& n, const Vec3& a, const RayPrecomp& rp, float lo, float hi) {
-  const float num = n[rp.kx] * a[rp.kx] + n[rp.ky] * a[rp.ky] + n[rp.kz] * a[rp.kz];
-  const float den = n[rp.kx] * rp.sx + n[rp.ky] * rp.sy + n[rp.kz];
-  return simd_min(hi, simd_max(lo, num * rp.sz / den));
+/// by a denominator that is mostly rounding. A NaN quotient stays NaN.
+/// One spelling for every kernel, in the lanes of L (L::F and add, mul, div, min, max, with
+/// min and max as simd_min / simd_max): float (FloatLanes) for the scalar test, SIMD registers
+/// for the BVH's block test and DACRT's leaves, so that their t are bit-identical. n and
+/// a = v0 - org in the ray's (kx, ky, kz) order, the shear (sx, sy, sz), and the vertices'
+/// sheared depths az, bz, cz.
+template <class L, class F = typename L::F>
+inline F plane_distance(F na, F nb, F nc, F aa, F ab, F ac, F sx, F sy, F sz, F az, F bz, F cz) {
+  const F num = L::add(L::add(L::mul(na, aa), L::mul(nb, ab)), L::mul(nc, ac));
+  const F den = L::add(L::add(L::mul(na, sx), L::mul(nb, sy)), nc);
+  const F lo = L::min(L::min(az, bz), cz), hi = L::max(L::max(az, bz), cz);
+  return L::min(hi, L::max(lo, L::div(L::mul(num, sz), den)));
 }
+/// The lane operations of plane_distance on one float.
+struct FloatLanes {
+  using F = float;
+  static F add(F a, F b) { return a + b; }
+  static F mul(F a, F b) { return a * b; }
+  static F div(F a, F b) { return a / b; }
+  static F min(F a, F b) { return simd_min(a, b); }
+  static F max(F a, F b) { return simd_max(a, b); }
+};
 
 /// Watertight ray-triangle test (Woop et al. 2013, fig. 4), no back-face culling, with the
 /// hit distance of plane_distance. Returns true and fills t, u, v when the ray hits at
@@ -87,13 +102,16 @@ inline bool intersect_triangle(const Vec3& org, const RayPrecomp& rp, const Tria
   const float det = eu + ev + ew;
   if (det == 0.0f) return false;
   const float az = rp.sz * a[rp.kz], bz = rp.sz * b[rp.kz], cz = rp.sz * c[rp.kz];
-  const float lo = simd_min(simd_min(az, bz), cz), hi = simd_max(simd_max(az, bz), cz);
-  float tt = plane_distance(tri.normal(), a, rp, lo, hi);
+  auto distance = [&](const Vec3& n) {
+    return plane_distance<FloatLanes>(n[rp.kx], n[rp.ky], n[rp.kz], a[rp.kx], a[rp.ky], a[rp.kz], rp.sx, rp.sy,
+                                      rp.sz, az, bz, cz);
+  };
+  float tt = distance(tri.normal());
   // 0 / 0: a sliver whose float normal cancels to zero, or a zero or NaN direction. The normal
   // in double decides the sliver (SIMD kernels send these lanes here).
   if (tt != tt) {
     const DVec3 d0(tri.v0);
-    tt = plane_distance(to_float(cross(DVec3(tri.v1) - d0, DVec3(tri.v2) - d0)), a, rp, lo, hi);
+    tt = distance(to_float(cross(DVec3(tri.v1) - d0, DVec3(tri.v2) - d0)));
   }
   if (!(tt >= tmin && tt <= tmax)) return false;
   t = tt;
