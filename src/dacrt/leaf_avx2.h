@@ -97,7 +97,7 @@ __attribute__((noinline)) uint64_t leaf_simd(RayRecord* rays, const RayShear* pr
       const __m256 ew = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
       auto bits = [](__m256 m) { return _mm256_movemask_ps(m); };
       int redo = active & (bits(_mm256_cmp_ps(eu, zero, _CMP_EQ_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_EQ_OQ)) |
-                                      bits(_mm256_cmp_ps(ew, zero, _CMP_EQ_OQ)));
+                           bits(_mm256_cmp_ps(ew, zero, _CMP_EQ_OQ)));
       const int neg = bits(_mm256_cmp_ps(eu, zero, _CMP_LT_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_LT_OQ)) |
                       bits(_mm256_cmp_ps(ew, zero, _CMP_LT_OQ));
       const int pos = bits(_mm256_cmp_ps(eu, zero, _CMP_GT_OQ)) | bits(_mm256_cmp_ps(ev, zero, _CMP_GT_OQ)) |

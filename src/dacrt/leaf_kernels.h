@@ -81,7 +81,7 @@ struct LeafLanes {
 /// A lane that hits gets t, u, v overwritten. Returns the lanes that hit.
 template <bool kAny, int W>
 inline uint32_t redo_in_scalar(LeafLanes<W>& lane, uint32_t lanes, const Triangle& tri, uint32_t p,
-                                     const RayShear* pre) {
+                               const RayShear* pre) {
   uint32_t hit = 0;
   for (int l = 0; l < W; ++l) {
     if (!((lanes >> l) & 1)) continue;
